@@ -1,0 +1,2 @@
+//! photonmap: a two-pass photon-mapping renderer after Jensen
+//! ("Realistic Image Synthesis Using Photon Mapping", 2001).
