@@ -1,0 +1,7 @@
+//! Random numbers and the warps from the unit square to the shapes the renderer samples.
+mod distribution;
+mod rng;
+pub mod warp;
+
+pub use distribution::{Distribution1D, Distribution2D};
+pub use rng::Rng;
