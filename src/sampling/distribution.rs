@@ -15,7 +15,12 @@ impl Distribution1D {
     pub fn new(f: &[f32]) -> Self {
         let n = f.len().max(1);
         let func: Vec<f32> = (0..n)
-            .map(|i| f.get(i).copied().filter(|v| v.is_finite() && *v > 0.0).unwrap_or(0.0))
+            .map(|i| {
+                f.get(i)
+                    .copied()
+                    .filter(|v| v.is_finite() && *v > 0.0)
+                    .unwrap_or(0.0)
+            })
             .collect();
         let mut cdf = vec![0.0f32; n + 1];
         let mut acc = 0.0f64;
@@ -34,7 +39,11 @@ impl Distribution1D {
             }
         }
         cdf[n] = 1.0;
-        Distribution1D { func, cdf, integral }
+        Distribution1D {
+            func,
+            cdf,
+            integral,
+        }
     }
 
     pub fn len(&self) -> usize {
@@ -62,7 +71,11 @@ impl Distribution1D {
     pub fn sample_discrete(&self, u: f32) -> (usize, f32, f32) {
         let i = self.find(u);
         let p = self.discrete_pdf(i);
-        let du = if p > 0.0 { ((u - self.cdf[i]) / p).clamp(0.0, 0.999_999_94) } else { 0.5 };
+        let du = if p > 0.0 {
+            ((u - self.cdf[i]) / p).clamp(0.0, 0.999_999_94)
+        } else {
+            0.5
+        };
         (i, p, du)
     }
 
@@ -92,8 +105,9 @@ pub struct Distribution2D {
 impl Distribution2D {
     /// `f` is row-major with `width` columns.
     pub fn new(f: &[f32], width: usize, height: usize) -> Self {
-        let conditional: Vec<Distribution1D> =
-            (0..height).map(|v| Distribution1D::new(&f[v * width..(v + 1) * width])).collect();
+        let conditional: Vec<Distribution1D> = (0..height)
+            .map(|v| Distribution1D::new(&f[v * width..(v + 1) * width]))
+            .collect();
         let marg: Vec<f32> = conditional.iter().map(|c| c.integral()).collect();
         Distribution2D {
             conditional,

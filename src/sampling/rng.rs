@@ -81,9 +81,15 @@ mod tests {
 
     #[test]
     fn reproducible_and_stream_distinct() {
-        let a: Vec<u32> = (0..8).scan(Rng::new(7, 3), |r, _| Some(r.next_u32())).collect();
-        let b: Vec<u32> = (0..8).scan(Rng::new(7, 3), |r, _| Some(r.next_u32())).collect();
-        let c: Vec<u32> = (0..8).scan(Rng::new(7, 4), |r, _| Some(r.next_u32())).collect();
+        let a: Vec<u32> = (0..8)
+            .scan(Rng::new(7, 3), |r, _| Some(r.next_u32()))
+            .collect();
+        let b: Vec<u32> = (0..8)
+            .scan(Rng::new(7, 3), |r, _| Some(r.next_u32()))
+            .collect();
+        let c: Vec<u32> = (0..8)
+            .scan(Rng::new(7, 4), |r, _| Some(r.next_u32()))
+            .collect();
         assert_eq!(a, b);
         assert_ne!(a, c);
     }

@@ -135,9 +135,15 @@ mod tests {
         for _ in 0..10_000 {
             let u = rng.vec2().clamp(Vec2::splat(1e-3), Vec2::splat(1.0 - 1e-3));
             let d = square_to_uniform_sphere(u);
-            assert!((uniform_sphere_to_square(d) - u).abs().max_element() < 1e-3, "{u:?}");
+            assert!(
+                (uniform_sphere_to_square(d) - u).abs().max_element() < 1e-3,
+                "{u:?}"
+            );
             let c = square_to_cosine_hemisphere(u);
-            assert!((cosine_hemisphere_to_square(c) - u).abs().max_element() < 1e-3, "{u:?}");
+            assert!(
+                (cosine_hemisphere_to_square(c) - u).abs().max_element() < 1e-3,
+                "{u:?}"
+            );
         }
     }
 

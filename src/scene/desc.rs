@@ -1,0 +1,507 @@
+//! The scene IR: plain serde data, owned by the core and shared by every front end
+//! (JSON files, the USD importer, the Blender exporter).
+//!
+//! Conventions:
+//! - Right-handed world, any up axis. Lengths in scene units.
+//! - Matrices are 4x4, written as four rows, column-vector convention (`p' = M p`,
+//!   translation in the last column).
+//! - Colours are linear Rec.709 RGB.
+//! - Light units follow Blender/Cycles: point, spot and area lights have a `power` in watts;
+//!   distant lights an `irradiance` in W/m^2; emissive surfaces and the environment a radiance.
+//!   An area light of power P and area A emits radiance P/(pi A); a point or spot light of power
+//!   P has intensity P/(4 pi); a sphere light of power P and radius r emits P/(4 pi^2 r^2).
+
+use serde::{Deserialize, Serialize};
+
+pub type Rgb = [f32; 3];
+pub type Matrix = [[f32; 4]; 4];
+
+pub const IDENTITY: Matrix = [
+    [1.0, 0.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0, 0.0],
+    [0.0, 0.0, 1.0, 0.0],
+    [0.0, 0.0, 0.0, 1.0],
+];
+
+fn identity() -> Matrix {
+    IDENTITY
+}
+fn one() -> f32 {
+    1.0
+}
+fn white() -> Rgb {
+    [1.0, 1.0, 1.0]
+}
+fn default_ior() -> f32 {
+    1.5
+}
+fn default_roughness() -> f32 {
+    0.5
+}
+fn default_base_color() -> ColorInput {
+    ColorInput::Value([0.8, 0.8, 0.8])
+}
+fn default_specular() -> f32 {
+    1.0
+}
+
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SceneDesc {
+    pub camera: CameraDesc,
+    #[serde(default)]
+    pub film: FilmDesc,
+    #[serde(default)]
+    pub meshes: Vec<MeshDesc>,
+    /// Extra placements of meshes; a mesh that any instance names is a prototype and is only
+    /// drawn through its instances.
+    #[serde(default)]
+    pub instances: Vec<InstanceDesc>,
+    #[serde(default)]
+    pub materials: Vec<MaterialDesc>,
+    #[serde(default)]
+    pub textures: Vec<TextureDesc>,
+    #[serde(default)]
+    pub lights: Vec<LightDesc>,
+    /// Light arriving from infinity; absent means black.
+    #[serde(default)]
+    pub environment: Option<EnvironmentDesc>,
+}
+
+/// Output image size in pixels.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct FilmDesc {
+    pub width: u32,
+    pub height: u32,
+}
+impl Default for FilmDesc {
+    fn default() -> Self {
+        FilmDesc {
+            width: 256,
+            height: 256,
+        }
+    }
+}
+
+/// Perspective camera looking down its local -Z with +Y up (as Blender and USD cameras).
+///
+/// | field | meaning |
+/// |---|---|
+/// | `transform` | camera-to-world |
+/// | `fov` | field of view in radians across the sensor-fit axis; overrides the lens |
+/// | `focal_length`, `sensor_width`, `sensor_height` | lens in mm (any unit, same for all three) |
+/// | `sensor_fit` | `auto` (larger image side), `horizontal`, `vertical` |
+/// | `shift` | lens shift in units of the sensor-fit side |
+/// | `near`, `far` | clipping distances |
+/// | `fstop`, `focus_distance` | thin-lens depth of field; `fstop` absent or 0 = pinhole |
+/// | `units_per_mm` | scene units per millimetre, turning the aperture into scene units |
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CameraDesc {
+    #[serde(default = "identity")]
+    pub transform: Matrix,
+    #[serde(default)]
+    pub fov: Option<f32>,
+    #[serde(default = "default_focal")]
+    pub focal_length: f32,
+    #[serde(default = "default_sensor")]
+    pub sensor_width: f32,
+    #[serde(default)]
+    pub sensor_height: Option<f32>,
+    #[serde(default)]
+    pub sensor_fit: SensorFit,
+    #[serde(default)]
+    pub shift: [f32; 2],
+    #[serde(default = "default_near")]
+    pub near: f32,
+    #[serde(default = "default_far")]
+    pub far: f32,
+    #[serde(default)]
+    pub fstop: Option<f32>,
+    #[serde(default)]
+    pub focus_distance: Option<f32>,
+    #[serde(default = "default_units_per_mm")]
+    pub units_per_mm: f32,
+}
+fn default_focal() -> f32 {
+    50.0
+}
+fn default_sensor() -> f32 {
+    36.0
+}
+fn default_near() -> f32 {
+    1e-3
+}
+fn default_far() -> f32 {
+    1e30
+}
+fn default_units_per_mm() -> f32 {
+    1e-3
+}
+impl Default for CameraDesc {
+    fn default() -> Self {
+        CameraDesc {
+            transform: IDENTITY,
+            fov: None,
+            focal_length: default_focal(),
+            sensor_width: default_sensor(),
+            sensor_height: None,
+            sensor_fit: SensorFit::Auto,
+            shift: [0.0, 0.0],
+            near: default_near(),
+            far: default_far(),
+            fstop: None,
+            focus_distance: None,
+            units_per_mm: default_units_per_mm(),
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum SensorFit {
+    #[default]
+    Auto,
+    Horizontal,
+    Vertical,
+}
+
+/// Triangle mesh.
+///
+/// | field | meaning |
+/// |---|---|
+/// | `positions` | vertex positions, object space |
+/// | `indices` | triangles, three vertex indices each |
+/// | `normals` | optional per-vertex shading normals |
+/// | `uvs` | optional per-vertex texture coordinates |
+/// | `material` | material of every triangle (index into `materials`) |
+/// | `material_indices` | optional per-triangle material, overrides `material` |
+/// | `transform` | object-to-world |
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct MeshDesc {
+    #[serde(default)]
+    pub name: String,
+    pub positions: Vec<[f32; 3]>,
+    pub indices: Vec<[u32; 3]>,
+    #[serde(default)]
+    pub normals: Option<Vec<[f32; 3]>>,
+    #[serde(default)]
+    pub uvs: Option<Vec<[f32; 2]>>,
+    #[serde(default)]
+    pub material: u32,
+    #[serde(default)]
+    pub material_indices: Option<Vec<u32>>,
+    #[serde(default = "identity")]
+    pub transform: Matrix,
+}
+
+/// Another placement of a mesh: world = `transform` x mesh.transform.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct InstanceDesc {
+    #[serde(default)]
+    pub name: String,
+    pub mesh: u32,
+    #[serde(default = "identity")]
+    pub transform: Matrix,
+}
+
+/// Float RGB(A) image, rows from top to bottom, looked up bilinearly by UV
+/// (u right, v up: v = 0 is the bottom row, as in Blender and USD).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TextureDesc {
+    #[serde(default)]
+    pub name: String,
+    pub width: u32,
+    pub height: u32,
+    /// 1 (grey), 3 (RGB) or 4 (RGBA).
+    pub channels: u32,
+    /// `width * height * channels` linear floats.
+    pub data: Vec<f32>,
+    #[serde(default)]
+    pub wrap: WrapMode,
+}
+
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum WrapMode {
+    #[default]
+    Repeat,
+    Clamp,
+    Mirror,
+    /// Outside [0,1) is black.
+    Black,
+}
+
+/// A colour: a constant, or a texture times a scale.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum ColorInput {
+    Value(Rgb),
+    Texture {
+        texture: u32,
+        #[serde(default = "white")]
+        scale: Rgb,
+    },
+}
+
+/// A scalar: a constant, or one channel of a texture times a scale.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum FloatInput {
+    Value(f32),
+    Texture {
+        texture: u32,
+        #[serde(default)]
+        channel: u32,
+        #[serde(default = "one")]
+        scale: f32,
+    },
+}
+
+/// Surface materials. Roughness is perceptual (GGX alpha = roughness^2, as Blender).
+///
+/// | type | parameters |
+/// |---|---|
+/// | `diffuse` | `color` (Lambert albedo) |
+/// | `mirror` | `color` (reflectance of a perfect mirror) |
+/// | `conductor` | `eta`, `k` (complex IOR per channel), `roughness` (0 = smooth) |
+/// | `dielectric` | `ior`, `roughness` (0 = smooth), `color` (transmission tint) |
+/// | `glossy` | `color` (normal-incidence reflectance, Schlick), `roughness` |
+/// | `emission` | `color`, `strength`: radiance = color x strength; reflects nothing |
+/// | `principled` | Blender Principled BSDF / OpenPBR: `base_color`, `metallic`, `roughness`, `transmission`, `ior`, `specular`, `emission_color`, `emission_strength` |
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
+pub enum MaterialDesc {
+    Diffuse {
+        #[serde(default)]
+        name: String,
+        #[serde(default = "default_base_color")]
+        color: ColorInput,
+    },
+    Mirror {
+        #[serde(default)]
+        name: String,
+        #[serde(default = "white")]
+        color: Rgb,
+    },
+    Conductor {
+        #[serde(default)]
+        name: String,
+        eta: Rgb,
+        k: Rgb,
+        #[serde(default)]
+        roughness: f32,
+    },
+    Dielectric {
+        #[serde(default)]
+        name: String,
+        #[serde(default = "default_ior")]
+        ior: f32,
+        #[serde(default)]
+        roughness: f32,
+        #[serde(default = "white")]
+        color: Rgb,
+    },
+    Glossy {
+        #[serde(default)]
+        name: String,
+        #[serde(default = "white")]
+        color: Rgb,
+        #[serde(default = "default_roughness")]
+        roughness: f32,
+    },
+    Emission {
+        #[serde(default)]
+        name: String,
+        #[serde(default = "white_color")]
+        color: ColorInput,
+        #[serde(default = "one")]
+        strength: f32,
+    },
+    Principled(Box<PrincipledDesc>),
+}
+
+/// Blender Principled BSDF / OpenPBR parameters.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct PrincipledDesc {
+    #[serde(default)]
+    pub name: String,
+    #[serde(default = "default_base_color")]
+    pub base_color: ColorInput,
+    #[serde(default = "zero_float")]
+    pub metallic: FloatInput,
+    #[serde(default = "half_float")]
+    pub roughness: FloatInput,
+    #[serde(default)]
+    pub transmission: f32,
+    #[serde(default = "default_ior")]
+    pub ior: f32,
+    /// Specular weight (OpenPBR `specular_weight`, Blender "IOR Level" x 2): scales the
+    /// dielectric reflection; 1 is physical.
+    #[serde(default = "default_specular")]
+    pub specular: f32,
+    #[serde(default = "black_color")]
+    pub emission_color: ColorInput,
+    #[serde(default)]
+    pub emission_strength: f32,
+}
+fn white_color() -> ColorInput {
+    ColorInput::Value(white())
+}
+fn zero_float() -> FloatInput {
+    FloatInput::Value(0.0)
+}
+fn half_float() -> FloatInput {
+    FloatInput::Value(0.5)
+}
+fn black_color() -> ColorInput {
+    ColorInput::Value([0.0; 3])
+}
+impl Default for PrincipledDesc {
+    fn default() -> Self {
+        PrincipledDesc {
+            name: String::new(),
+            base_color: default_base_color(),
+            metallic: zero_float(),
+            roughness: half_float(),
+            transmission: 0.0,
+            ior: default_ior(),
+            specular: 1.0,
+            emission_color: black_color(),
+            emission_strength: 0.0,
+        }
+    }
+}
+
+impl MaterialDesc {
+    pub fn name(&self) -> &str {
+        match self {
+            MaterialDesc::Diffuse { name, .. }
+            | MaterialDesc::Mirror { name, .. }
+            | MaterialDesc::Conductor { name, .. }
+            | MaterialDesc::Dielectric { name, .. }
+            | MaterialDesc::Glossy { name, .. }
+            | MaterialDesc::Emission { name, .. } => name,
+            MaterialDesc::Principled(p) => &p.name,
+        }
+    }
+}
+
+/// Lights. `color` tints the power; every light has `name` for messages.
+///
+/// | type | parameters |
+/// |---|---|
+/// | `point` | `position`, `power` W, `radius` (0 = a true point; > 0 a sphere light) |
+/// | `spot` | `position`, `direction`, `power` W (as the unshaded point light), `cone_angle` (full angle, rad), `blend` in [0,1], `radius` |
+/// | `rect` | `transform` (light emits along local -Z), `width`, `height`, `power` W, `two_sided` |
+/// | `disk` | `transform`, `radius`, `power` W, `two_sided` |
+/// | `sphere` | `position`, `radius` > 0, `power` W |
+/// | `distant` | `direction` (travel direction of the light), `irradiance` W/m^2, `angle` (angular diameter, rad) |
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
+pub enum LightDesc {
+    Point {
+        #[serde(default)]
+        name: String,
+        position: [f32; 3],
+        power: f32,
+        #[serde(default = "white")]
+        color: Rgb,
+        #[serde(default)]
+        radius: f32,
+    },
+    Spot {
+        #[serde(default)]
+        name: String,
+        position: [f32; 3],
+        direction: [f32; 3],
+        power: f32,
+        #[serde(default = "white")]
+        color: Rgb,
+        cone_angle: f32,
+        #[serde(default)]
+        blend: f32,
+        #[serde(default)]
+        radius: f32,
+    },
+    Rect {
+        #[serde(default)]
+        name: String,
+        #[serde(default = "identity")]
+        transform: Matrix,
+        width: f32,
+        height: f32,
+        power: f32,
+        #[serde(default = "white")]
+        color: Rgb,
+        #[serde(default)]
+        two_sided: bool,
+    },
+    Disk {
+        #[serde(default)]
+        name: String,
+        #[serde(default = "identity")]
+        transform: Matrix,
+        radius: f32,
+        power: f32,
+        #[serde(default = "white")]
+        color: Rgb,
+        #[serde(default)]
+        two_sided: bool,
+    },
+    Sphere {
+        #[serde(default)]
+        name: String,
+        position: [f32; 3],
+        radius: f32,
+        power: f32,
+        #[serde(default = "white")]
+        color: Rgb,
+    },
+    Distant {
+        #[serde(default)]
+        name: String,
+        direction: [f32; 3],
+        irradiance: f32,
+        #[serde(default = "white")]
+        color: Rgb,
+        #[serde(default)]
+        angle: f32,
+    },
+}
+
+impl LightDesc {
+    pub fn name(&self) -> &str {
+        match self {
+            LightDesc::Point { name, .. }
+            | LightDesc::Spot { name, .. }
+            | LightDesc::Rect { name, .. }
+            | LightDesc::Disk { name, .. }
+            | LightDesc::Sphere { name, .. }
+            | LightDesc::Distant { name, .. } => name,
+        }
+    }
+}
+
+/// Light from infinity: radiance = `color` x `strength` (x the texture, when given).
+///
+/// The lat-long `texture` maps direction d (in the environment's local frame, +Z up, as
+/// Blender's Environment Texture) to u = 0.5 - atan2(d.y, d.x) / 2pi, v = 0.5 + asin(d.z) / pi.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct EnvironmentDesc {
+    #[serde(default = "white")]
+    pub color: Rgb,
+    #[serde(default = "one")]
+    pub strength: f32,
+    #[serde(default)]
+    pub texture: Option<u32>,
+    /// Environment-to-world.
+    #[serde(default = "identity")]
+    pub transform: Matrix,
+}
