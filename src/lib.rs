@@ -8,3 +8,4 @@ pub mod scene;
 
 pub use error::{Error, Result};
 pub mod io;
+pub mod render;

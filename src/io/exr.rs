@@ -1,0 +1,114 @@
+//! Multilayer float32 EXR, per the contract: the beauty in `R,G,B,A` (the default layer, so any
+//! viewer shows it), each term in `<term>.R/G/B`, and metadata as string attributes.
+
+use crate::error::{Error, Result};
+use crate::render::aov::Term;
+use crate::render::film::{Film, Image};
+use exr::prelude::*;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+fn channel(name: String, img: &Image, c: usize) -> AnyChannel<FlatSamples> {
+    AnyChannel::new(name.as_str(), FlatSamples::F32(img.data.iter().map(|p| p[c]).collect()))
+}
+
+/// Writes the beauty and every term. `metadata` becomes string attributes of the header.
+pub fn write_multilayer(path: impl AsRef<Path>, film: &Film, metadata: &BTreeMap<String, String>) -> Result<()> {
+    let path = path.as_ref();
+    let combined = film.combined();
+    let mut channels: Vec<AnyChannel<FlatSamples>> = Vec::new();
+    for (c, n) in ["R", "G", "B"].iter().enumerate() {
+        channels.push(channel((*n).to_string(), &combined, c));
+    }
+    channels.push(AnyChannel::new("A", FlatSamples::F32(vec![1.0; film.width * film.height])));
+    for t in Term::ALL {
+        for (c, n) in ["R", "G", "B"].iter().enumerate() {
+            channels.push(channel(format!("{}.{n}", t.name()), film.term(t), c));
+        }
+    }
+    let mut attrs = LayerAttributes::default();
+    for (k, v) in metadata {
+        attrs.other.insert(Text::from(format!("photonmap/{k}").as_str()), AttributeValue::Text(Text::from(v.as_str())));
+    }
+    let layer = Layer::new(
+        (film.width, film.height),
+        attrs,
+        Encoding::SMALL_LOSSLESS,
+        AnyChannels::sort(channels.into()),
+    );
+    exr::prelude::Image::from_layer(layer).write().to_file(path).map_err(|e| Error::io(path, e))
+}
+
+/// Reads every RGB group of a single-part EXR: `""` for `R,G,B`, and `"direct"` for
+/// `direct.R/G/B`, and so on. Also returns the string attributes.
+pub fn read_rgb_layers(path: impl AsRef<Path>) -> Result<(BTreeMap<String, Image>, BTreeMap<String, String>)> {
+    let path = path.as_ref();
+    let img = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .all_layers()
+        .all_attributes()
+        .from_file(path)
+        .map_err(|e| Error::io(path, e))?;
+    let mut out = BTreeMap::new();
+    let mut meta = BTreeMap::new();
+    for layer in &img.layer_data {
+        let (w, h) = (layer.size.width(), layer.size.height());
+        let layer_prefix = layer.attributes.layer_name.as_ref().map(|t| format!("{t}.")).unwrap_or_default();
+        for (k, v) in &layer.attributes.other {
+            if let AttributeValue::Text(t) = v {
+                meta.insert(k.to_string(), t.to_string());
+            }
+        }
+        for ch in &layer.channel_data.list {
+            let full = format!("{layer_prefix}{}", ch.name);
+            let (group, comp) = match full.rsplit_once('.') {
+                Some((g, c)) => (g.to_string(), c.to_string()),
+                None => (String::new(), full.clone()),
+            };
+            let c = match comp.as_str() {
+                "R" | "r" => 0,
+                "G" | "g" => 1,
+                "B" | "b" => 2,
+                _ => continue,
+            };
+            let entry = out.entry(group).or_insert_with(|| Image::new(w, h));
+            for (i, v) in ch.sample_data.values_as_f32().enumerate() {
+                entry.data[i][c] = v;
+            }
+        }
+    }
+    Ok((out, meta))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::film::TermRadiance;
+    use glam::Vec3;
+
+    #[test]
+    fn writes_terms_and_beauty_as_float32() {
+        let mut film = Film::new(3, 2);
+        let mut px = TermRadiance::default();
+        px.add(Term::Caustic, Vec3::new(1e6, 2.0, 3.0));
+        px.add(Term::Direct, Vec3::new(0.25, 0.5, 0.125));
+        film.set_pixel(2, 1, &px);
+        let dir = std::env::temp_dir().join(format!("pm_exr_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("t.exr");
+        let mut meta = BTreeMap::new();
+        meta.insert("seed".to_string(), "7".to_string());
+        write_multilayer(&path, &film, &meta).unwrap();
+        let (layers, m) = read_rgb_layers(&path).unwrap();
+        assert_eq!(m.get("photonmap/seed").map(String::as_str), Some("7"));
+        assert_eq!(layers[""].get(2, 1), Vec3::new(1e6 + 0.25, 2.5, 3.125));
+        assert_eq!(layers["caustic"].get(2, 1), Vec3::new(1e6, 2.0, 3.0));
+        for t in Term::ALL {
+            assert!(layers.contains_key(t.name()));
+        }
+        assert_eq!(layers[""].get(0, 0), Vec3::ZERO);
+        std::fs::remove_dir_all(dir).ok();
+    }
+}

@@ -1,0 +1,32 @@
+//! sRGB 8-bit PNG preview.
+
+use crate::error::{Error, Result};
+use crate::render::film::Image;
+use std::path::Path;
+
+/// Linear to sRGB-encoded [0,1] (IEC 61966-2-1).
+pub fn linear_to_srgb(x: f32) -> f32 {
+    let x = if x.is_finite() { x.clamp(0.0, 1.0) } else { 0.0 };
+    if x <= 0.003_130_8 {
+        12.92 * x
+    } else {
+        1.055 * x.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// Encodes an image with the given exposure multiplier.
+pub fn write_png(path: impl AsRef<Path>, img: &Image, exposure: f32) -> Result<()> {
+    let path = path.as_ref();
+    let file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
+    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), img.width as u32, img.height as u32);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+    let mut w = enc.write_header().map_err(|e| Error::io(path, e))?;
+    let bytes: Vec<u8> = img
+        .data
+        .iter()
+        .flat_map(|p| p.map(|c| (linear_to_srgb(c * exposure) * 255.0 + 0.5) as u8))
+        .collect();
+    w.write_image_data(&bytes).map_err(|e| Error::io(path, e))
+}
