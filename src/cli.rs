@@ -1,0 +1,155 @@
+//! The one definition of the `render` command's arguments, shared by the development binary and
+//! the `photonmap` command of the Python package, so the two never drift apart.
+
+use crate::error::{Error, Result};
+use crate::io;
+use crate::render::{film::Filter, Quality, RenderOutput, RenderSettings, Renderer};
+use crate::scene::{Scene, SceneDesc};
+use clap::{Args, Parser, Subcommand};
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+#[derive(Parser, Debug)]
+#[command(name = "photonmap", version, about = "Photon-mapping renderer: caustics, glass, mirrors and fog")]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Render a scene to a multilayer EXR (beauty plus one layer per term).
+    Render(RenderArgs),
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct RenderArgs {
+    /// Scene file (.json scene IR); none renders the embedded default scene.
+    pub scene: Option<PathBuf>,
+    /// Output multilayer EXR.
+    #[arg(short = 'o', long = "output", value_name = "OUT.exr")]
+    pub output: PathBuf,
+    /// Image width in pixels (overrides the scene's film).
+    #[arg(long, visible_alias = "imageWidth")]
+    pub width: Option<u32>,
+    /// Image height in pixels (default: keeps the scene's aspect ratio when only --width is given).
+    #[arg(long)]
+    pub height: Option<u32>,
+    /// Quality preset: draft, medium, high, final.
+    #[arg(long, default_value = "medium", value_parser = parse_quality)]
+    pub quality: Quality,
+    /// Camera samples per pixel (overrides the preset).
+    #[arg(long)]
+    pub spp: Option<u32>,
+    /// Random seed; the same seed gives the same image for any thread count.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Worker threads (0 = all cores).
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
+    /// Maximum number of perfectly specular bounces followed from the eye.
+    #[arg(long, default_value_t = 8)]
+    pub max_specular_depth: u32,
+    /// Pixel filter: box, tent, gaussian.
+    #[arg(long, default_value = "gaussian", value_parser = parse_filter)]
+    pub filter: Filter,
+    /// Write render statistics as JSON.
+    #[arg(long, value_name = "stats.json")]
+    pub stats: Option<PathBuf>,
+    /// Write an sRGB PNG preview of the beauty.
+    #[arg(long, value_name = "preview.png")]
+    pub png: Option<PathBuf>,
+    /// No progress output.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+fn parse_quality(s: &str) -> std::result::Result<Quality, String> {
+    Quality::parse(s).ok_or_else(|| format!("unknown quality `{s}` (expected draft, medium, high or final)"))
+}
+
+fn parse_filter(s: &str) -> std::result::Result<Filter, String> {
+    Filter::parse(s).ok_or_else(|| format!("unknown filter `{s}` (expected box, tent or gaussian)"))
+}
+
+impl RenderArgs {
+    /// Loads the scene named on the command line (or the default) and applies size overrides.
+    pub fn load_scene(&self) -> Result<SceneDesc> {
+        let mut desc = match &self.scene {
+            None => crate::scene::default_scene(),
+            Some(p) => {
+                let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+                if ext != "json" {
+                    return Err(Error::io(p, format!("unsupported scene format `.{ext}`: this command reads .json scene files")));
+                }
+                io::scene_json::load(p)?
+            }
+        };
+        self.apply_size(&mut desc)?;
+        Ok(desc)
+    }
+
+    pub fn apply_size(&self, desc: &mut SceneDesc) -> Result<()> {
+        let (w0, h0) = (desc.film.width, desc.film.height);
+        match (self.width, self.height) {
+            (Some(w), Some(h)) => (desc.film.width, desc.film.height) = (w, h),
+            (Some(w), None) => {
+                desc.film.width = w;
+                desc.film.height = ((w as u64 * h0 as u64) / w0.max(1) as u64).max(1) as u32;
+            }
+            (None, Some(h)) => {
+                desc.film.height = h;
+                desc.film.width = ((h as u64 * w0 as u64) / h0.max(1) as u64).max(1) as u32;
+            }
+            (None, None) => {}
+        }
+        crate::scene::validate(desc)
+    }
+
+    pub fn settings(&self) -> RenderSettings {
+        RenderSettings {
+            spp: self.spp.unwrap_or(self.quality.spp()),
+            seed: self.seed,
+            threads: self.threads,
+            max_specular_depth: self.max_specular_depth,
+            filter: self.filter.clone(),
+            ..Default::default()
+        }
+    }
+}
+
+/// Renders and writes every requested output. `progress` receives (fraction, phase).
+pub fn run_render(args: &RenderArgs, progress: Option<Arc<crate::render::ProgressFn>>) -> Result<RenderOutput> {
+    let t0 = std::time::Instant::now();
+    let desc = args.load_scene()?;
+    let scene = Scene::build(&desc)?;
+    let build_s = t0.elapsed().as_secs_f64();
+    let mut r = Renderer::new(&scene).settings(args.settings());
+    if let Some(p) = progress {
+        r = r.progress(p);
+    }
+    let mut out = r.render()?;
+    out.stats.seconds.insert("scene_build".into(), build_s);
+    write_outputs(args, &out)?;
+    Ok(out)
+}
+
+/// EXR (with metadata), optional PNG and stats JSON.
+pub fn write_outputs(args: &RenderArgs, out: &RenderOutput) -> Result<()> {
+    let mut meta = BTreeMap::new();
+    meta.insert("version".into(), out.stats.version.to_string());
+    meta.insert("seed".into(), out.stats.seed.to_string());
+    meta.insert("spp".into(), out.stats.spp.to_string());
+    meta.insert("photons".into(), serde_json::to_string(&out.stats.photons_stored).unwrap_or_default());
+    meta.insert("seconds".into(), serde_json::to_string(&out.stats.seconds).unwrap_or_default());
+    io::exr::write_multilayer(&args.output, &out.film, &meta)?;
+    if let Some(p) = &args.png {
+        io::png::write_png(p, &out.film.combined(), 1.0)?;
+    }
+    if let Some(p) = &args.stats {
+        let text = serde_json::to_string_pretty(&out.stats).map_err(|e| Error::Internal(e.to_string()))?;
+        std::fs::write(p, text).map_err(|e| Error::io(p, e))?;
+    }
+    Ok(())
+}

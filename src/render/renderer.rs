@@ -1,0 +1,261 @@
+//! The renderer builder: seed, threads, samples, progress callback and cancel flag.
+//!
+//! Each pixel draws its random numbers from its own stream, derived from (seed, pixel index),
+//! and pixels are independent (see `film`), so the output is bit-identical for any thread count.
+
+use super::aov::{Term, TermMask};
+use super::eye::{self, EyeSettings};
+use super::film::{Film, Filter, TermRadiance};
+use crate::error::{Error, Result};
+use crate::geometry::Ray;
+use crate::sampling::Rng;
+use crate::scene::Scene;
+use glam::Vec2;
+use serde::Serialize;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Arc;
+use std::time::Instant;
+
+/// Called with (fraction done in [0,1], phase name). May be called from worker threads.
+pub type ProgressFn = dyn Fn(f32, &str) + Send + Sync;
+
+/// Quality presets shared by the CLI, the Python API and Blender.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Quality {
+    Draft,
+    Medium,
+    High,
+    Final,
+}
+
+impl Quality {
+    pub const ALL: [Quality; 4] = [Quality::Draft, Quality::Medium, Quality::High, Quality::Final];
+    pub fn name(self) -> &'static str {
+        match self {
+            Quality::Draft => "draft",
+            Quality::Medium => "medium",
+            Quality::High => "high",
+            Quality::Final => "final",
+        }
+    }
+    pub fn parse(s: &str) -> Option<Quality> {
+        Self::ALL.into_iter().find(|q| q.name() == s)
+    }
+    /// Camera samples per pixel.
+    pub fn spp(self) -> u32 {
+        match self {
+            Quality::Draft => 4,
+            Quality::Medium => 16,
+            Quality::High => 64,
+            Quality::Final => 256,
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct RenderSettings {
+    pub spp: u32,
+    pub seed: u64,
+    /// 0 = all cores.
+    pub threads: usize,
+    pub max_specular_depth: u32,
+    pub filter: Filter,
+    pub terms: TermMask,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings {
+            spp: Quality::Medium.spp(),
+            seed: 0,
+            threads: 0,
+            max_specular_depth: 8,
+            filter: Filter::gaussian(0.5),
+            terms: TermMask::ALL,
+        }
+    }
+}
+
+/// Why a term is zero in this render.
+#[derive(Clone, Debug, Serialize)]
+pub struct SkippedTerm {
+    pub term: &'static str,
+    pub reason: String,
+}
+
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct RenderStats {
+    pub version: &'static str,
+    pub seed: u64,
+    pub width: usize,
+    pub height: usize,
+    pub spp: u32,
+    pub threads: usize,
+    pub triangles: usize,
+    pub lights: usize,
+    /// Wall-clock seconds per pass.
+    pub seconds: std::collections::BTreeMap<String, f64>,
+    pub camera_rays: u64,
+    /// Photons stored per map (empty: no photon pass in this render).
+    pub photons_stored: std::collections::BTreeMap<String, u64>,
+    pub skipped: Vec<SkippedTerm>,
+    /// Estimates that came out NaN or infinite and were dropped.
+    pub non_finite_samples: u64,
+    /// Approximate bytes held by the render (film and scene geometry).
+    pub memory_bytes: u64,
+}
+
+pub struct RenderOutput {
+    pub film: Film,
+    pub stats: RenderStats,
+}
+
+pub struct Renderer<'a> {
+    scene: &'a Scene,
+    settings: RenderSettings,
+    progress: Option<Arc<ProgressFn>>,
+    cancel: Option<Arc<AtomicBool>>,
+}
+
+impl<'a> Renderer<'a> {
+    pub fn new(scene: &'a Scene) -> Self {
+        Renderer { scene, settings: RenderSettings::default(), progress: None, cancel: None }
+    }
+    pub fn settings(mut self, s: RenderSettings) -> Self {
+        self.settings = s;
+        self
+    }
+    pub fn seed(mut self, seed: u64) -> Self {
+        self.settings.seed = seed;
+        self
+    }
+    pub fn threads(mut self, n: usize) -> Self {
+        self.settings.threads = n;
+        self
+    }
+    pub fn spp(mut self, n: u32) -> Self {
+        self.settings.spp = n;
+        self
+    }
+    pub fn progress(mut self, f: Arc<ProgressFn>) -> Self {
+        self.progress = Some(f);
+        self
+    }
+    pub fn cancel_flag(mut self, flag: Arc<AtomicBool>) -> Self {
+        self.cancel = Some(flag);
+        self
+    }
+
+    fn skipped_terms(&self) -> Vec<SkippedTerm> {
+        let mut out = Vec::new();
+        for t in Term::ALL {
+            let reason = if !self.settings.terms.contains(t) {
+                "disabled in the render settings".to_string()
+            } else {
+                match t {
+                    Term::Indirect => "no photon pass in this build: indirect light is not estimated".into(),
+                    Term::Caustic => "no photon pass in this build: caustics are not estimated".into(),
+                    Term::Volume => "the scene has no participating media".into(),
+                    _ => continue,
+                }
+            };
+            out.push(SkippedTerm { term: t.name(), reason });
+        }
+        out
+    }
+
+    pub fn render(self) -> Result<RenderOutput> {
+        let s = &self.settings;
+        if s.spp == 0 {
+            return Err(Error::InvalidSetting { setting: "spp".into(), message: "must be at least 1".into() });
+        }
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(s.threads)
+            .build()
+            .map_err(|e| Error::Internal(format!("thread pool: {e}")))?;
+        let (w, h) = (self.scene.width, self.scene.height);
+        let start = Instant::now();
+        let eye_settings = EyeSettings { terms: s.terms, max_specular_depth: s.max_specular_depth };
+        let rows_done = AtomicUsize::new(0);
+        let non_finite = AtomicUsize::new(0);
+        let cancelled = || self.cancel.as_ref().is_some_and(|c| c.load(Ordering::Relaxed));
+        let nx = (s.spp as f32).sqrt().floor().max(1.0) as u32;
+        let ny = s.spp.div_ceil(nx);
+
+        let rows: Vec<Option<Vec<TermRadiance>>> = pool.install(|| {
+            use rayon::prelude::*;
+            (0..h)
+                .into_par_iter()
+                .map(|y| {
+                    if cancelled() {
+                        return None;
+                    }
+                    let mut row = Vec::with_capacity(w);
+                    for x in 0..w {
+                        let mut rng = Rng::new(s.seed, (y * w + x) as u64);
+                        let mut acc = TermRadiance::default();
+                        for i in 0..s.spp {
+                            // Stratified over an nx-by-ny grid, then warped by the filter.
+                            let (cx, cy) = (i % nx, (i / nx) % ny);
+                            let j = rng.vec2();
+                            let u = Vec2::new((cx as f32 + j.x) / nx as f32, (cy as f32 + j.y) / ny as f32);
+                            let offset = s.filter.sample(u);
+                            let film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
+                            let cr = self.scene.camera.generate_ray(film, rng.vec2());
+                            let ray = Ray { o: cr.o, d: cr.d, t_max: cr.t_max };
+                            let l = eye::trace(self.scene, ray, &eye_settings, &mut rng);
+                            for t in Term::ALL {
+                                let v = l.0[t.index()];
+                                if v.is_finite() {
+                                    acc.0[t.index()] += v;
+                                } else {
+                                    non_finite.fetch_add(1, Ordering::Relaxed);
+                                }
+                            }
+                        }
+                        let inv = 1.0 / s.spp as f32;
+                        for v in acc.0.iter_mut() {
+                            *v *= inv;
+                        }
+                        row.push(acc);
+                    }
+                    let done = rows_done.fetch_add(1, Ordering::Relaxed) + 1;
+                    if let Some(p) = &self.progress {
+                        p(done as f32 / h as f32, "render");
+                    }
+                    Some(row)
+                })
+                .collect()
+        });
+        if cancelled() {
+            return Err(Error::Cancelled);
+        }
+        let mut film = Film::new(w, h);
+        for (y, row) in rows.into_iter().enumerate() {
+            let row = row.ok_or(Error::Cancelled)?;
+            for (x, px) in row.iter().enumerate() {
+                film.set_pixel(x, y, px);
+            }
+        }
+        let mut seconds = std::collections::BTreeMap::new();
+        seconds.insert("render".to_string(), start.elapsed().as_secs_f64());
+        let stats = RenderStats {
+            version: env!("CARGO_PKG_VERSION"),
+            seed: s.seed,
+            width: w,
+            height: h,
+            spp: s.spp,
+            threads: pool.current_num_threads(),
+            triangles: self.scene.triangle_count,
+            lights: self.scene.lights.len(),
+            seconds,
+            camera_rays: (w * h) as u64 * s.spp as u64,
+            photons_stored: Default::default(),
+            skipped: self.skipped_terms(),
+            non_finite_samples: non_finite.load(Ordering::Relaxed) as u64,
+            memory_bytes: (w * h * Term::COUNT * 12) as u64 + self.scene.triangle_count as u64 * 64,
+        };
+        Ok(RenderOutput { film, stats })
+    }
+}

@@ -1,0 +1,86 @@
+//! `direct`: light from emitters reaching a non-specular surface, by next-event estimation with
+//! multiple importance sampling (Veach 1997, §9.2, power heuristic): one light sample and one
+//! BSDF sample per shading point. A BSDF-sampled ray counts only if it reaches an emitter
+//! directly; light arriving through glass or mirrors is the caustic term's.
+
+use crate::geometry::SurfaceInteraction;
+use crate::materials::bsdf::Bsdf;
+use crate::math::Spectrum;
+use crate::sampling::Rng;
+use crate::scene::{Scene, SceneHit};
+
+#[inline]
+fn power_heuristic(a: f32, b: f32) -> f32 {
+    let (a2, b2) = (a * a, b * b);
+    if a2 + b2 > 0.0 && a2.is_finite() {
+        a2 / (a2 + b2)
+    } else if a.is_infinite() {
+        1.0
+    } else {
+        0.0
+    }
+}
+
+/// Direct light reflected at `si` towards `si.wo`.
+pub fn estimate(scene: &Scene, si: &SurfaceInteraction, bsdf: &Bsdf, rng: &mut Rng) -> Spectrum {
+    let mut l = Spectrum::ZERO;
+    let ctx = scene.light_ctx();
+    let wo = si.wo;
+    let u_light = rng.f32();
+    let u_pos = rng.vec2();
+    let u_lobe = rng.f32();
+    let u_dir = rng.vec2();
+
+    // Light sampling.
+    if let Some((li_idx, pmf, _)) = scene.light_sampler.sample(u_light) {
+        let light = &scene.lights[li_idx];
+        if let Some(ls) = light.sample_li(si.p, u_pos, &ctx) {
+            let f = bsdf.eval(wo, ls.wi) * ls.wi.dot(si.ns).abs();
+            if f.max_element() > 0.0 {
+                let shadow = if ls.dist.is_finite() { si.spawn_ray_to(ls.p) } else { si.spawn_ray(ls.wi) };
+                if !scene.accel.occluded(&shadow) {
+                    let w = if ls.delta { 1.0 } else { power_heuristic(pmf * ls.pdf, bsdf.pdf(wo, ls.wi)) };
+                    l += f * ls.li * (w / (pmf * ls.pdf));
+                }
+            }
+        }
+    }
+
+    // BSDF sampling, for the non-delta lobes.
+    if let Some(bs) = bsdf.sample(wo, u_lobe, u_dir) {
+        if bs.flags & crate::materials::bsdf::SPECULAR == 0 && bs.pdf > 0.0 {
+            let ray = si.spawn_ray(bs.wi);
+            let (le, light_pdf) = match scene.intersect(&ray) {
+                SceneHit::Light { index, p, n, .. } => {
+                    let light = &scene.lights[index as usize];
+                    let pdf = scene.light_sampler.pmf(index as usize) * light.pdf_li(si.p, bs.wi, p, n);
+                    (scene.light_le(index, p, bs.wi), pdf)
+                }
+                SceneHit::Surface(hit) => match scene.emissive.get(&(hit.instance, hit.prim)) {
+                    Some(&index) => {
+                        let light = &scene.lights[index as usize];
+                        let pdf = scene.light_sampler.pmf(index as usize) * light.pdf_li(si.p, bs.wi, hit.p, hit.ng);
+                        (super::emission::surface_emission(scene, &hit), pdf)
+                    }
+                    None => (Spectrum::ZERO, 0.0),
+                },
+                SceneHit::Miss => {
+                    let mut le = Spectrum::ZERO;
+                    let mut pdf = 0.0;
+                    for &i in &scene.infinite_lights {
+                        let light = &scene.lights[i as usize];
+                        pdf += scene.light_sampler.pmf(i as usize) * light.pdf_li(si.p, bs.wi, glam::Vec3::ZERO, glam::Vec3::ZERO);
+                    }
+                    if !scene.infinite_lights.is_empty() {
+                        le = scene.background(bs.wi);
+                    }
+                    (le, pdf)
+                }
+            };
+            if le.max_element() > 0.0 {
+                l += bs.weight * le * power_heuristic(bs.pdf, light_pdf);
+            }
+        }
+    }
+    l
+}

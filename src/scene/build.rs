@@ -1,0 +1,254 @@
+//! From the validated IR to the render scene: acceleration structure, materials, textures,
+//! lights (emissive triangles included), camera.
+
+use super::camera::Camera;
+use super::desc::*;
+use crate::error::Result;
+use crate::geometry::{Accel, Instance, MeshGeom, Ray, SurfaceInteraction};
+use crate::lights::{AreaLight, AreaShape, DistantLight, EnvironmentLight, Light, LightCtx, LightSampler, PointLight, SpotShape, TriangleLight};
+use crate::materials::{texture::Texture, Material};
+use crate::math::{Bounds3, Spectrum, Transform};
+use glam::{Vec2, Vec3};
+use std::collections::HashMap;
+
+pub struct Scene {
+    pub accel: Accel,
+    pub materials: Vec<Material>,
+    pub textures: Vec<Texture>,
+    pub lights: Vec<Light>,
+    pub light_sampler: LightSampler,
+    pub camera: Camera,
+    pub width: usize,
+    pub height: usize,
+    /// (instance, triangle) of an emissive triangle -> its light index.
+    pub emissive: HashMap<(u32, u32), u32>,
+    /// Lights hit by rays that escape the scene (environment, distant lights with an angle).
+    pub infinite_lights: Vec<u32>,
+    /// Lights with a surface that rays can hit: area lights and point lights with a radius.
+    pub hittable_lights: Vec<u32>,
+    pub bounds: Bounds3,
+    pub center: Vec3,
+    pub radius: f32,
+    pub triangle_count: usize,
+}
+
+/// What a ray found first.
+pub enum SceneHit {
+    Surface(SurfaceInteraction),
+    /// The surface of an analytic light (lights do not occlude other light).
+    Light { index: u32, t: f32, p: Vec3, n: Vec3 },
+    Miss,
+}
+
+fn v3(a: [f32; 3]) -> Vec3 {
+    Vec3::from(a)
+}
+
+impl Scene {
+    /// Builds the render scene from a scene that `validate` has accepted.
+    pub fn build(desc: &SceneDesc) -> Result<Scene> {
+        super::validate(desc)?;
+        let textures: Vec<Texture> = desc.textures.iter().map(Texture::from_desc).collect();
+        let materials: Vec<Material> = desc.materials.iter().map(Material::from_desc).collect();
+
+        let prototypes: std::collections::HashSet<u32> = desc.instances.iter().map(|i| i.mesh).collect();
+        let mut meshes = Vec::with_capacity(desc.meshes.len());
+        let mut instances = Vec::new();
+        for (i, m) in desc.meshes.iter().enumerate() {
+            meshes.push(mesh_geom(m));
+            let t = Transform::from_rows(&m.transform).unwrap_or_default();
+            if !prototypes.contains(&(i as u32)) {
+                instances.push(Instance { mesh: i as u32, transform: t });
+            }
+        }
+        for inst in &desc.instances {
+            let mesh_t = Transform::from_rows(&desc.meshes[inst.mesh as usize].transform).unwrap_or_default();
+            let t = Transform::from_rows(&inst.transform).unwrap_or_default();
+            instances.push(Instance { mesh: inst.mesh, transform: mesh_t.then(&t) });
+        }
+        let triangle_count = instances.iter().map(|i| meshes[i.mesh as usize].indices.len()).sum();
+        let accel = Accel::build(meshes, instances);
+        let mut bounds = accel.bounds();
+
+        let mut lights = Vec::new();
+        for l in &desc.lights {
+            lights.push(light_from_desc(l));
+        }
+        for l in &lights {
+            match l {
+                Light::Point(p) => bounds.extend(p.position),
+                Light::Area(a) => bounds.extend(a.center),
+                _ => {}
+            }
+        }
+        let (center, radius) = if bounds.is_empty() { (Vec3::ZERO, 1.0) } else { bounds.bounding_sphere() };
+        let radius = radius.max(1e-6);
+
+        // Emissive triangles.
+        let mut emissive = HashMap::new();
+        for (ii, inst) in accel.instances().iter().enumerate() {
+            let mesh = accel.mesh(inst.mesh as usize);
+            for (prim, &mat) in mesh.material_ids.iter().enumerate() {
+                if !materials.get(mat as usize).is_some_and(|m| m.is_emissive()) {
+                    continue;
+                }
+                let v = accel.triangle_world(ii as u32, prim as u32);
+                let tri = mesh.indices[prim];
+                let uv = match &mesh.uvs {
+                    Some(uvs) => tri.map(|k| uvs[k as usize]),
+                    None => [Vec2::ZERO, Vec2::X, Vec2::Y],
+                };
+                emissive.insert((ii as u32, prim as u32), lights.len() as u32);
+                lights.push(Light::Triangle(TriangleLight::new(v, uv, mat, ii as u32, prim as u32)));
+            }
+        }
+        if let Some(env) = &desc.environment {
+            let tex = env.texture.map(|t| textures[t as usize].clone());
+            let scale = Vec3::from(env.color) * env.strength;
+            let t = Transform::from_rows(&env.transform).unwrap_or_default();
+            lights.push(Light::Environment(EnvironmentLight::new(scale, tex, t)));
+        }
+        let ctx = LightCtx { materials: &materials, textures: &textures, scene_center: center, scene_radius: radius };
+        let powers: Vec<Spectrum> = lights.iter().map(|l| l.power(&ctx)).collect();
+        let light_sampler = LightSampler::new(&powers);
+        let infinite_lights = (0..lights.len() as u32)
+            .filter(|&i| match &lights[i as usize] {
+                Light::Environment(_) => true,
+                Light::Distant(d) => d.cos_half_angle < 1.0,
+                _ => false,
+            })
+            .collect();
+        let hittable_lights = (0..lights.len() as u32)
+            .filter(|&i| match &lights[i as usize] {
+                Light::Area(_) => true,
+                Light::Point(p) => p.radius > 0.0,
+                _ => false,
+            })
+            .collect();
+
+        Ok(Scene {
+            accel,
+            materials,
+            textures,
+            lights,
+            light_sampler,
+            camera: Camera::new(&desc.camera, &desc.film),
+            width: desc.film.width as usize,
+            height: desc.film.height as usize,
+            emissive,
+            infinite_lights,
+            hittable_lights,
+            bounds,
+            center,
+            radius,
+            triangle_count,
+        })
+    }
+
+    pub fn light_ctx(&self) -> LightCtx<'_> {
+        LightCtx { materials: &self.materials, textures: &self.textures, scene_center: self.center, scene_radius: self.radius }
+    }
+
+    /// Closest surface or light surface along the ray.
+    pub fn intersect(&self, ray: &Ray) -> SceneHit {
+        let hit = self.accel.intersect(ray);
+        let mut t_max = hit.as_ref().map_or(ray.t_max, |h| h.t);
+        let mut light_hit = None;
+        for &i in &self.hittable_lights {
+            let t = match &self.lights[i as usize] {
+                Light::Area(a) => a.intersect(ray.o, ray.d, t_max),
+                Light::Point(p) => p.intersect(ray.o, ray.d, t_max),
+                _ => None,
+            };
+            if let Some(t) = t {
+                t_max = t;
+                light_hit = Some((i, t));
+            }
+        }
+        if let Some((index, t)) = light_hit {
+            let p = ray.o + ray.d * t;
+            let n = match &self.lights[index as usize] {
+                Light::Area(a) => a.n,
+                Light::Point(pl) => (p - pl.position).normalize(),
+                _ => Vec3::Z,
+            };
+            return SceneHit::Light { index, t, p, n };
+        }
+        match hit {
+            Some(h) => SceneHit::Surface(self.accel.interaction(ray, &h)),
+            None => SceneHit::Miss,
+        }
+    }
+
+    /// Radiance leaving an analytic light's surface at `p` along the ray direction `d`.
+    pub fn light_le(&self, index: u32, p: Vec3, d: Vec3) -> Spectrum {
+        match &self.lights[index as usize] {
+            Light::Area(a) => a.le(d),
+            Light::Point(pl) => pl.le(p),
+            _ => Spectrum::ZERO,
+        }
+    }
+
+    /// Radiance arriving along an escaping ray, from every light at infinity.
+    pub fn background(&self, d: Vec3) -> Spectrum {
+        self.infinite_lights
+            .iter()
+            .map(|&i| match &self.lights[i as usize] {
+                Light::Environment(e) => e.le(d),
+                Light::Distant(l) => l.le(d),
+                _ => Spectrum::ZERO,
+            })
+            .sum()
+    }
+
+    /// Whether any material needs caustic or specular paths.
+    pub fn has_specular(&self) -> bool {
+        self.materials.iter().any(|m| m.has_specular())
+    }
+}
+
+fn mesh_geom(m: &MeshDesc) -> MeshGeom {
+    MeshGeom {
+        positions: m.positions.iter().map(|p| v3(*p)).collect(),
+        indices: m.indices.clone(),
+        normals: m.normals.as_ref().map(|n| n.iter().map(|v| v3(*v)).collect()),
+        uvs: m.uvs.as_ref().map(|u| u.iter().map(|v| Vec2::from(*v)).collect()),
+        material_ids: match &m.material_indices {
+            Some(mi) => mi.clone(),
+            None => vec![m.material; m.indices.len()],
+        },
+    }
+}
+
+fn light_from_desc(l: &LightDesc) -> Light {
+    match l {
+        LightDesc::Point { position, power, color, radius, .. } => {
+            Light::Point(PointLight::new(v3(*position), *power, v3(*color), *radius, None))
+        }
+        LightDesc::Sphere { position, radius, power, color, .. } => {
+            Light::Point(PointLight::new(v3(*position), *power, v3(*color), *radius, None))
+        }
+        LightDesc::Spot { position, direction, power, color, cone_angle, blend, radius, .. } => {
+            let spot = SpotShape::new(v3(*direction), *cone_angle, *blend);
+            Light::Point(PointLight::new(v3(*position), *power, v3(*color), *radius, Some(spot)))
+        }
+        LightDesc::Rect { transform, width, height, power, color, two_sided, .. } => {
+            area_light(AreaShape::Rect, transform, 0.5 * width, 0.5 * height, *power, v3(*color), *two_sided)
+        }
+        LightDesc::Disk { transform, radius, power, color, two_sided, .. } => {
+            area_light(AreaShape::Disk, transform, *radius, *radius, *power, v3(*color), *two_sided)
+        }
+        LightDesc::Distant { direction, irradiance, color, angle, .. } => {
+            Light::Distant(DistantLight::new(v3(*direction), *irradiance, v3(*color), *angle))
+        }
+    }
+}
+
+fn area_light(shape: AreaShape, m: &Matrix, hx: f32, hy: f32, power: f32, color: Spectrum, two_sided: bool) -> Light {
+    let t = Transform::from_rows(m).unwrap_or_default();
+    let center = t.point(Vec3::ZERO);
+    let ex = t.vector(Vec3::X * hx);
+    let ey = t.vector(Vec3::Y * hy);
+    let n = t.normal(-Vec3::Z);
+    Light::Area(AreaLight::new(shape, center, ex, ey, n, power, color, two_sided))
+}
