@@ -13,7 +13,8 @@ Run from the repository root:
     python3 scripts/make_references.py cornell_diffuse_direct --spp 256   # one, quick
     python3 scripts/make_references.py --variant scalar_rgb ...            # no LLVM needed, ~3x slower
 
-Each reference is rendered as B independent batches (batch b renders with seeds b*k .. b*k+k-1, k passes of at most 256 spp). We write
+Each reference is rendered as B independent batches, each as k passes of at most 256 spp
+(batch b uses seeds b*k .. b*k+k-1, so no two passes share a seed). We write
     <name>.exr         the mean of the batches, float32 RGB
     <name>.stderr.exr  the per-pixel standard error of that mean: std(batches, ddof=1)/sqrt(B)
     <name>.json        spp, batches, variant, seconds, mean pixel value, relMSE noise floor
@@ -475,8 +476,8 @@ def render_reference(name, spp_total, batches, variant, out_dir):
         "spp": spp_batch * batches,
         "batches": batches,
         "spp_per_batch": spp_batch,
-        "seeds": f"0..{batches * passes - 1} (batch b uses {b_first}..{b_last})".format(
-            b_first=f"b*{passes}", b_last=f"b*{passes}+{passes - 1}"),
+        "seeds": f"batch b renders {passes} passes of {spp_pass} spp with seeds "
+                 f"b*{passes} .. b*{passes}+{passes - 1}",
         "width": int(mean.shape[1]),
         "height": int(mean.shape[0]),
         "seconds": round(seconds, 1),
