@@ -5,7 +5,7 @@ use super::aov::{Term, TermMask};
 use super::film::TermRadiance;
 use super::terms::{direct, emission, specular};
 use crate::geometry::Ray;
-use crate::materials::bsdf::{SPECULAR, TRANSMISSION};
+use crate::materials::bsdf::LobeFlags;
 use crate::math::{is_finite3, Frame, Spectrum};
 use crate::sampling::Rng;
 use crate::scene::{Scene, SceneHit};
@@ -43,7 +43,7 @@ pub fn trace(scene: &Scene, mut ray: Ray, s: &EyeSettings, rng: &mut Rng) -> Ter
                 // Opaque surfaces are two-sided: shade the side the ray came from.
                 let frame0 = Frame::from_normal_tangent(si.ns, si.dpdu);
                 let bsdf0 = mat.bsdf(frame0, si.uv, &scene.textures);
-                if bsdf0.flags() & TRANSMISSION == 0 && si.ng.dot(si.wo) < 0.0 {
+                if bsdf0.flags() & LobeFlags::TRANSMISSION == 0 && si.ng.dot(si.wo) < 0.0 {
                     si.ng = -si.ng;
                     si.ns = -si.ns;
                 }
@@ -51,16 +51,16 @@ pub fn trace(scene: &Scene, mut ray: Ray, s: &EyeSettings, rng: &mut Rng) -> Ter
                 if bsdf.has_non_delta() && s.terms.contains(specular::route(Term::Direct, bounces)) {
                     add(&mut out, Term::Direct, bounces, beta * direct::estimate(scene, &si, &bsdf, rng));
                 }
-                if bsdf.flags() & SPECULAR == 0 || bounces >= s.max_specular_depth {
+                if bsdf.flags() & LobeFlags::SPECULAR == 0 || bounces >= s.max_specular_depth {
                     break;
                 }
                 let u_lobe = rng.f32();
                 let u = rng.vec2();
                 let Some(bs) = bsdf.sample(si.wo, u_lobe, u) else { break };
-                if bs.flags & SPECULAR == 0 || !(bs.pdf > 0.0) {
+                if !bs.is_delta() {
                     break; // the non-delta part was estimated above
                 }
-                beta *= bs.weight / bs.pdf;
+                beta *= bs.weight;
                 bounces += 1;
                 match specular::continue_chain(beta, bounces, rng.f32()) {
                     Some(b) => beta = b,

@@ -87,7 +87,7 @@ impl Scene {
         // Emissive triangles.
         let mut emissive = HashMap::new();
         for (ii, inst) in accel.instances().iter().enumerate() {
-            let mesh = accel.mesh(inst.mesh as usize);
+            let mesh = accel.mesh(inst.mesh);
             for (prim, &mat) in mesh.material_ids.iter().enumerate() {
                 if !materials.get(mat as usize).is_some_and(|m| m.is_emissive()) {
                     continue;

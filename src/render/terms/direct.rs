@@ -48,7 +48,7 @@ pub fn estimate(scene: &Scene, si: &SurfaceInteraction, bsdf: &Bsdf, rng: &mut R
 
     // BSDF sampling, for the non-delta lobes.
     if let Some(bs) = bsdf.sample(wo, u_lobe, u_dir) {
-        if bs.flags & crate::materials::bsdf::SPECULAR == 0 && bs.pdf > 0.0 {
+        if !bs.is_delta() && bs.pdf > 0.0 {
             let ray = si.spawn_ray(bs.wi);
             let (le, light_pdf) = match scene.intersect(&ray) {
                 SceneHit::Light { index, p, n, .. } => {

@@ -1,0 +1,78 @@
+//! Helpers shared by the integration tests (included with `#[path]`).
+#![allow(dead_code)]
+
+use photonmap::io::scene_json;
+use photonmap::render::aov::Term;
+use photonmap::render::film::{Filter, Image};
+use photonmap::render::{RenderOutput, RenderSettings, Renderer};
+use photonmap::scene::{Scene, SceneDesc};
+use std::path::PathBuf;
+
+pub fn data(path: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(path)
+}
+
+pub fn load_scene(name: &str) -> SceneDesc {
+    scene_json::load(data(&format!("scenes/{name}.json"))).expect("test scene loads")
+}
+
+pub fn render(desc: &SceneDesc, spp: u32, seed: u64, threads: usize) -> RenderOutput {
+    let scene = Scene::build(desc).expect("scene builds");
+    let settings = RenderSettings { spp, seed, threads, filter: Filter::Box, ..Default::default() };
+    Renderer::new(&scene).settings(settings).render().expect("render succeeds")
+}
+
+/// Sum of the given terms.
+pub fn sum_terms(out: &RenderOutput, terms: &[Term]) -> Image {
+    let mut img = Image::new(out.film.width, out.film.height);
+    for t in terms {
+        for (a, b) in img.data.iter_mut().zip(&out.film.term(*t).data) {
+            for c in 0..3 {
+                a[c] += b[c];
+            }
+        }
+    }
+    img
+}
+
+/// Per-pixel mean and squared standard error of the mean over independent batches.
+pub fn mean_and_var(batches: &[Image]) -> (Image, Image) {
+    let k = batches.len() as f32;
+    let (w, h) = (batches[0].width, batches[0].height);
+    let mut mean = Image::new(w, h);
+    let mut var = Image::new(w, h);
+    for i in 0..w * h {
+        for c in 0..3 {
+            let m = batches.iter().map(|b| b.data[i][c]).sum::<f32>() / k;
+            let s2 = batches.iter().map(|b| (b.data[i][c] - m).powi(2)).sum::<f32>() / (k - 1.0);
+            mean.data[i][c] = m;
+            var.data[i][c] = s2 / k;
+        }
+    }
+    (mean, var)
+}
+
+/// relMSE = mean over pixels and channels of (a - b)^2 / (b^2 + eps).
+pub const REL_EPS: f32 = 1e-2;
+
+pub fn rel_mse(a: &Image, b: &Image) -> f64 {
+    let mut s = 0.0f64;
+    for (p, q) in a.data.iter().zip(&b.data) {
+        for c in 0..3 {
+            let d = (p[c] - q[c]) as f64;
+            s += d * d / ((q[c] as f64).powi(2) + REL_EPS as f64);
+        }
+    }
+    s / (a.data.len() * 3) as f64
+}
+
+/// The relMSE that noise alone would give: mean of (var_a + var_b) / (b^2 + eps).
+pub fn expected_rel_mse(var_a: &Image, var_b: &Image, b: &Image) -> f64 {
+    let mut s = 0.0f64;
+    for i in 0..b.data.len() {
+        for c in 0..3 {
+            s += (var_a.data[i][c] + var_b.data[i][c]) as f64 / ((b.data[i][c] as f64).powi(2) + REL_EPS as f64);
+        }
+    }
+    s / (b.data.len() * 3) as f64
+}
