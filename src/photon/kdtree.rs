@@ -35,6 +35,14 @@ pub const PARALLEL_BUILD_THRESHOLD: usize = 50_000;
 /// level, so 64 is ample.
 pub const MAX_TREE_DEPTH: usize = 64;
 
+/// Subtrees spanning at most this many levels (≤ 2^SCAN_LEVELS − 1 photons,
+/// stored as `SCAN_LEVELS` contiguous runs of the heap array) are scanned
+/// linearly by the queries instead of being traversed node by node: fewer
+/// unpredictable branches and sequential memory access. Must be ≥ 2 so that
+/// every traversed node has both children.
+pub const SCAN_LEVELS: u32 = 4;
+const _: () = assert!(SCAN_LEVELS >= 2);
+
 /// One result of a k-nearest query: index into [`PhotonKdTree::photons`]
 /// and squared distance to the query point.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -45,9 +53,9 @@ pub struct Neighbor {
     pub dist2: f32,
 }
 
-/// Reusable storage for [`PhotonKdTree::knn`]: the bounded max-heap of
-/// candidates. It grows to the largest `k` used and is then reused, so the
-/// queries do not allocate.
+/// Reusable storage for [`PhotonKdTree::knn`]: the candidate buffer (up to
+/// `2k` entries). It grows to the largest `k` used and is then reused, so
+/// the queries do not allocate.
 #[derive(Clone, Debug, Default)]
 pub struct KnnScratch {
     heap: Vec<Neighbor>,
@@ -62,7 +70,7 @@ impl KnnScratch {
     /// Scratch pre-sized for queries with up to `k` neighbours.
     pub fn with_capacity(k: usize) -> Self {
         KnnScratch {
-            heap: Vec::with_capacity(k),
+            heap: Vec::with_capacity(2 * k),
         }
     }
 }
@@ -204,26 +212,17 @@ fn dist2(q: &[f32; 3], p: &[f32; 3]) -> f32 {
     dx * dx + dy * dy + dz * dz
 }
 
-/// Restores the max-heap property below `i` (largest `dist2` at the root).
+/// Keeps the `k` nearest of `buf` (at positions `0..k`, the k-th nearest
+/// at `k − 1`) and drops the rest. Linear time.
 #[inline]
-fn sift_down(h: &mut [Neighbor], mut i: usize) {
-    let n = h.len();
-    let x = h[i];
-    loop {
-        let mut c = 2 * i + 1;
-        if c >= n {
-            break;
-        }
-        if c + 1 < n && h[c + 1].dist2 > h[c].dist2 {
-            c += 1;
-        }
-        if h[c].dist2 <= x.dist2 {
-            break;
-        }
-        h[i] = h[c];
-        i = c;
-    }
-    h[i] = x;
+fn select_k(buf: &mut Vec<Neighbor>, k: usize) {
+    buf.select_nth_unstable_by(k - 1, |a, b| a.dist2.total_cmp(&b.dist2));
+    buf.truncate(k);
+}
+
+#[inline]
+fn farthest_dist2(buf: &[Neighbor]) -> f32 {
+    buf.iter().fold(0.0f32, |m, nb| m.max(nb.dist2))
 }
 
 impl<P: PhotonRecord> PhotonKdTree<P> {
@@ -294,14 +293,24 @@ impl<P: PhotonRecord> PhotonKdTree<P> {
         self.nodes.capacity() * std::mem::size_of::<P>()
     }
 
+    /// First heap index whose subtree spans at most [`SCAN_LEVELS`] levels:
+    /// node `j` qualifies when its first descendant `SCAN_LEVELS` levels
+    /// down, `(j + 1)·2^SCAN_LEVELS − 1`, is past the end.
+    #[inline]
+    fn scan_start(&self) -> usize {
+        (self.nodes.len() + 1).div_ceil(1 << SCAN_LEVELS) - 1
+    }
+
     /// The `k` photons nearest to `p` within squared distance `max_dist2`
-    /// (inclusive), as Jensen's `locate_photons` (2001, appendix B) with a
-    /// bounded max-heap, traversed iteratively with a fixed stack.
+    /// (inclusive), as Jensen's `locate_photons` (2001, appendix B) but
+    /// with a select-based candidate buffer in place of the max-heap (see
+    /// below), traversed iteratively with a fixed stack; the
+    /// bottom [`SCAN_LEVELS`] levels of each subtree are scanned linearly.
     ///
     /// Returns a slice of `scratch`: at most `k` entries, in no particular
-    /// order, except that when exactly `k` entries are returned they form a
-    /// max-heap, so `result[0].dist2` is the largest (the squared radius of
-    /// the density estimate). Among photons at equal distance the choice is
+    /// order, except that when exactly `k` entries are returned
+    /// `result[0].dist2` is the largest (the squared radius of the density
+    /// estimate). Among photons at equal distance the choice is
     /// unspecified. `k == 0`, an empty tree, or a negative/NaN `max_dist2`
     /// give an empty result; `max_dist2 = ∞` means unbounded.
     pub fn knn<'s>(
@@ -320,61 +329,72 @@ impl<P: PhotonRecord> PhotonKdTree<P> {
             return heap;
         }
         let k = k.min(n);
-        heap.reserve(k);
+        heap.reserve(2 * k);
         let q = p.to_array();
+        let scan_start = self.scan_start();
         let mut max_d2 = max_dist2;
         let mut stack = [(0u32, 0f32); MAX_TREE_DEPTH];
         let mut sp = 0usize;
         let mut node = 0usize;
+
+        // Candidate insertion. Instead of a binary max-heap (Jensen's
+        // `locate_photons`), candidates are appended to a buffer of up to 2k
+        // entries; when it fills, a linear-time selection keeps the k nearest
+        // and the search radius shrinks to the k-th distance. This is O(1)
+        // amortised per candidate rather than O(log k), with the same
+        // pruning bound at the time of each selection. The first time k
+        // candidates are held, the radius also shrinks to their maximum.
+        #[inline(always)]
+        fn insert(buf: &mut Vec<Neighbor>, k: usize, max_d2: &mut f32, nb: Neighbor) {
+            buf.push(nb);
+            if buf.len() == k {
+                *max_d2 = farthest_dist2(buf).min(*max_d2);
+            } else if buf.len() == 2 * k {
+                select_k(buf, k);
+                *max_d2 = buf[k - 1].dist2;
+            }
+        }
+
         'search: loop {
-            // Descend towards the query, checking each node and pushing the
-            // far child when its half-space may still hold candidates.
             loop {
+                if node >= scan_start {
+                    // Small subtree: its levels are contiguous runs of the
+                    // heap array; check every photon without pruning.
+                    let (mut lo, mut width) = (node, 1usize);
+                    while lo < n {
+                        let hi = (lo + width).min(n);
+                        for (i, ph) in nodes[lo..hi].iter().enumerate() {
+                            let d2 = dist2(&q, ph.pos());
+                            if d2 <= max_d2 {
+                                let index = (lo + i) as u32;
+                                insert(heap, k, &mut max_d2, Neighbor { index, dist2: d2 });
+                            }
+                        }
+                        lo = 2 * lo + 1;
+                        width *= 2;
+                    }
+                    break;
+                }
+                // Interior node with both children present (node < scan_start
+                // implies at least SCAN_LEVELS ≥ 2 levels below it).
                 let ph = &nodes[node];
                 let pos = ph.pos();
+                prefetch(nodes, 4 * node + 3);
                 let d2 = dist2(&q, pos);
                 if d2 <= max_d2 {
-                    let nb = Neighbor {
-                        index: node as u32,
-                        dist2: d2,
-                    };
-                    if heap.len() < k {
-                        heap.push(nb);
-                        if heap.len() == k {
-                            // Heap is full: heapify once and shrink the
-                            // search radius to its farthest entry.
-                            for i in (0..k / 2).rev() {
-                                sift_down(heap, i);
-                            }
-                            max_d2 = heap[0].dist2;
-                        }
-                    } else {
-                        heap[0] = nb;
-                        sift_down(heap, 0);
-                        max_d2 = heap[0].dist2;
-                    }
-                }
-                let left = 2 * node + 1;
-                if left >= n {
-                    break;
+                    let index = node as u32;
+                    insert(heap, k, &mut max_d2, Neighbor { index, dist2: d2 });
                 }
                 let axis = ph.axis() as usize;
                 let delta = q[axis] - pos[axis];
-                let right = left + 1;
-                let (near, far) = if delta < 0.0 {
-                    (left, right)
-                } else {
-                    (right, left)
-                };
+                let go_right = (delta >= 0.0) as usize;
+                let left = 2 * node + 1;
                 let dd = delta * delta;
-                if far < n && dd <= max_d2 {
-                    stack[sp] = (far as u32, dd);
+                if dd <= max_d2 {
+                    stack[sp] = ((left + 1 - go_right) as u32, dd);
                     sp += 1;
                 }
-                if near >= n {
-                    break;
-                }
-                node = near;
+                node = left + go_right;
             }
             // Resume at the deepest pending far child still in range.
             loop {
@@ -389,6 +409,14 @@ impl<P: PhotonRecord> PhotonKdTree<P> {
                 }
             }
         }
+        if heap.len() > k {
+            select_k(heap, k);
+        }
+        if heap.len() == k {
+            // Farthest first: `result[0].dist2` is the estimate's radius².
+            let far = (0..k).fold(0, |m, i| if heap[i].dist2 > heap[m].dist2 { i } else { m });
+            heap.swap(0, far);
+        }
         heap
     }
 
@@ -402,46 +430,69 @@ impl<P: PhotonRecord> PhotonKdTree<P> {
             return;
         }
         let q = p.to_array();
+        let scan_start = self.scan_start();
         let mut stack = [0u32; MAX_TREE_DEPTH];
         let mut sp = 0usize;
         let mut node = 0usize;
-        'search: loop {
+        loop {
             loop {
+                if node >= scan_start {
+                    let (mut lo, mut width) = (node, 1usize);
+                    while lo < n {
+                        let hi = (lo + width).min(n);
+                        for ph in &nodes[lo..hi] {
+                            let d2 = dist2(&q, ph.pos());
+                            if d2 <= r2 {
+                                visitor(ph, d2);
+                            }
+                        }
+                        lo = 2 * lo + 1;
+                        width *= 2;
+                    }
+                    break;
+                }
                 let ph = &nodes[node];
                 let pos = ph.pos();
+                prefetch(nodes, 4 * node + 3);
                 let d2 = dist2(&q, pos);
                 if d2 <= r2 {
                     visitor(ph, d2);
                 }
-                let left = 2 * node + 1;
-                if left >= n {
-                    break;
-                }
                 let axis = ph.axis() as usize;
                 let delta = q[axis] - pos[axis];
-                let right = left + 1;
-                let (near, far) = if delta < 0.0 {
-                    (left, right)
-                } else {
-                    (right, left)
-                };
+                let go_right = (delta >= 0.0) as usize;
+                let left = 2 * node + 1;
                 // The radius is fixed, so pruned children are never pushed.
-                if far < n && delta * delta <= r2 {
-                    stack[sp] = far as u32;
+                if delta * delta <= r2 {
+                    stack[sp] = (left + 1 - go_right) as u32;
                     sp += 1;
                 }
-                if near >= n {
-                    break;
-                }
-                node = near;
+                node = left + go_right;
             }
             if sp == 0 {
-                break 'search;
+                return;
             }
             sp -= 1;
             node = stack[sp] as usize;
         }
     }
+}
+
+/// Hints the cache to load `nodes[i]` (no-op when out of range or not on
+/// x86-64).
+#[inline(always)]
+fn prefetch<P>(nodes: &[P], i: usize) {
+    #[cfg(target_arch = "x86_64")]
+    if i < nodes.len() {
+        // SAFETY: prefetching is a hint with no memory effects, and the
+        // address is in bounds.
+        unsafe {
+            use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+            _mm_prefetch::<_MM_HINT_T0>(nodes.as_ptr().add(i) as *const i8);
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (nodes, i);
 }
 
 impl<P: PhotonRecord> FromIterator<P> for PhotonKdTree<P> {

@@ -19,7 +19,9 @@ pub mod kdtree;
 #[allow(clippy::module_inception)]
 pub mod photon;
 
-pub use kdtree::{KnnScratch, Neighbor, PhotonKdTree, MAX_TREE_DEPTH, PARALLEL_BUILD_THRESHOLD};
+pub use kdtree::{
+    KnnScratch, Neighbor, PhotonKdTree, MAX_TREE_DEPTH, PARALLEL_BUILD_THRESHOLD, SCAN_LEVELS,
+};
 pub use photon::{
     decode_direction, direction_tables, encode_direction, rgbe_decode, rgbe_encode,
     DirectionTables, Photon, PhotonF32, PhotonRecord, AXIS_MASK, DIRECTION_ERROR_BOUND,
