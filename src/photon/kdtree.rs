@@ -23,7 +23,7 @@
 //!   distance to the splitting plane is ≤ the current search radius, which
 //!   keeps them exact in the presence of ties.
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 
 use super::photon::{PhotonRecord, LEAF_AXIS};
 
@@ -142,23 +142,42 @@ fn subtree_size(node: usize, n: usize) -> usize {
 
 #[inline]
 fn widest_axis<P: PhotonRecord>(seg: &[P]) -> usize {
-    let mut lo = *seg[0].pos();
-    let mut hi = lo;
-    for p in &seg[1..] {
-        let q = p.pos();
-        for a in 0..3 {
-            lo[a] = lo[a].min(q[a]);
-            hi[a] = hi[a].max(q[a]);
-        }
-    }
-    let e = [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]];
-    if e[0] >= e[1] && e[0] >= e[2] {
+    let first = Vec3A::from_array(*seg[0].pos());
+    let (lo, hi) = seg[1..].iter().fold((first, first), |(lo, hi), p| {
+        let v = Vec3A::from_array(*p.pos());
+        (lo.min(v), hi.max(v))
+    });
+    let e = hi - lo;
+    if e.x >= e.y && e.x >= e.z {
         0
-    } else if e[1] >= e[2] {
+    } else if e.y >= e.z {
         1
     } else {
         2
     }
+}
+
+/// Positions are finite by construction (the record constructors reject
+/// NaN and infinities), so plain comparisons give a total order.
+#[inline(always)]
+fn coord_less(a: f32, b: f32) -> std::cmp::Ordering {
+    if a < b {
+        std::cmp::Ordering::Less
+    } else if a > b {
+        std::cmp::Ordering::Greater
+    } else {
+        std::cmp::Ordering::Equal
+    }
+}
+
+/// `select_nth_unstable_by` on one coordinate, monomorphised per axis.
+#[inline]
+fn select_on_axis<P: PhotonRecord>(seg: &mut [P], m: usize, axis: usize) {
+    match axis {
+        0 => seg.select_nth_unstable_by(m, |a, b| coord_less(a.pos()[0], b.pos()[0])),
+        1 => seg.select_nth_unstable_by(m, |a, b| coord_less(a.pos()[1], b.pos()[1])),
+        _ => seg.select_nth_unstable_by(m, |a, b| coord_less(a.pos()[2], b.pos()[2])),
+    };
 }
 
 /// Balances `seg` into the sub-heap rooted at `node` (Jensen 2001,
@@ -179,7 +198,7 @@ fn build_segment<P: PhotonRecord>(seg: &mut [P], node: usize, n: usize, out: Hea
     }
     let axis = widest_axis(seg);
     let m = left_balanced_median(len);
-    seg.select_nth_unstable_by(m, |a, b| a.pos()[axis].total_cmp(&b.pos()[axis]));
+    select_on_axis(seg, m, axis);
     let mut median = seg[m];
     median.set_axis(axis as u8);
     // SAFETY: as above.
