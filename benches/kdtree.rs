@@ -57,7 +57,13 @@ fn morton(p: &[f32; 3]) -> u32 {
 fn queries(seed: u64) -> (Vec<[f32; 3]>, Vec<[f32; 3]>) {
     let mut r = Rng(seed);
     let random: Vec<[f32; 3]> = (0..QUERIES)
-        .map(|_| [0.05 + 0.9 * r.f32(), 0.05 + 0.9 * r.f32(), 0.05 + 0.9 * r.f32()])
+        .map(|_| {
+            [
+                0.05 + 0.9 * r.f32(),
+                0.05 + 0.9 * r.f32(),
+                0.05 + 0.9 * r.f32(),
+            ]
+        })
         .collect();
     let mut coherent = random.clone();
     coherent.sort_by_key(morton);
@@ -133,6 +139,7 @@ fn bench_size(c: &mut Criterion, n: usize, label: &str) {
 
     for k in [50usize, 100, 200] {
         let mut g = c.benchmark_group(format!("{label}/knn k={k}"));
+        g.sample_size(20);
         g.throughput(Throughput::Elements(QUERIES as u64));
         let nz = NonZeroUsize::new(k).unwrap();
         for (order, qs) in orders {
@@ -182,6 +189,7 @@ fn bench_size(c: &mut Criterion, n: usize, label: &str) {
 
     {
         let mut g = c.benchmark_group(format!("{label}/radius ~100"));
+        g.sample_size(20);
         g.throughput(Throughput::Elements(QUERIES as u64));
         for (order, qs) in orders {
             g.bench_function(format!("ours/{order}"), |b| {
@@ -231,9 +239,7 @@ fn bench_size(c: &mut Criterion, n: usize, label: &str) {
             )
         });
         g.bench_function("kiddo", |b| {
-            b.iter(|| {
-                black_box(ImmutableKdTree::<f32, 3>::new_from_slice_parallel(&pts).unwrap())
-            })
+            b.iter(|| black_box(ImmutableKdTree::<f32, 3>::new_from_slice_parallel(&pts).unwrap()))
         });
         g.finish();
     }

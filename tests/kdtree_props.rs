@@ -49,7 +49,8 @@ fn check<P: PhotonRecord>(photons: Vec<P>, queries: &[Vec3], k: usize, r2: f32) 
             .map(|p| (d2(q, p.pos()), p.pos().map(f32::to_bits)))
             .filter(|x| x.0 <= r2)
             .collect();
-        let key = |a: &(f32, [u32; 3]), b: &(f32, [u32; 3])| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1));
+        let key =
+            |a: &(f32, [u32; 3]), b: &(f32, [u32; 3])| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1));
         got.sort_by(key);
         want.sort_by(key);
         assert_eq!(got.len(), all_within.len());

@@ -129,7 +129,6 @@ impl<P> HeapPtr<P> {
 }
 
 /// Number of heap nodes in the subtree rooted at `node` of a heap of `n`.
-#[cfg(debug_assertions)]
 fn subtree_size(node: usize, n: usize) -> usize {
     let (mut lo, mut hi, mut count) = (node, node, 0);
     while lo < n {
@@ -185,7 +184,6 @@ fn select_on_axis<P: PhotonRecord>(seg: &mut [P], m: usize, axis: usize) {
 /// `median_split` partitioning loop).
 fn build_segment<P: PhotonRecord>(seg: &mut [P], node: usize, n: usize, out: HeapPtr<P>) {
     let len = seg.len();
-    #[cfg(debug_assertions)]
     debug_assert_eq!(subtree_size(node, n), len);
     if len == 1 {
         // A one-record subset always lands on a heap leaf.
@@ -343,8 +341,7 @@ impl<P: PhotonRecord> PhotonKdTree<P> {
         heap.clear();
         let nodes = &self.nodes[..];
         let n = nodes.len();
-        // `!(x >= 0)` also rejects NaN.
-        if k == 0 || n == 0 || !(max_dist2 >= 0.0) {
+        if k == 0 || n == 0 || max_dist2.is_nan() || max_dist2 < 0.0 {
             return heap;
         }
         let k = k.min(n);
@@ -445,7 +442,7 @@ impl<P: PhotonRecord> PhotonKdTree<P> {
     pub fn for_each_in_radius(&self, p: Vec3, r2: f32, mut visitor: impl FnMut(&P, f32)) {
         let nodes = &self.nodes[..];
         let n = nodes.len();
-        if n == 0 || !(r2 >= 0.0) {
+        if n == 0 || r2.is_nan() || r2 < 0.0 {
             return;
         }
         let q = p.to_array();
@@ -599,7 +596,12 @@ mod tests {
         d
     }
 
-    fn compare<P: PhotonRecord + std::fmt::Debug>(pts: &[P], queries: &[Vec3], ks: &[usize], r2s: &[f32]) {
+    fn compare<P: PhotonRecord + std::fmt::Debug>(
+        pts: &[P],
+        queries: &[Vec3],
+        ks: &[usize],
+        r2s: &[f32],
+    ) {
         let tree = PhotonKdTree::build(pts.to_vec());
         assert_eq!(tree.len(), pts.len());
         check_invariants(&tree);
@@ -654,18 +656,8 @@ mod tests {
         });
         for len in (1..5000).chain(large) {
             let m = left_balanced_median(len);
-            assert_eq!(m, subtree_size_release(1, len), "len {len}");
+            assert_eq!(m, subtree_size(1, len), "len {len}");
         }
-    }
-
-    fn subtree_size_release(node: usize, n: usize) -> usize {
-        let (mut lo, mut hi, mut count) = (node, node, 0);
-        while lo < n {
-            count += hi.min(n - 1) - lo + 1;
-            lo = 2 * lo + 1;
-            hi = 2 * hi + 2;
-        }
-        count
     }
 
     #[test]
@@ -706,7 +698,9 @@ mod tests {
     fn random_uniform() {
         let mut rng = Rng(7);
         let pts: Vec<Vec3> = (0..20_000).map(|_| rng.vec3()).collect();
-        let qs: Vec<Vec3> = (0..30).map(|_| rng.vec3() * 1.2 - Vec3::splat(0.1)).collect();
+        let qs: Vec<Vec3> = (0..30)
+            .map(|_| rng.vec3() * 1.2 - Vec3::splat(0.1))
+            .collect();
         both(&pts, &qs, KS, R2S);
     }
 
@@ -732,7 +726,13 @@ mod tests {
             .map(|_| Vec3::new(rng.f32() * 10.0, 0.25, rng.f32() * 10.0))
             .collect();
         let qs: Vec<Vec3> = (0..20)
-            .map(|_| Vec3::new(rng.f32() * 10.0, 0.25 + (rng.f32() - 0.5) * 0.1, rng.f32() * 10.0))
+            .map(|_| {
+                Vec3::new(
+                    rng.f32() * 10.0,
+                    0.25 + (rng.f32() - 0.5) * 0.1,
+                    rng.f32() * 10.0,
+                )
+            })
             .collect();
         both(&pts, &qs, KS, &[0.0, 0.01, 0.1, 1.0, f32::INFINITY]);
     }
@@ -756,25 +756,48 @@ mod tests {
             Vec3::new(5.5, 3.0, 11.0),
             Vec3::new(-1.0, 6.0, 6.0),
         ];
-        both(&pts, &qs, &[1, 6, 7, 19, 27, 33, 100], &[0.0, 1.0, 2.0, 3.0, 4.0, 25.0]);
+        both(
+            &pts,
+            &qs,
+            &[1, 6, 7, 19, 27, 33, 100],
+            &[0.0, 1.0, 2.0, 3.0, 4.0, 25.0],
+        );
     }
 
     #[test]
     fn coincident_collinear_duplicates() {
         let coincident = vec![Vec3::new(1.0, -2.0, 0.5); 3000];
-        let qs = [Vec3::new(1.0, -2.0, 0.5), Vec3::new(1.0, -2.0, 0.6), Vec3::ZERO];
-        both(&coincident, &qs, &[0, 1, 50, 3000, 4000], &[0.0, 0.01, f32::INFINITY]);
+        let qs = [
+            Vec3::new(1.0, -2.0, 0.5),
+            Vec3::new(1.0, -2.0, 0.6),
+            Vec3::ZERO,
+        ];
+        both(
+            &coincident,
+            &qs,
+            &[0, 1, 50, 3000, 4000],
+            &[0.0, 0.01, f32::INFINITY],
+        );
 
         let mut rng = Rng(5);
         let collinear: Vec<Vec3> = (0..5000)
             .map(|_| Vec3::new(1.0, 2.0, 3.0) + Vec3::new(0.3, -0.2, 0.9) * rng.f32())
             .collect();
-        let qs: Vec<Vec3> = (0..10).map(|_| Vec3::new(1.0, 2.0, 3.0) + rng.vec3()).collect();
+        let qs: Vec<Vec3> = (0..10)
+            .map(|_| Vec3::new(1.0, 2.0, 3.0) + rng.vec3())
+            .collect();
         both(&collinear, &qs, KS, R2S);
 
         // Axis-aligned line: extent 0 on two axes.
-        let line: Vec<Vec3> = (0..3000).map(|i| Vec3::new(0.0, (i % 97) as f32, 0.0)).collect();
-        both(&line, &[Vec3::new(0.0, 10.0, 0.0), Vec3::new(1.0, 50.5, 0.0)], KS, &[0.0, 1.0, 4.0, f32::INFINITY]);
+        let line: Vec<Vec3> = (0..3000)
+            .map(|i| Vec3::new(0.0, (i % 97) as f32, 0.0))
+            .collect();
+        both(
+            &line,
+            &[Vec3::new(0.0, 10.0, 0.0), Vec3::new(1.0, 50.5, 0.0)],
+            KS,
+            &[0.0, 1.0, 4.0, f32::INFINITY],
+        );
 
         // Heavy duplicates: 40 distinct sites, each 100 times.
         let sites: Vec<Vec3> = (0..40).map(|_| rng.vec3()).collect();
@@ -797,7 +820,9 @@ mod tests {
         assert_eq!(res.len(), 50);
         assert!(res.iter().all(|nb| nb.dist2 == 0.0));
         let mut rng = Rng(9);
-        let floor: Vec<Vec3> = (0..n).map(|_| Vec3::new(rng.f32(), rng.f32(), 0.0)).collect();
+        let floor: Vec<Vec3> = (0..n)
+            .map(|_| Vec3::new(rng.f32(), rng.f32(), 0.0))
+            .collect();
         compare(
             &make(&floor, Photon::new),
             &[Vec3::new(0.5, 0.5, 0.0), Vec3::new(0.1, 0.9, 0.01)],
@@ -812,7 +837,10 @@ mod tests {
         let pts: Vec<Vec3> = (0..1000).map(|_| rng.vec3()).collect();
         let t = PhotonKdTree::build(make(&pts, Photon::new));
         assert_eq!(t.memory_bytes(), 1000 * 20);
-        assert_eq!(std::mem::size_of::<PhotonKdTree<Photon>>(), std::mem::size_of::<Vec<Photon>>());
+        assert_eq!(
+            std::mem::size_of::<PhotonKdTree<Photon>>(),
+            std::mem::size_of::<Vec<Photon>>()
+        );
         let t = PhotonKdTree::build(make(&pts, PhotonF32::new));
         assert_eq!(t.memory_bytes(), 1000 * 28);
     }

@@ -24,8 +24,8 @@ pub use kdtree::{
 };
 pub use photon::{
     decode_direction, direction_tables, encode_direction, rgbe_decode, rgbe_encode,
-    DirectionTables, Photon, PhotonF32, PhotonRecord, AXIS_MASK, DIRECTION_ERROR_BOUND,
-    LEAF_AXIS, RGBE_MAX,
+    DirectionTables, Photon, PhotonF32, PhotonRecord, AXIS_MASK, DIRECTION_ERROR_BOUND, LEAF_AXIS,
+    RGBE_MAX,
 };
 
 /// Errors raised when creating photon records.

@@ -170,8 +170,8 @@ impl PhotonRecord for Photon {
 // PhotonF32 (28 bytes, f32 power)
 // ---------------------------------------------------------------------------
 
-/// A photon with full-precision `f32` power: 28 bytes (12 position + 12 power
-/// + 2 direction + 2 flag). Same direction and flag conventions as
+/// A photon with full-precision `f32` power: 28 bytes (12 position, 12
+/// power, 2 direction, 2 flag). Same direction and flag conventions as
 /// [`Photon`]; kept to compare RGBE against `f32` accuracy and memory.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
@@ -508,7 +508,10 @@ mod tests {
         assert_eq!(rgbe_encode(Vec3::splat(-0.0)).unwrap(), [0; 4]);
         assert_eq!(rgbe_decode([0, 0, 0, 0]), Vec3::ZERO);
         // 1.0 = 0.5·2^1 → mantissa 128, exponent byte 129.
-        assert_eq!(rgbe_encode(Vec3::new(1.0, 0.5, 0.0)).unwrap(), [128, 64, 0, 129]);
+        assert_eq!(
+            rgbe_encode(Vec3::new(1.0, 0.5, 0.0)).unwrap(),
+            [128, 64, 0, 129]
+        );
         assert_eq!(rgbe_decode([128, 64, 0, 129]), Vec3::new(1.0, 0.5, 0.0));
         // Powers of two and small dyadic values round-trip exactly.
         for e in -120..120 {
@@ -527,7 +530,10 @@ mod tests {
             Vec3::new(f32::NEG_INFINITY, 1.0, 1.0),
             Vec3::new(1.0, -1e-30, 1.0),
         ] {
-            assert!(matches!(rgbe_encode(bad), Err(PhotonError::InvalidPower(_))));
+            assert!(matches!(
+                rgbe_encode(bad),
+                Err(PhotonError::InvalidPower(_))
+            ));
             assert!(Photon::new(Vec3::ZERO, bad, Vec3::Z).is_err());
             assert!(PhotonF32::new(Vec3::ZERO, bad, Vec3::Z).is_err());
         }
@@ -674,7 +680,11 @@ mod tests {
             let z = 2.0 * rng.f64() - 1.0;
             let p = 2.0 * PI * rng.f64();
             let r = (1.0 - z * z).sqrt();
-            check(Vec3::new((r * p.cos()) as f32, (r * p.sin()) as f32, z as f32));
+            check(Vec3::new(
+                (r * p.cos()) as f32,
+                (r * p.sin()) as f32,
+                z as f32,
+            ));
         }
         // Grid through bin edges (worst cases), poles and the ±π seam.
         for i in 0..=512 {
