@@ -1,0 +1,384 @@
+//! Two-level acceleration structure: one BVH per mesh over its triangles in object space
+//! (the BLAS) and one BVH over the instances' world bounds (the TLAS). Instances share
+//! their mesh and its BLAS; rays are carried into object space per instance, except for
+//! identity transforms, which use the world ray as is.
+
+use super::bvh::{transform_bounds, BoxRay, Bvh};
+use super::float::gamma;
+use super::interaction::{transform_point_error, SurfaceInteraction};
+use super::mesh::{Instance, MeshGeom};
+use super::ray::Ray;
+use super::triangle::{face_normal, intersect_triangle, is_degenerate, TriRay};
+use crate::math::{Bounds3, Frame};
+use glam::{Mat4, Vec2, Vec3};
+
+static EMPTY_MESH: MeshGeom = MeshGeom {
+    positions: Vec::new(),
+    indices: Vec::new(),
+    normals: None,
+    uvs: None,
+    material_ids: Vec::new(),
+};
+
+/// Closest hit of a ray.
+///
+/// | field | meaning |
+/// |-------|---------|
+/// | `t` | ray parameter of the hit, `0 < t < ray.t_max` |
+/// | `instance` | index into [`Accel::instances`] |
+/// | `prim` | triangle index in the instance's mesh |
+/// | `b1`, `b2` | barycentrics of vertices 1 and 2 (`b0 = 1 − b1 − b2`) |
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    pub t: f32,
+    pub instance: u32,
+    pub prim: u32,
+    pub b1: f32,
+    pub b2: f32,
+}
+
+/// BVH of one mesh, with its non-degenerate triangles copied in leaf order for locality.
+#[derive(Clone, Debug, Default)]
+struct Blas {
+    bvh: Bvh,
+    tris: Vec<[Vec3; 3]>,
+}
+
+/// Per-instance data used while tracing.
+#[derive(Clone, Copy, Debug)]
+struct InstData {
+    identity: bool,
+    swaps_handedness: bool,
+}
+
+/// Per-ray constants in one space (world, or an instance's object space).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RayCtx {
+    pub(crate) boxr: BoxRay,
+    pub(crate) tri: TriRay,
+}
+
+impl RayCtx {
+    #[inline]
+    pub(crate) fn new(o: Vec3, d: Vec3) -> Self {
+        RayCtx {
+            boxr: BoxRay::new(o, d),
+            tri: TriRay::new(o, d),
+        }
+    }
+}
+
+/// The ray scene: meshes, their instances and the two-level BVH over them.
+#[derive(Clone, Debug, Default)]
+pub struct Accel {
+    meshes: Vec<MeshGeom>,
+    blas: Vec<Blas>,
+    instances: Vec<Instance>,
+    inst: Vec<InstData>,
+    top: Bvh,
+}
+
+impl Blas {
+    fn build(mesh: &MeshGeom) -> Blas {
+        let n = mesh.indices.len();
+        let mut bounds = Vec::with_capacity(n);
+        let mut cents = Vec::with_capacity(n);
+        for t in 0..n as u32 {
+            let p = mesh.triangle(t);
+            if is_degenerate(&p) {
+                bounds.push(Bounds3::EMPTY);
+                cents.push(Vec3::ZERO);
+                continue;
+            }
+            let mut b = Bounds3::from_point(p[0]);
+            b.extend(p[1]);
+            b.extend(p[2]);
+            bounds.push(b);
+            cents.push(b.center());
+        }
+        let bvh = Bvh::build(&bounds, &cents);
+        let tris = bvh.prims.iter().map(|&i| mesh.triangle(i)).collect();
+        Blas { bvh, tris }
+    }
+
+    /// Closest hit in this BLAS below `t_max`: (t, prim, b1, b2).
+    #[inline(always)]
+    fn closest(&self, r: &RayCtx, t_max: f32) -> Option<(f32, u32, f32, f32)> {
+        let mut t = t_max;
+        let mut best = None;
+        self.bvh.traverse(&r.boxr, &mut t, |first, count, t_max| {
+            for k in first..first + count {
+                let Some(p) = self.tris.get(k) else { continue };
+                if let Some(h) = intersect_triangle(&r.tri, *t_max, p[0], p[1], p[2]) {
+                    *t_max = h.t;
+                    best = Some((h.t, k as u32, h.b1, h.b2));
+                }
+            }
+            false
+        });
+        best.map(|(t, k, b1, b2)| (t, self.bvh.prims.get(k as usize).copied().unwrap_or(0), b1, b2))
+    }
+
+    /// Whether any triangle is hit below `t_max`.
+    #[inline(always)]
+    fn any(&self, r: &RayCtx, t_max: f32) -> bool {
+        let mut t = t_max;
+        self.bvh.traverse(&r.boxr, &mut t, |first, count, t_max| {
+            self.tris
+                .get(first..first + count)
+                .unwrap_or(&[])
+                .iter()
+                .any(|p| intersect_triangle(&r.tri, *t_max, p[0], p[1], p[2]).is_some())
+        })
+    }
+}
+
+/// Carries a world ray into object space with the inverse transform `inv`, moving the
+/// origin forward past its rounding error (pbrt-v4 `Transform::ApplyInverse(Ray)`).
+/// Returns the object-space constants and the parameter shift `dt`: object-space hits
+/// at `t'` are at `t' + dt` along the world ray.
+#[inline]
+pub(crate) fn object_ray(inv: &Mat4, o: Vec3, d: Vec3) -> (RayCtx, f32) {
+    let oo = inv.transform_point3(o);
+    let od = inv.transform_vector3(d);
+    let err = transform_point_error(inv, o, Vec3::ZERO);
+    let len2 = od.length_squared();
+    let mut dt = 0.0;
+    let mut oo2 = oo;
+    if len2 > 0.0 {
+        dt = od.abs().dot(err) / len2;
+        if dt.is_finite() {
+            oo2 = oo + od * dt;
+        } else {
+            dt = 0.0;
+        }
+    }
+    (RayCtx::new(oo2, od), dt)
+}
+
+impl Accel {
+    /// Builds the acceleration structure. Never panics: empty meshes, an empty instance
+    /// list, instances of missing meshes and degenerate triangles are all allowed (they
+    /// are simply never hit).
+    ///
+    /// | parameter | meaning |
+    /// |-----------|---------|
+    /// | `meshes` | object-space meshes, shared by the instances that reference them |
+    /// | `instances` | placements of meshes in the world |
+    pub fn build(meshes: Vec<MeshGeom>, instances: Vec<Instance>) -> Accel {
+        use rayon::prelude::*;
+        let blas: Vec<Blas> = meshes.par_iter().map(Blas::build).collect();
+        let mut wb = Vec::with_capacity(instances.len());
+        let mut inst = Vec::with_capacity(instances.len());
+        for i in &instances {
+            let b = blas
+                .get(i.mesh as usize)
+                .map(|bl| bl.bvh.bounds())
+                .unwrap_or(Bounds3::EMPTY);
+            let identity = i.transform.m == Mat4::IDENTITY;
+            wb.push(if identity { b } else { transform_bounds(&i.transform.m, &b) });
+            inst.push(InstData {
+                identity,
+                swaps_handedness: i.transform.swaps_handedness(),
+            });
+        }
+        let cents: Vec<Vec3> = wb.iter().map(|b| b.center()).collect();
+        let top = Bvh::build(&wb, &cents);
+        Accel {
+            meshes,
+            blas,
+            instances,
+            inst,
+            top,
+        }
+    }
+
+    /// Closest hit with `0 < t < ray.t_max`, or `None`.
+    pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        let world = RayCtx::new(ray.o, ray.d);
+        let mut t_max = ray.t_max;
+        let mut best = None;
+        self.top.traverse(&world.boxr, &mut t_max, |first, count, t_max| {
+            for k in first..first + count {
+                let Some(&ii) = self.top.prims.get(k) else { continue };
+                let (Some(id), Some(inst)) = (self.inst.get(ii as usize), self.instances.get(ii as usize))
+                else {
+                    continue;
+                };
+                let Some(blas) = self.blas.get(inst.mesh as usize) else { continue };
+                let found = if id.identity {
+                    blas.closest(&world, *t_max)
+                } else {
+                    let (r, dt) = object_ray(&inst.transform.inv, ray.o, ray.d);
+                    blas.closest(&r, *t_max - dt)
+                        .map(|(t, p, b1, b2)| (t + dt, p, b1, b2))
+                };
+                if let Some((t, prim, b1, b2)) = found {
+                    if t < *t_max {
+                        *t_max = t;
+                        best = Some(Hit {
+                            t,
+                            instance: ii,
+                            prim,
+                            b1,
+                            b2,
+                        });
+                    }
+                }
+            }
+            false
+        });
+        best
+    }
+
+    /// Whether anything is hit with `0 < t < ray.t_max` (stops at the first hit found).
+    pub fn occluded(&self, ray: &Ray) -> bool {
+        let world = RayCtx::new(ray.o, ray.d);
+        let mut t_max = ray.t_max;
+        self.top.traverse(&world.boxr, &mut t_max, |first, count, t_max| {
+            for k in first..first + count {
+                let Some(&ii) = self.top.prims.get(k) else { continue };
+                let (Some(id), Some(inst)) = (self.inst.get(ii as usize), self.instances.get(ii as usize))
+                else {
+                    continue;
+                };
+                let Some(blas) = self.blas.get(inst.mesh as usize) else { continue };
+                let hit = if id.identity {
+                    blas.any(&world, *t_max)
+                } else {
+                    let (r, dt) = object_ray(&inst.transform.inv, ray.o, ray.d);
+                    blas.any(&r, *t_max - dt)
+                };
+                if hit {
+                    return true;
+                }
+            }
+            false
+        })
+    }
+
+    /// Surface geometry at `hit`, which must come from [`Accel::intersect`] with `ray`.
+    /// An out-of-range hit gives an interaction at the origin with default normals.
+    pub fn interaction(&self, ray: &Ray, hit: &Hit) -> SurfaceInteraction {
+        let inst = self.instances.get(hit.instance as usize);
+        let id = self.inst.get(hit.instance as usize);
+        let mesh = inst.and_then(|i| self.meshes.get(i.mesh as usize));
+        let (p, uvs, nrm) = match mesh {
+            Some(m) => (
+                m.triangle(hit.prim),
+                tri_attr(m.uvs.as_deref(), m.indices.get(hit.prim as usize)),
+                tri_attr(m.normals.as_deref(), m.indices.get(hit.prim as usize)),
+            ),
+            None => ([Vec3::ZERO; 3], None, None),
+        };
+        let (b1, b2) = (hit.b1, hit.b2);
+        let b0 = 1.0 - b1 - b2;
+        let p_obj = b0 * p[0] + b1 * p[1] + b2 * p[2];
+        let err_obj = gamma(7) * ((b0 * p[0]).abs() + (b1 * p[1]).abs() + (b2 * p[2]).abs());
+        let identity = id.is_none_or_identity();
+        let tf = inst.map(|i| i.transform).unwrap_or_default();
+        let (pw, p_error) = if identity {
+            (p_obj, err_obj)
+        } else {
+            (tf.point(p_obj), transform_point_error(&tf.m, p_obj, err_obj))
+        };
+
+        let n_obj = face_normal(&p);
+        let mut ng = if identity { n_obj } else { tf.normal * n_obj }.normalize_or(Vec3::Z);
+        if id.is_some_and(|d| d.swaps_handedness) {
+            ng = -ng;
+        }
+        let ns = nrm
+            .map(|n| b0 * n[0] + b1 * n[1] + b2 * n[2])
+            .map(|n| if identity { n } else { tf.normal * n })
+            .and_then(|n| n.try_normalize())
+            .unwrap_or(ng);
+
+        let uv_tri = uvs
+            .map(|u| [u[0], u[1], u[2]])
+            .unwrap_or([Vec2::ZERO, Vec2::X, Vec2::Y]);
+        let uv = uvs.map_or(Vec2::new(b1, b2), |u| b0 * u[0] + b1 * u[1] + b2 * u[2]);
+        let duv02 = uv_tri[0] - uv_tri[2];
+        let duv12 = uv_tri[1] - uv_tri[2];
+        let dp02 = p[0] - p[2];
+        let dp12 = p[1] - p[2];
+        let det = duv02.x * duv12.y - duv02.y * duv12.x;
+        let dpdu_obj = (duv12.y * dp02 - duv02.y * dp12) / det;
+        let dpdu_w = if identity { dpdu_obj } else { tf.vector(dpdu_obj) };
+        let dpdu = if det.abs() > 1e-20 && dpdu_w.is_finite() && dpdu_w.cross(ng) != Vec3::ZERO {
+            dpdu_w
+        } else {
+            Frame::from_normal(ng).s
+        };
+
+        SurfaceInteraction {
+            p: pw,
+            p_error,
+            ng,
+            ns,
+            uv,
+            dpdu,
+            wo: (-ray.d).normalize_or_zero(),
+            material: mesh.map_or(0, |m| m.material(hit.prim)),
+            instance: hit.instance,
+            prim: hit.prim,
+            t: hit.t,
+        }
+    }
+
+    /// World bounds of the scene (empty when nothing can be hit).
+    pub fn bounds(&self) -> Bounds3 {
+        self.top.bounds()
+    }
+
+    /// Mesh `i` (an empty mesh when `i` is out of range).
+    pub fn mesh(&self, i: u32) -> &MeshGeom {
+        self.meshes.get(i as usize).unwrap_or(&EMPTY_MESH)
+    }
+
+    /// All meshes.
+    pub fn meshes(&self) -> &[MeshGeom] {
+        &self.meshes
+    }
+
+    /// All instances, in the order given to [`Accel::build`].
+    pub fn instances(&self) -> &[Instance] {
+        &self.instances
+    }
+
+    /// World-space vertices of triangle `prim` of `instance` (zeros when out of range).
+    pub fn triangle_world(&self, instance: u32, prim: u32) -> [Vec3; 3] {
+        let Some(inst) = self.instances.get(instance as usize) else {
+            return [Vec3::ZERO; 3];
+        };
+        let Some(mesh) = self.meshes.get(inst.mesh as usize) else {
+            return [Vec3::ZERO; 3];
+        };
+        let p = mesh.triangle(prim);
+        if self.inst.get(instance as usize).is_none_or_identity() {
+            p
+        } else {
+            p.map(|v| inst.transform.point(v))
+        }
+    }
+}
+
+/// The three per-vertex attributes of a triangle, when the attribute array covers them.
+fn tri_attr<T: Copy>(attr: Option<&[T]>, idx: Option<&[u32; 3]>) -> Option<[T; 3]> {
+    let (a, i) = (attr?, idx?);
+    Some([*a.get(i[0] as usize)?, *a.get(i[1] as usize)?, *a.get(i[2] as usize)?])
+}
+
+trait IdentityFlag {
+    fn is_none_or_identity(&self) -> bool;
+}
+
+impl IdentityFlag for Option<&InstData> {
+    fn is_none_or_identity(&self) -> bool {
+        self.map_or(true, |d| d.identity)
+    }
+}
+
+#[cfg(test)]
+#[path = "accel_tests.rs"]
+mod tests;

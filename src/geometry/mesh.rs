@@ -1,0 +1,80 @@
+//! Triangle meshes in object space, and instances placing them in the world.
+
+use crate::math::{Bounds3, Transform};
+use glam::{Vec2, Vec3};
+
+/// Indexed triangle mesh in object space.
+///
+/// | field | meaning |
+/// |-------|---------|
+/// | `positions` | vertex positions |
+/// | `indices` | one `[i0, i1, i2]` per triangle; the winding `(p1 − p0) × (p2 − p0)` gives the geometric normal |
+/// | `normals` | optional per-vertex shading normals (same length as `positions`) |
+/// | `uvs` | optional per-vertex texture coordinates (same length as `positions`) |
+/// | `material_ids` | one material index per triangle; missing entries read as material 0 |
+///
+/// Out-of-range vertex indices are tolerated: such triangles read vertex 0 in their place
+/// and are usually degenerate, so they are never hit.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshGeom {
+    pub positions: Vec<Vec3>,
+    pub indices: Vec<[u32; 3]>,
+    pub normals: Option<Vec<Vec3>>,
+    pub uvs: Option<Vec<Vec2>>,
+    pub material_ids: Vec<u32>,
+}
+
+impl MeshGeom {
+    /// Number of triangles.
+    #[inline]
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len()
+    }
+
+    /// Position of vertex `i`, or the origin-free fallback `positions[0]` when out of range.
+    #[inline]
+    pub(crate) fn position(&self, i: u32) -> Vec3 {
+        match self.positions.get(i as usize) {
+            Some(p) => *p,
+            None => self.positions.first().copied().unwrap_or(Vec3::ZERO),
+        }
+    }
+
+    /// The three object-space vertices of triangle `prim` (zeros when `prim` is out of range).
+    #[inline]
+    pub fn triangle(&self, prim: u32) -> [Vec3; 3] {
+        match self.indices.get(prim as usize) {
+            Some(&[a, b, c]) => [self.position(a), self.position(b), self.position(c)],
+            None => [Vec3::ZERO; 3],
+        }
+    }
+
+    /// Material of triangle `prim` (0 when not given).
+    #[inline]
+    pub fn material(&self, prim: u32) -> u32 {
+        self.material_ids.get(prim as usize).copied().unwrap_or(0)
+    }
+
+    /// Object-space bounds of all referenced vertices.
+    pub fn bounds(&self) -> Bounds3 {
+        let mut b = Bounds3::EMPTY;
+        for t in 0..self.indices.len() as u32 {
+            for p in self.triangle(t) {
+                b.extend(p);
+            }
+        }
+        b
+    }
+}
+
+/// One placement of a mesh in the world. Instances share their mesh: nothing is copied.
+///
+/// | field | meaning |
+/// |-------|---------|
+/// | `mesh` | index into the mesh list given to [`super::Accel::build`]; out-of-range instances are ignored |
+/// | `transform` | object-to-world transform |
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Instance {
+    pub mesh: u32,
+    pub transform: Transform,
+}

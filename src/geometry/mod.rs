@@ -1,0 +1,21 @@
+//! Ray-scene intersection: rays, triangle meshes and instances, a watertight
+//! ray-triangle test, a binned-SAH BVH, the two-level acceleration structure, and
+//! robust ray spawning from surface interactions (pbrt-v4 §6.8).
+
+mod accel;
+mod bvh;
+mod bvh_build;
+mod float;
+mod interaction;
+mod mesh;
+mod ray;
+pub mod shapes;
+mod triangle;
+
+pub use accel::{Accel, Hit};
+pub use bvh::{Bvh, BvhNode};
+pub use float::{gamma, next_float_down, next_float_up, MACHINE_EPSILON};
+pub use interaction::{offset_ray_origin, transform_point_error, SurfaceInteraction, SHADOW_EPSILON};
+pub use mesh::{Instance, MeshGeom};
+pub use ray::Ray;
+pub use triangle::{intersect_triangle, TriHit, TriRay};
