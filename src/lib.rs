@@ -2,6 +2,7 @@
 //! ("Realistic Image Synthesis Using Photon Mapping", 2001).
 
 pub mod error;
+pub mod materials;
 pub mod math;
 pub mod sampling;
 pub mod scene;
