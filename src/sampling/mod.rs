@@ -1,4 +1,5 @@
 //! Random numbers and the warps from the unit square to the shapes the renderer samples.
+pub mod chi2;
 mod distribution;
 mod rng;
 pub mod warp;

@@ -1,0 +1,388 @@
+//! The BSDF interface: a small weighted mixture of lobes in the local shading frame.
+//!
+//! Conventions: the local frame has z along the shading normal; `wo` (towards the viewer, or
+//! where a photon goes next when tracing backwards) and `wi` (towards the light) both point
+//! away from the surface. `eval` returns f(wo, wi) without the cosine. Transmission is
+//! expressed for radiance transport: crossing into a medium of relative IOR eta scales
+//! radiance by 1/eta^2 (Veach 1997 §5.2). Flux (photons) is not scaled; see
+//! [`BsdfSample::importance_weight`].
+
+use super::lobe::Lobe;
+use crate::math::{Frame, Spectrum};
+use glam::{Vec2, Vec3};
+
+/// Bit flags describing lobes and sampled events (a closed set of `u8` constants).
+pub struct LobeFlags;
+
+impl LobeFlags {
+    pub const REFLECTION: u8 = 1;
+    pub const TRANSMISSION: u8 = 2;
+    pub const DIFFUSE: u8 = 4;
+    pub const GLOSSY: u8 = 8;
+    /// A Dirac delta lobe: its direction is chosen, never found by `eval`.
+    pub const SPECULAR: u8 = 16;
+    pub const ALL: u8 = 31;
+}
+
+/// One sampled scattering event.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BsdfSample {
+    /// Sampled direction (world space from [`Bsdf::sample`], local from a lobe).
+    pub wi: Vec3,
+    /// Throughput multiplier: f |cos theta_i| / pdf for a non-delta event; for a delta lobe
+    /// the reflectance or transmittance factor divided by the discrete probability of having
+    /// chosen it, so that `throughput *= weight` is right in both cases.
+    pub weight: Spectrum,
+    /// Solid-angle pdf of `wi` (the mixture pdf over the non-delta lobes), or, for a delta
+    /// lobe, the discrete probability of having chosen it.
+    pub pdf: f32,
+    /// [`LobeFlags`] of the sampled event (e.g. `REFLECTION | SPECULAR`).
+    pub flags: u8,
+    /// Relative IOR crossed (eta_transmitted / eta_incident); 1 for reflection.
+    pub eta: f32,
+}
+
+impl BsdfSample {
+    /// True for a Dirac delta event.
+    #[inline]
+    pub fn is_delta(&self) -> bool {
+        self.flags & LobeFlags::SPECULAR != 0
+    }
+    /// The weight for flux or importance transport (photon tracing): the radiance weight
+    /// without the 1/eta^2 scaling of refraction.
+    #[inline]
+    pub fn importance_weight(&self) -> Spectrum {
+        self.weight * (self.eta * self.eta)
+    }
+}
+
+/// The parts of a BSDF that photon Russian roulette chooses between (Jensen 2001 §6.3:
+/// "d and s are diffuse and specular reflectivities with d + s <= 1"), extended by
+/// transmission.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Component {
+    /// Diffuse reflection.
+    Diffuse,
+    /// Specular and glossy reflection.
+    Specular,
+    /// Transmission of every kind.
+    Transmission,
+}
+
+/// Which lobes take part in an operation, and which hemispheres they may scatter into.
+#[derive(Clone, Copy, Debug)]
+struct Selection {
+    /// Scattering sides allowed: `REFLECTION`, `TRANSMISSION` or both.
+    mask: u8,
+    /// Lobes are kept when their flags contain any of these bits...
+    include: u8,
+    /// ...and none of these.
+    exclude: u8,
+}
+
+const SELECT_ALL: Selection = Selection {
+    mask: LobeFlags::REFLECTION | LobeFlags::TRANSMISSION,
+    include: LobeFlags::ALL,
+    exclude: 0,
+};
+
+impl Selection {
+    fn for_component(c: Component) -> Selection {
+        match c {
+            Component::Diffuse => Selection {
+                mask: LobeFlags::REFLECTION,
+                include: LobeFlags::DIFFUSE,
+                exclude: 0,
+            },
+            Component::Specular => Selection {
+                mask: LobeFlags::REFLECTION,
+                include: LobeFlags::ALL,
+                exclude: LobeFlags::DIFFUSE,
+            },
+            Component::Transmission => Selection {
+                mask: LobeFlags::TRANSMISSION,
+                include: LobeFlags::ALL,
+                exclude: 0,
+            },
+        }
+    }
+    fn keeps(&self, lobe: &Lobe) -> bool {
+        let f = lobe.flags();
+        f & self.include != 0 && f & self.exclude == 0
+    }
+}
+
+/// Maximum number of lobes in one BSDF.
+pub const MAX_LOBES: usize = 4;
+
+/// A weighted sum of up to [`MAX_LOBES`] lobes, placed in a shading frame. No allocation.
+#[derive(Clone, Copy, Debug)]
+pub struct Bsdf {
+    frame: Frame,
+    lobes: [Lobe; MAX_LOBES],
+    weights: [f32; MAX_LOBES],
+    count: usize,
+}
+
+impl Bsdf {
+    /// A BSDF with no lobes (black) in `frame`.
+    pub fn new(frame: Frame) -> Self {
+        Bsdf {
+            frame,
+            lobes: [Lobe::NONE; MAX_LOBES],
+            weights: [0.0; MAX_LOBES],
+            count: 0,
+        }
+    }
+
+    /// Adds `weight * lobe`. Non-positive or non-finite weights and lobes beyond
+    /// [`MAX_LOBES`] are ignored; returns whether the lobe was added.
+    pub fn add(&mut self, weight: f32, lobe: Lobe) -> bool {
+        if !(weight > 0.0 && weight.is_finite()) || self.count >= MAX_LOBES {
+            return false;
+        }
+        self.lobes[self.count] = lobe;
+        self.weights[self.count] = weight;
+        self.count += 1;
+        true
+    }
+
+    /// Builder form of [`Bsdf::add`].
+    pub fn with(mut self, weight: f32, lobe: Lobe) -> Self {
+        self.add(weight, lobe);
+        self
+    }
+
+    pub fn frame(&self) -> &Frame {
+        &self.frame
+    }
+
+    /// The (weight, lobe) pairs.
+    pub fn lobes(&self) -> impl Iterator<Item = (f32, &Lobe)> {
+        self.weights[..self.count]
+            .iter()
+            .copied()
+            .zip(self.lobes[..self.count].iter())
+    }
+
+    /// Union of the lobes' [`LobeFlags`]; 0 for a black BSDF.
+    pub fn flags(&self) -> u8 {
+        self.lobes().fold(0, |f, (_, l)| f | l.flags())
+    }
+
+    /// Whether some lobe can be evaluated (is not a delta).
+    pub fn has_non_delta(&self) -> bool {
+        self.lobes()
+            .any(|(_, l)| l.flags() & LobeFlags::SPECULAR == 0)
+    }
+
+    /// Whether the BSDF reflects and transmits nothing.
+    pub fn is_black(&self) -> bool {
+        self.count == 0
+    }
+
+    /// f(wo, wi) for world-space directions (no cosine; delta lobes give zero).
+    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Spectrum {
+        self.eval_local(self.frame.to_local(wo), self.frame.to_local(wi))
+    }
+
+    /// Solid-angle pdf of [`Bsdf::sample`] producing `wi`, for world-space directions.
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        self.pdf_local(self.frame.to_local(wo), self.frame.to_local(wi))
+    }
+
+    /// Samples a direction by one-sample MIS over the lobes (Veach 1997 §9.2.4): a lobe is
+    /// picked with `u_lobe` in proportion to weight x albedo estimate, it samples with `u`,
+    /// and non-delta samples are weighted by the mixture pdf. `wi` is in world space.
+    pub fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        let s = self.sample_local(self.frame.to_local(wo), u_lobe, u)?;
+        Some(BsdfSample {
+            wi: self.frame.to_world(s.wi),
+            ..s
+        })
+    }
+
+    /// [`Bsdf::eval`] with local directions.
+    pub fn eval_local(&self, wo: Vec3, wi: Vec3) -> Spectrum {
+        self.eval_sel(wo, wi, SELECT_ALL)
+    }
+
+    /// [`Bsdf::pdf`] with local directions.
+    pub fn pdf_local(&self, wo: Vec3, wi: Vec3) -> f32 {
+        self.pdf_sel(wo, wi, SELECT_ALL)
+    }
+
+    /// [`Bsdf::sample`] with local directions.
+    pub fn sample_local(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        self.sample_sel(wo, u_lobe, u, SELECT_ALL)
+    }
+
+    /// Directional reflectivities for photon Russian roulette at `wo` (world space):
+    /// (diffuse, specular + glossy reflection, transmission). Each is an estimate of the
+    /// component's directional albedo, exact for Lambert, smooth conductors and smooth
+    /// dielectrics; the three are scaled down together if their means sum above one, so
+    /// they can serve directly as the probabilities P_d, P_s, P_t of Jensen 2001 §6.3
+    /// (mean over channels), with absorption 1 - P_d - P_s - P_t.
+    pub fn rr_reflectivities(&self, wo: Vec3) -> (Spectrum, Spectrum, Spectrum) {
+        let wo = self.frame.to_local(wo);
+        let (mut d, mut s, mut t) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
+        if wo.z == 0.0 || !wo.is_finite() {
+            return (d, s, t);
+        }
+        for (w, l) in self.lobes() {
+            let r = w * l.albedo(wo, LobeFlags::REFLECTION).max(Vec3::ZERO);
+            if l.flags() & LobeFlags::DIFFUSE != 0 {
+                d += r;
+            } else {
+                s += r;
+            }
+            t += w * l.albedo(wo, LobeFlags::TRANSMISSION).max(Vec3::ZERO);
+        }
+        let total = mean(d) + mean(s) + mean(t);
+        if total > 1.0 {
+            let k = 1.0 / total;
+            (d * k, s * k, t * k)
+        } else {
+            (d, s, t)
+        }
+    }
+
+    /// Samples only one [`Component`] (after Russian roulette chose it). The weight is
+    /// f_c |cos| / pdf_c of that component alone (or its delta factor over the discrete
+    /// probability); divide it by the probability of having chosen the component.
+    pub fn sample_component(
+        &self,
+        wo: Vec3,
+        component: Component,
+        u_lobe: f32,
+        u: Vec2,
+    ) -> Option<BsdfSample> {
+        let sel = Selection::for_component(component);
+        let s = self.sample_sel(self.frame.to_local(wo), u_lobe, u, sel)?;
+        Some(BsdfSample {
+            wi: self.frame.to_world(s.wi),
+            ..s
+        })
+    }
+
+    /// f of one component alone, world-space directions.
+    pub fn eval_component(&self, wo: Vec3, wi: Vec3, component: Component) -> Spectrum {
+        let sel = Selection::for_component(component);
+        self.eval_sel(self.frame.to_local(wo), self.frame.to_local(wi), sel)
+    }
+
+    /// Pdf of [`Bsdf::sample_component`], world-space directions.
+    pub fn pdf_component(&self, wo: Vec3, wi: Vec3, component: Component) -> f32 {
+        let sel = Selection::for_component(component);
+        self.pdf_sel(self.frame.to_local(wo), self.frame.to_local(wi), sel)
+    }
+
+    fn eval_sel(&self, wo: Vec3, wi: Vec3, sel: Selection) -> Spectrum {
+        if wo.z == 0.0 || wi.z == 0.0 {
+            return Vec3::ZERO;
+        }
+        let mut f = Vec3::ZERO;
+        for (w, l) in self.lobes() {
+            if sel.keeps(l) {
+                f += w * l.eval(wo, wi, sel.mask);
+            }
+        }
+        if f.is_finite() {
+            f.max(Vec3::ZERO)
+        } else {
+            Vec3::ZERO
+        }
+    }
+
+    /// Lobe selection probabilities at `wo` and their sum (before normalisation).
+    fn selection(&self, wo: Vec3, sel: Selection) -> ([f32; MAX_LOBES], f32) {
+        let mut p = [0.0f32; MAX_LOBES];
+        let mut sum = 0.0;
+        for (i, (w, l)) in self.lobes().enumerate() {
+            if sel.keeps(l) {
+                let a = mean(l.albedo(wo, sel.mask));
+                let v = w * a;
+                if v > 0.0 && v.is_finite() {
+                    p[i] = v;
+                    sum += v;
+                }
+            }
+        }
+        if sum > 0.0 {
+            for v in p.iter_mut() {
+                *v /= sum;
+            }
+        }
+        (p, sum)
+    }
+
+    fn pdf_sel(&self, wo: Vec3, wi: Vec3, sel: Selection) -> f32 {
+        if wo.z == 0.0 || wi.z == 0.0 {
+            return 0.0;
+        }
+        let (p, sum) = self.selection(wo, sel);
+        if sum <= 0.0 {
+            return 0.0;
+        }
+        let mut pdf = 0.0;
+        for (i, (_, l)) in self.lobes().enumerate() {
+            if p[i] > 0.0 && l.flags() & LobeFlags::SPECULAR == 0 {
+                pdf += p[i] * l.pdf(wo, wi, sel.mask);
+            }
+        }
+        if pdf.is_finite() {
+            pdf.max(0.0)
+        } else {
+            0.0
+        }
+    }
+
+    fn sample_sel(&self, wo: Vec3, u_lobe: f32, u: Vec2, sel: Selection) -> Option<BsdfSample> {
+        if wo.z == 0.0 || !wo.is_finite() {
+            return None;
+        }
+        let (p, sum) = self.selection(wo, sel);
+        if sum <= 0.0 {
+            return None;
+        }
+        // Pick lobe k with probability p[k]; remap u_lobe to [0,1) inside its interval.
+        let u_lobe = u_lobe.clamp(0.0, 1.0);
+        let mut k = usize::MAX;
+        let mut cdf = 0.0f32;
+        for (i, &pi) in p.iter().enumerate().take(self.count) {
+            if pi > 0.0 {
+                k = i;
+                if u_lobe < cdf + pi {
+                    break;
+                }
+                cdf += pi;
+            }
+        }
+        if k == usize::MAX {
+            return None;
+        }
+        let pk = p[k];
+        let uc = ((u_lobe - cdf) / pk).clamp(0.0, 0.999_999_94);
+        let lobe = &self.lobes[k];
+        let s = lobe.sample(wo, uc, u, sel.mask)?;
+        if s.is_delta() {
+            let weight = self.weights[k] * s.weight / pk;
+            let pdf = pk * s.pdf;
+            return (weight.is_finite() && pdf > 0.0).then_some(BsdfSample { weight, pdf, ..s });
+        }
+        let pdf = self.pdf_sel(wo, s.wi, sel);
+        if !(pdf > 0.0) {
+            return None;
+        }
+        let f = self.eval_sel(wo, s.wi, sel);
+        let weight = f * (s.wi.z.abs() / pdf);
+        weight
+            .is_finite()
+            .then_some(BsdfSample { weight, pdf, ..s })
+    }
+}
+
+#[inline]
+pub(crate) fn mean(c: Spectrum) -> f32 {
+    (c.x + c.y + c.z) * (1.0 / 3.0)
+}

@@ -1,0 +1,311 @@
+//! Surface materials: the scene IR's materials turned into BSDFs at shading points.
+//!
+//! - [`bsdf`]: the BSDF interface (lobe mixture, flags, samples, Russian roulette parts);
+//! - lobes: [`diffuse`] (Lambert), [`conductor`] (delta reflection), [`glossy`] (GGX
+//!   reflection), [`dielectric`] (smooth glass), [`rough_dielectric`] (GGX glass),
+//!   [`layer`] (diffuse under a coat);
+//! - [`fresnel`], [`microfacet`]: shared terms; [`texture`]: images and parameters;
+//! - [`principled`]: the Principled BSDF mapping.
+
+pub mod bsdf;
+pub mod conductor;
+pub mod dielectric;
+pub mod diffuse;
+pub mod fresnel;
+pub mod glossy;
+pub mod layer;
+pub mod lobe;
+pub mod microfacet;
+pub mod principled;
+pub mod rough_dielectric;
+pub mod texture;
+
+pub use bsdf::{Bsdf, BsdfSample, Component, LobeFlags, MAX_LOBES};
+pub use lobe::Lobe;
+pub use principled::Principled;
+pub use texture::{ColorParam, FloatParam, Texture};
+
+use crate::math::{Frame, Spectrum};
+use crate::scene::desc::MaterialDesc;
+use conductor::SpecularReflection;
+use dielectric::SmoothDielectric;
+use diffuse::Lambert;
+use fresnel::Fresnel;
+use glam::{Vec2, Vec3};
+use glossy::MicrofacetReflection;
+use microfacet::{alpha_from_roughness, Ggx};
+use rough_dielectric::RoughDielectric;
+
+/// Relative IORs closer to 1 than this are index-matched: the interface is treated as a
+/// smooth dielectric whatever its roughness (a rough interface with eta -> 1 refracts into a
+/// lobe of width ~ alpha |eta - 1|, numerically a delta).
+pub const INDEX_MATCHED_EPS: f32 = 1e-3;
+
+/// Reflection lobe of perceptual `roughness` (0 = delta) with the given Fresnel.
+pub fn reflection_lobe(roughness: f32, fresnel: Fresnel) -> Lobe {
+    if roughness > 0.0 {
+        Lobe::MicrofacetReflection(MicrofacetReflection {
+            ggx: Ggx::new(alpha_from_roughness(roughness)),
+            fresnel,
+        })
+    } else {
+        Lobe::SpecularReflection(SpecularReflection { fresnel })
+    }
+}
+
+/// Dielectric interface of relative IOR `eta` (inside / outside), perceptual `roughness`
+/// (0 = smooth) and transmission `tint`.
+pub fn dielectric_lobe(eta: f32, roughness: f32, tint: Spectrum) -> Lobe {
+    let eta = if eta.is_finite() && eta > 0.0 {
+        eta
+    } else {
+        1.5
+    };
+    if roughness > 0.0 && (eta - 1.0).abs() >= INDEX_MATCHED_EPS {
+        Lobe::RoughDielectric(RoughDielectric {
+            ggx: Ggx::new(alpha_from_roughness(roughness)),
+            eta,
+            tint,
+        })
+    } else {
+        Lobe::SmoothDielectric(SmoothDielectric { eta, tint })
+    }
+}
+
+/// A surface material, built from [`MaterialDesc`]. Roughness is perceptual everywhere
+/// (GGX alpha = roughness^2, clamped to 1e-4; roughness 0 is the smooth delta lobe).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Material {
+    /// Lambertian reflector.
+    ///
+    /// | parameter | meaning |
+    /// |---|---|
+    /// | `color` | albedo (texturable) |
+    Diffuse { name: String, color: ColorParam },
+    /// Perfect mirror.
+    ///
+    /// | parameter | meaning |
+    /// |---|---|
+    /// | `color` | reflectance at every angle |
+    Mirror { name: String, color: Spectrum },
+    /// Metal with exact conductor Fresnel; GGX when rough.
+    ///
+    /// | parameter | meaning |
+    /// |---|---|
+    /// | `eta`, `k` | complex IOR per channel |
+    /// | `roughness` | perceptual roughness, 0 = smooth |
+    Conductor {
+        name: String,
+        eta: Spectrum,
+        k: Spectrum,
+        roughness: f32,
+    },
+    /// Glass-like interface; GGX (Walter 2007) when rough.
+    ///
+    /// | parameter | meaning |
+    /// |---|---|
+    /// | `ior` | index of refraction inside (outside is 1) |
+    /// | `roughness` | perceptual roughness, 0 = smooth |
+    /// | `color` | transmission tint |
+    Dielectric {
+        name: String,
+        ior: f32,
+        roughness: f32,
+        color: Spectrum,
+    },
+    /// GGX reflection with Schlick's Fresnel.
+    ///
+    /// | parameter | meaning |
+    /// |---|---|
+    /// | `color` | normal-incidence reflectance F0 |
+    /// | `roughness` | perceptual roughness, 0 = smooth |
+    Glossy {
+        name: String,
+        color: Spectrum,
+        roughness: f32,
+    },
+    /// Emitter that reflects nothing.
+    ///
+    /// | parameter | meaning |
+    /// |---|---|
+    /// | `color` | colour (texturable) |
+    /// | `strength` | radiance = colour x strength |
+    Emission {
+        name: String,
+        color: ColorParam,
+        strength: f32,
+    },
+    /// Blender Principled BSDF / OpenPBR; see [`Principled`] for the mapping.
+    Principled(Box<Principled>),
+}
+
+fn rgb(c: &[f32; 3]) -> Spectrum {
+    let v = Vec3::from_array(*c);
+    if v.is_finite() {
+        v.max(Vec3::ZERO)
+    } else {
+        Vec3::ZERO
+    }
+}
+
+fn unit(v: f32) -> f32 {
+    if v.is_finite() {
+        v.clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
+}
+
+impl Material {
+    /// Converts validated IR; out-of-range values are clamped, never a panic.
+    pub fn from_desc(desc: &MaterialDesc) -> Material {
+        match desc {
+            MaterialDesc::Diffuse { name, color } => Material::Diffuse {
+                name: name.clone(),
+                color: ColorParam::from_input(color),
+            },
+            MaterialDesc::Mirror { name, color } => Material::Mirror {
+                name: name.clone(),
+                color: rgb(color),
+            },
+            MaterialDesc::Conductor {
+                name,
+                eta,
+                k,
+                roughness,
+            } => Material::Conductor {
+                name: name.clone(),
+                eta: rgb(eta),
+                k: rgb(k),
+                roughness: unit(*roughness),
+            },
+            MaterialDesc::Dielectric {
+                name,
+                ior,
+                roughness,
+                color,
+            } => Material::Dielectric {
+                name: name.clone(),
+                ior: if ior.is_finite() && *ior > 0.0 {
+                    *ior
+                } else {
+                    1.5
+                },
+                roughness: unit(*roughness),
+                color: rgb(color),
+            },
+            MaterialDesc::Glossy {
+                name,
+                color,
+                roughness,
+            } => Material::Glossy {
+                name: name.clone(),
+                color: rgb(color),
+                roughness: unit(*roughness),
+            },
+            MaterialDesc::Emission {
+                name,
+                color,
+                strength,
+            } => Material::Emission {
+                name: name.clone(),
+                color: ColorParam::from_input(color),
+                strength: if strength.is_finite() {
+                    strength.max(0.0)
+                } else {
+                    0.0
+                },
+            },
+            MaterialDesc::Principled(p) => {
+                Material::Principled(Box::new(Principled::from_desc(p)))
+            }
+        }
+    }
+
+    pub fn name(&self) -> &str {
+        match self {
+            Material::Diffuse { name, .. }
+            | Material::Mirror { name, .. }
+            | Material::Conductor { name, .. }
+            | Material::Dielectric { name, .. }
+            | Material::Glossy { name, .. }
+            | Material::Emission { name, .. } => name,
+            Material::Principled(p) => &p.name,
+        }
+    }
+
+    /// The BSDF at a shading point with frame `frame` and texture coordinates `uv`.
+    pub fn bsdf(&self, frame: Frame, uv: Vec2, textures: &[Texture]) -> Bsdf {
+        let b = Bsdf::new(frame);
+        match self {
+            Material::Diffuse { color, .. } => b.with(
+                1.0,
+                Lobe::Lambert(Lambert {
+                    albedo: color.eval(uv, textures).max(Vec3::ZERO),
+                }),
+            ),
+            Material::Mirror { color, .. } => b.with(
+                1.0,
+                Lobe::SpecularReflection(SpecularReflection {
+                    fresnel: Fresnel::Constant(*color),
+                }),
+            ),
+            Material::Conductor {
+                eta, k, roughness, ..
+            } => b.with(
+                1.0,
+                reflection_lobe(*roughness, Fresnel::Conductor { eta: *eta, k: *k }),
+            ),
+            Material::Dielectric {
+                ior,
+                roughness,
+                color,
+                ..
+            } => b.with(1.0, dielectric_lobe(*ior, *roughness, *color)),
+            Material::Glossy {
+                color, roughness, ..
+            } => b.with(
+                1.0,
+                reflection_lobe(*roughness, Fresnel::Schlick { f0: *color }),
+            ),
+            Material::Emission { .. } => b,
+            Material::Principled(p) => p.bsdf(frame, uv, textures),
+        }
+    }
+
+    /// Emitted radiance at `uv` (zero for non-emitters).
+    pub fn emission(&self, uv: Vec2, textures: &[Texture]) -> Spectrum {
+        match self {
+            Material::Emission {
+                color, strength, ..
+            } => color.eval(uv, textures).max(Vec3::ZERO) * *strength,
+            Material::Principled(p) if p.emission_strength > 0.0 => {
+                p.emission_color.eval(uv, textures).max(Vec3::ZERO) * p.emission_strength
+            }
+            _ => Vec3::ZERO,
+        }
+    }
+
+    /// Whether the material can emit anywhere.
+    pub fn is_emissive(&self) -> bool {
+        match self {
+            Material::Emission {
+                color, strength, ..
+            } => *strength > 0.0 && !color.is_black(),
+            Material::Principled(p) => p.emission_strength > 0.0 && !p.emission_color.is_black(),
+            _ => false,
+        }
+    }
+
+    /// Whether a delta or transmissive lobe is possible (the scene then needs a caustic map).
+    pub fn has_specular(&self) -> bool {
+        match self {
+            Material::Diffuse { .. } | Material::Emission { .. } => false,
+            Material::Mirror { .. } | Material::Dielectric { .. } => true,
+            Material::Conductor { roughness, .. } | Material::Glossy { roughness, .. } => {
+                *roughness <= 0.0
+            }
+            Material::Principled(p) => p.has_specular(),
+        }
+    }
+}

@@ -1,0 +1,119 @@
+//! The Blender Principled BSDF / OpenPBR surface, mapped onto the lobes.
+
+use super::bsdf::Bsdf;
+use super::fresnel::{f0_from_ior, ior_from_f0, Fresnel};
+use super::layer::CoatedDiffuse;
+use super::lobe::Lobe;
+use super::texture::{ColorParam, FloatParam, Texture};
+use super::{dielectric_lobe, reflection_lobe};
+use crate::math::{Frame, Spectrum};
+use crate::scene::desc::PrincipledDesc;
+use glam::Vec2;
+
+/// Largest coat reflectance at normal incidence (the coat albedo table's range).
+const MAX_COAT_F0: f32 = 0.9;
+
+/// Blender Principled BSDF / OpenPBR Surface (the subset photonmap renders).
+///
+/// | parameter | meaning |
+/// |---|---|
+/// | `base_color` | colour (texturable): diffuse albedo, metal F0, glass tint |
+/// | `metallic` | [0,1] (texturable): blend towards the metal |
+/// | `roughness` | [0,1] perceptual (texturable); alpha = roughness^2, 0 = smooth (delta lobes) |
+/// | `transmission` | [0,1]: blend of the dielectric base towards glass |
+/// | `ior` | index of refraction of the dielectric base and of the glass |
+/// | `specular` | OpenPBR `specular_weight` (Blender IOR Level x 2): scales the coat's F0 |
+/// | `emission_color`, `emission_strength` | emitted radiance = colour x strength |
+///
+/// Mapping onto the lobes (weights sum to one):
+///
+/// | lobe | weight | model |
+/// |---|---|---|
+/// | metal | m | GGX reflection (delta at roughness 0), Schlick Fresnel with F0 = base colour |
+/// | glass | (1 - m) t | dielectric of IOR `ior`, rough or smooth, transmission tinted by base colour |
+/// | coat | (1 - m)(1 - t) | GGX reflection (delta at roughness 0) with the dielectric Fresnel of IOR eta_s |
+/// | base | (1 - m)(1 - t) | Lambert base colour x (1 - E(wo))(1 - E(wi)) / (1 - E_avg) under the coat |
+///
+/// eta_s follows OpenPBR's specular weight: F0_s = clamp(specular x ((ior - 1)/(ior + 1))^2,
+/// 0, 0.9) and eta_s = (1 + sqrt F0_s)/(1 - sqrt F0_s), so `specular` = 1 is the physical
+/// interface and 0 removes the coat. E is the coat's directional albedo (tabulated), so the
+/// base receives exactly what the coat does not reflect and coat + base <= 1.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Principled {
+    pub name: String,
+    pub base_color: ColorParam,
+    pub metallic: FloatParam,
+    pub roughness: FloatParam,
+    pub transmission: f32,
+    pub ior: f32,
+    pub specular: f32,
+    pub emission_color: ColorParam,
+    pub emission_strength: f32,
+}
+
+fn sane(v: f32, lo: f32, hi: f32, default: f32) -> f32 {
+    if v.is_finite() {
+        v.clamp(lo, hi)
+    } else {
+        default
+    }
+}
+
+impl Principled {
+    pub fn from_desc(d: &PrincipledDesc) -> Self {
+        Principled {
+            name: d.name.clone(),
+            base_color: ColorParam::from_input(&d.base_color),
+            metallic: FloatParam::from_input(&d.metallic),
+            roughness: FloatParam::from_input(&d.roughness),
+            transmission: sane(d.transmission, 0.0, 1.0, 0.0),
+            ior: sane(d.ior, 1.0, 10.0, 1.5),
+            specular: sane(d.specular, 0.0, 10.0, 1.0),
+            emission_color: ColorParam::from_input(&d.emission_color),
+            emission_strength: sane(d.emission_strength, 0.0, f32::MAX, 0.0),
+        }
+    }
+
+    /// Normal-incidence reflectance of the coat over the dielectric base.
+    pub fn coat_f0(&self) -> f32 {
+        (self.specular * f0_from_ior(self.ior)).clamp(0.0, MAX_COAT_F0)
+    }
+
+    pub fn bsdf(&self, frame: Frame, uv: Vec2, textures: &[Texture]) -> Bsdf {
+        let base = self.base_color.eval(uv, textures).max(Spectrum::ZERO);
+        let m = sane(self.metallic.eval(uv, textures), 0.0, 1.0, 0.0);
+        let r = sane(self.roughness.eval(uv, textures), 0.0, 1.0, 0.5);
+        let t = self.transmission;
+        let mut bsdf = Bsdf::new(frame);
+        bsdf.add(m, reflection_lobe(r, Fresnel::Schlick { f0: base }));
+        bsdf.add((1.0 - m) * t, dielectric_lobe(self.ior, r, base));
+        let w_base = (1.0 - m) * (1.0 - t);
+        let f0 = self.coat_f0();
+        if f0 > 0.0 {
+            let eta = ior_from_f0(f0);
+            let coat = reflection_lobe(r, Fresnel::Dielectric { eta });
+            bsdf.add(w_base, coat);
+        }
+        bsdf.add(
+            w_base,
+            Lobe::CoatedDiffuse(CoatedDiffuse::new(base, r, f0)),
+        );
+        bsdf
+    }
+
+    /// Whether a delta or transmissive lobe can occur anywhere on the surface.
+    pub fn has_specular(&self) -> bool {
+        if self.transmission > 0.0 {
+            return true;
+        }
+        let rough_zero = match self.roughness {
+            FloatParam::Const(r) => r <= 0.0,
+            FloatParam::Tex { .. } => true,
+        };
+        let metal = match self.metallic {
+            FloatParam::Const(v) => v > 0.0,
+            FloatParam::Tex { scale, .. } => scale > 0.0,
+        };
+        rough_zero && (metal || self.coat_f0() > 0.0)
+    }
+}

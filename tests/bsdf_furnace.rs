@@ -1,0 +1,410 @@
+//! White-furnace, reciprocity and Russian-roulette tests for every material.
+
+use glam::{Vec2, Vec3};
+use photonmap::materials::{Bsdf, Component, LobeFlags, Material};
+use photonmap::math::Frame;
+use photonmap::sampling::warp::{square_to_uniform_sphere, UNIFORM_SPHERE_PDF};
+use photonmap::sampling::Rng;
+use photonmap::scene::desc::{ColorInput, FloatInput, MaterialDesc, PrincipledDesc};
+
+fn local() -> Frame {
+    Frame {
+        s: Vec3::X,
+        t: Vec3::Y,
+        n: Vec3::Z,
+    }
+}
+
+fn wo_at(deg: f32) -> Vec3 {
+    let t = deg.to_radians();
+    Vec3::new(t.sin() * 0.3f32.cos(), t.sin() * 0.3f32.sin(), t.cos()).normalize()
+}
+
+fn principled(f: impl FnOnce(&mut PrincipledDesc)) -> MaterialDesc {
+    let mut d = PrincipledDesc {
+        base_color: ColorInput::Value([1.0; 3]),
+        ..Default::default()
+    };
+    f(&mut d);
+    MaterialDesc::Principled(Box::new(d))
+}
+
+/// Every material type with white colours, and the principled BSDF with several settings.
+fn white_materials() -> Vec<(String, MaterialDesc)> {
+    let mut v: Vec<(String, MaterialDesc)> = vec![
+        (
+            "diffuse".into(),
+            MaterialDesc::Diffuse {
+                name: String::new(),
+                color: ColorInput::Value([1.0; 3]),
+            },
+        ),
+        (
+            "mirror".into(),
+            MaterialDesc::Mirror {
+                name: String::new(),
+                color: [1.0; 3],
+            },
+        ),
+        (
+            "emission".into(),
+            MaterialDesc::Emission {
+                name: String::new(),
+                color: ColorInput::Value([1.0; 3]),
+                strength: 3.0,
+            },
+        ),
+    ];
+    for r in [0.0f32, 0.1, 0.4, 1.0] {
+        v.push((
+            format!("conductor r={r}"),
+            MaterialDesc::Conductor {
+                name: String::new(),
+                eta: [0.05; 3],
+                k: [20.0; 3],
+                roughness: r,
+            },
+        ));
+        v.push((
+            format!("glossy r={r}"),
+            MaterialDesc::Glossy {
+                name: String::new(),
+                color: [1.0; 3],
+                roughness: r,
+            },
+        ));
+        for ior in [1.0001f32, 1.5, 2.4] {
+            v.push((
+                format!("dielectric ior={ior} r={r}"),
+                MaterialDesc::Dielectric {
+                    name: String::new(),
+                    ior,
+                    roughness: r,
+                    color: [1.0; 3],
+                },
+            ));
+        }
+        v.push((
+            format!("principled plastic r={r}"),
+            principled(|d| d.roughness = FloatInput::Value(r)),
+        ));
+        v.push((
+            format!("principled metal r={r}"),
+            principled(|d| {
+                d.roughness = FloatInput::Value(r);
+                d.metallic = FloatInput::Value(1.0);
+            }),
+        ));
+        v.push((
+            format!("principled glass r={r}"),
+            principled(|d| {
+                d.roughness = FloatInput::Value(r);
+                d.transmission = 1.0;
+                d.ior = 1.33;
+            }),
+        ));
+        v.push((
+            format!("principled mix r={r}"),
+            principled(|d| {
+                d.roughness = FloatInput::Value(r);
+                d.metallic = FloatInput::Value(0.3);
+                d.transmission = 0.4;
+                d.ior = 2.0;
+            }),
+        ));
+        v.push((
+            format!("principled specular 0.5 ior 3 r={r}"),
+            principled(|d| {
+                d.roughness = FloatInput::Value(r);
+                d.specular = 0.5;
+                d.ior = 3.0;
+            }),
+        ));
+    }
+    v
+}
+
+const ANGLES: [f32; 9] = [0.0, 20.0, 40.0, 60.0, 75.0, 85.0, 89.0, 120.0, 170.0];
+
+/// Mean and standard error of the flux weight per channel (max over channels).
+fn albedo_by_sampling(bsdf: &Bsdf, wo: Vec3, n: usize, seed: u64) -> (f64, f64) {
+    let mut rng = Rng::new(seed, 1);
+    let (mut s, mut s2) = (Vec3::ZERO.as_dvec3(), Vec3::ZERO.as_dvec3());
+    for _ in 0..n {
+        if let Some(x) = bsdf.sample(wo, rng.f32(), rng.vec2()) {
+            let w = x.importance_weight().as_dvec3();
+            assert!(w.is_finite() && w.min_element() >= 0.0, "{x:?}");
+            s += w;
+            s2 += w * w;
+        }
+    }
+    let mean = s / n as f64;
+    let var = (s2 / n as f64 - mean * mean).max(glam::DVec3::ZERO);
+    let i = if mean.x >= mean.y && mean.x >= mean.z {
+        0
+    } else if mean.y >= mean.z {
+        1
+    } else {
+        2
+    };
+    (mean[i], (var[i] / n as f64).sqrt())
+}
+
+/// Relative IOR crossed from wo's side to wi's side for a material of IOR `ior`.
+fn eta_crossed(wo: Vec3, wi: Vec3, ior: f32) -> f32 {
+    if wo.z * wi.z > 0.0 {
+        1.0
+    } else if wo.z > 0.0 {
+        ior
+    } else {
+        1.0 / ior
+    }
+}
+
+/// Albedo of the non-delta part by uniform sphere sampling of eval (flux form).
+fn albedo_by_eval(bsdf: &Bsdf, wo: Vec3, ior: f32, n: usize, seed: u64) -> (f64, f64) {
+    let mut rng = Rng::new(seed, 2);
+    let (mut s, mut s2) = (0.0f64, 0.0f64);
+    for _ in 0..n {
+        let wi = square_to_uniform_sphere(rng.vec2());
+        let eta = eta_crossed(wo, wi, ior);
+        let f = bsdf.eval(wo, wi) * (eta * eta) * wi.z.abs() / UNIFORM_SPHERE_PDF;
+        let v = f.max_element() as f64;
+        s += v;
+        s2 += v * v;
+    }
+    let mean = s / n as f64;
+    (mean, ((s2 / n as f64 - mean * mean).max(0.0) / n as f64).sqrt())
+}
+
+fn ior_of(d: &MaterialDesc) -> f32 {
+    match d {
+        MaterialDesc::Dielectric { ior, .. } => *ior,
+        MaterialDesc::Principled(p) => p.ior,
+        _ => 1.0,
+    }
+}
+
+#[test]
+fn white_furnace_every_material() {
+    let n = 100_000;
+    let mut table = String::new();
+    for (name, desc) in white_materials() {
+        let m = Material::from_desc(&desc);
+        let bsdf = m.bsdf(local(), Vec2::new(0.5, 0.5), &[]);
+        let mut line = format!("{name:38}");
+        for (k, deg) in ANGLES.iter().enumerate() {
+            let wo = wo_at(*deg);
+            let (a, sa) = albedo_by_sampling(&bsdf, wo, n, k as u64);
+            assert!(
+                a <= 1.0 + 3.0 * sa + 1e-5,
+                "{name} at {deg} deg: sampled albedo {a} +- {sa} exceeds 1"
+            );
+            let (b, sb) = albedo_by_eval(&bsdf, wo, ior_of(&desc), n, k as u64);
+            assert!(
+                b <= 1.0 + 3.0 * sb + 1e-5,
+                "{name} at {deg} deg: uniform-eval albedo {b} +- {sb} exceeds 1"
+            );
+            // Without delta lobes both estimators agree.
+            if bsdf.flags() & LobeFlags::SPECULAR == 0 && !bsdf.is_black() {
+                assert!(
+                    (a - b).abs() <= 4.0 * (sa * sa + sb * sb).sqrt() + 2e-3,
+                    "{name} at {deg} deg: sampled {a} +- {sa} vs eval {b} +- {sb}"
+                );
+            }
+            line += &format!(" {a:.4}");
+        }
+        table += &line;
+        table.push('\n');
+    }
+    eprintln!("directional albedo at {ANGLES:?} degrees:\n{table}");
+}
+
+#[test]
+fn lambert_albedo_one_is_exact() {
+    let m = Material::from_desc(&MaterialDesc::Diffuse {
+        name: String::new(),
+        color: ColorInput::Value([1.0; 3]),
+    });
+    let bsdf = m.bsdf(local(), Vec2::ZERO, &[]);
+    let mut rng = Rng::new(1, 0);
+    for deg in ANGLES {
+        let wo = wo_at(deg);
+        for _ in 0..10_000 {
+            let s = bsdf.sample(wo, rng.f32(), rng.vec2()).expect("lambert samples");
+            assert!((s.weight - Vec3::ONE).abs().max_element() < 1e-6, "{s:?}");
+            assert!(s.wi.z * wo.z > 0.0);
+        }
+        let (d, s, t) = bsdf.rr_reflectivities(wo);
+        assert_eq!((d, s, t), (Vec3::ONE, Vec3::ZERO, Vec3::ZERO));
+    }
+}
+
+#[test]
+fn smooth_dielectric_r_plus_t_is_one() {
+    for ior in [1.0001f32, 1.33, 1.5, 2.4] {
+        let m = Material::from_desc(&MaterialDesc::Dielectric {
+            name: String::new(),
+            ior,
+            roughness: 0.0,
+            color: [1.0; 3],
+        });
+        let bsdf = m.bsdf(local(), Vec2::ZERO, &[]);
+        let mut rng = Rng::new(2, 0);
+        for deg in ANGLES {
+            let wo = wo_at(deg);
+            for _ in 0..10_000 {
+                let s = bsdf.sample(wo, rng.f32(), rng.vec2()).expect("always a sample");
+                // Every event carries weight R/R or T/T: the flux is kept exactly.
+                assert!(
+                    (s.importance_weight() - Vec3::ONE).abs().max_element() < 1e-5,
+                    "{s:?}"
+                );
+            }
+            let (d, s, t) = bsdf.rr_reflectivities(wo);
+            assert_eq!(d, Vec3::ZERO);
+            assert!(((s + t) - Vec3::ONE).abs().max_element() < 1e-6);
+        }
+    }
+}
+
+fn random_dir(rng: &mut Rng) -> Vec3 {
+    square_to_uniform_sphere(rng.vec2())
+}
+
+#[test]
+fn reciprocity() {
+    let mut rng = Rng::new(4, 0);
+    for (name, desc) in white_materials() {
+        let ior = ior_of(&desc);
+        let m = Material::from_desc(&desc);
+        let bsdf = m.bsdf(local(), Vec2::ZERO, &[]);
+        for _ in 0..2000 {
+            let (a, b) = (random_dir(&mut rng), random_dir(&mut rng));
+            let fab = bsdf.eval(a, b);
+            let fba = bsdf.eval(b, a);
+            // Veach 1997 eq. 5.14: f(a -> b) / eta_b^2 = f(b -> a) / eta_a^2, with eta_x the
+            // index on x's side; reflection is the special case eta_a = eta_b.
+            let eta_a = if a.z > 0.0 { 1.0 } else { ior };
+            let eta_b = if b.z > 0.0 { 1.0 } else { ior };
+            let lhs = fab * (eta_a * eta_a);
+            let rhs = fba * (eta_b * eta_b);
+            let scale = lhs.max_element().max(rhs.max_element()).max(1e-6);
+            assert!(
+                (lhs - rhs).abs().max_element() <= 2e-3 * scale,
+                "{name}: f({a:?}, {b:?}) = {fab:?}, reversed {fba:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn russian_roulette_components_are_unbiased() {
+    // Jensen 2001 §6.3: pick diffuse, specular or transmission with probabilities P_d, P_s,
+    // P_t (means of the reflectivities), absorb otherwise, and scale the photon by
+    // weight / P. The expected scaled weight must be the BSDF's albedo.
+    let n = 200_000;
+    for (name, desc) in white_materials() {
+        let m = Material::from_desc(&desc);
+        let bsdf = m.bsdf(local(), Vec2::ZERO, &[]);
+        for deg in [10.0f32, 60.0, 85.0, 150.0] {
+            let wo = wo_at(deg);
+            let (d, s, t) = bsdf.rr_reflectivities(wo);
+            let p = [d, s, t].map(|c| ((c.x + c.y + c.z) / 3.0) as f64);
+            assert!(p.iter().all(|v| *v >= 0.0));
+            assert!(p.iter().sum::<f64>() <= 1.0 + 1e-6, "{name}: {p:?}");
+            let mut rng = Rng::new(6, deg as u64);
+            let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+            for _ in 0..n {
+                let u = rng.f32() as f64;
+                let (c, pc) = if u < p[0] {
+                    (Component::Diffuse, p[0])
+                } else if u < p[0] + p[1] {
+                    (Component::Specular, p[1])
+                } else if u < p[0] + p[1] + p[2] {
+                    (Component::Transmission, p[2])
+                } else {
+                    continue;
+                };
+                if let Some(x) = bsdf.sample_component(wo, c, rng.f32(), rng.vec2()) {
+                    let w = x.importance_weight().x as f64 / pc;
+                    sum += w;
+                    sum2 += w * w;
+                }
+            }
+            let rr = sum / n as f64;
+            let srr = ((sum2 / n as f64 - rr * rr).max(0.0) / n as f64).sqrt();
+            let (full, sfull) = albedo_by_sampling(&bsdf, wo, n, 99);
+            assert!(
+                (rr - full).abs() <= 4.5 * (srr * srr + sfull * sfull).sqrt() + 1e-4,
+                "{name} at {deg}: roulette {rr} +- {srr} vs full {full} +- {sfull}"
+            );
+        }
+    }
+}
+
+#[test]
+fn material_queries() {
+    let all = white_materials();
+    for (name, desc) in &all {
+        let m = Material::from_desc(desc);
+        let bsdf = m.bsdf(local(), Vec2::ZERO, &[]);
+        let delta_or_t = bsdf.flags() & (LobeFlags::SPECULAR | LobeFlags::TRANSMISSION) != 0;
+        if delta_or_t {
+            assert!(m.has_specular(), "{name} has a delta or transmissive lobe");
+        }
+        assert_eq!(m.is_emissive(), name == "emission", "{name}");
+        assert_eq!(
+            bsdf.has_non_delta(),
+            bsdf.lobes().any(|(_, l)| l.flags() & LobeFlags::SPECULAR == 0)
+        );
+    }
+    let e = Material::from_desc(&MaterialDesc::Emission {
+        name: "lamp".into(),
+        color: ColorInput::Value([1.0, 0.5, 0.25]),
+        strength: 4.0,
+    });
+    assert_eq!(e.emission(Vec2::ZERO, &[]), Vec3::new(4.0, 2.0, 1.0));
+    assert!(e.bsdf(local(), Vec2::ZERO, &[]).is_black());
+    assert_eq!(e.name(), "lamp");
+    let p = Material::from_desc(&principled(|d| {
+        d.emission_color = ColorInput::Value([0.0, 1.0, 0.0]);
+        d.emission_strength = 2.0;
+    }));
+    assert!(p.is_emissive());
+    assert_eq!(p.emission(Vec2::ZERO, &[]), Vec3::new(0.0, 2.0, 0.0));
+    // Rough opaque principled with no transmission needs no caustic map.
+    assert!(!Material::from_desc(&principled(|_| {})).has_specular());
+    let d = Material::from_desc(&MaterialDesc::Diffuse {
+        name: String::new(),
+        color: ColorInput::Value([0.5; 3]),
+    });
+    assert!(!d.has_specular() && !d.is_emissive());
+    assert_eq!(d.emission(Vec2::ZERO, &[]), Vec3::ZERO);
+}
+
+#[test]
+fn world_frame_round_trip() {
+    // The same BSDF in a rotated frame gives the same values for rotated directions.
+    let desc = principled(|d| {
+        d.metallic = FloatInput::Value(0.4);
+        d.roughness = FloatInput::Value(0.35);
+    });
+    let m = Material::from_desc(&desc);
+    let n = Vec3::new(0.3, -0.5, 0.8).normalize();
+    let frame = Frame::from_normal(n);
+    let a = m.bsdf(local(), Vec2::ZERO, &[]);
+    let b = m.bsdf(frame, Vec2::ZERO, &[]);
+    let mut rng = Rng::new(8, 0);
+    for _ in 0..1000 {
+        let (wo, wi) = (random_dir(&mut rng), random_dir(&mut rng));
+        let fa = a.eval(wo, wi);
+        let fb = b.eval(frame.to_world(wo), frame.to_world(wi));
+        assert!((fa - fb).abs().max_element() <= 1e-3 * fa.max_element().max(1e-3));
+        let (u0, u) = (rng.f32(), rng.vec2());
+        if let (Some(sa), Some(sb)) = (a.sample(wo, u0, u), b.sample(frame.to_world(wo), u0, u)) {
+            assert!((frame.to_world(sa.wi) - sb.wi).length() < 1e-3);
+            assert!((sa.pdf - sb.pdf).abs() <= 1e-2 * sa.pdf.max(1e-3));
+        }
+    }
+}
