@@ -11,7 +11,11 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 #[derive(Parser, Debug)]
-#[command(name = "photonmap", version, about = "Photon-mapping renderer: caustics, glass, mirrors and fog")]
+#[command(
+    name = "photonmap",
+    version,
+    about = "Photon-mapping renderer: caustics, glass, mirrors and fog"
+)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
@@ -66,7 +70,8 @@ pub struct RenderArgs {
 }
 
 fn parse_quality(s: &str) -> std::result::Result<Quality, String> {
-    Quality::parse(s).ok_or_else(|| format!("unknown quality `{s}` (expected draft, medium, high or final)"))
+    Quality::parse(s)
+        .ok_or_else(|| format!("unknown quality `{s}` (expected draft, medium, high or final)"))
 }
 
 fn parse_filter(s: &str) -> std::result::Result<Filter, String> {
@@ -79,7 +84,11 @@ impl RenderArgs {
         let mut desc = match &self.scene {
             None => crate::scene::default_scene(),
             Some(p) => {
-                let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+                let ext = p
+                    .extension()
+                    .and_then(|e| e.to_str())
+                    .unwrap_or("")
+                    .to_ascii_lowercase();
                 if ext != "json" {
                     return Err(Error::io(p, format!("unsupported scene format `.{ext}`: this command reads .json scene files")));
                 }
@@ -120,7 +129,10 @@ impl RenderArgs {
 }
 
 /// Renders and writes every requested output. `progress` receives (fraction, phase).
-pub fn run_render(args: &RenderArgs, progress: Option<Arc<crate::render::ProgressFn>>) -> Result<RenderOutput> {
+pub fn run_render(
+    args: &RenderArgs,
+    progress: Option<Arc<crate::render::ProgressFn>>,
+) -> Result<RenderOutput> {
     let t0 = std::time::Instant::now();
     let desc = args.load_scene()?;
     let scene = Scene::build(&desc)?;
@@ -141,14 +153,21 @@ pub fn write_outputs(args: &RenderArgs, out: &RenderOutput) -> Result<()> {
     meta.insert("version".into(), out.stats.version.to_string());
     meta.insert("seed".into(), out.stats.seed.to_string());
     meta.insert("spp".into(), out.stats.spp.to_string());
-    meta.insert("photons".into(), serde_json::to_string(&out.stats.photons_stored).unwrap_or_default());
-    meta.insert("seconds".into(), serde_json::to_string(&out.stats.seconds).unwrap_or_default());
+    meta.insert(
+        "photons".into(),
+        serde_json::to_string(&out.stats.photons_stored).unwrap_or_default(),
+    );
+    meta.insert(
+        "seconds".into(),
+        serde_json::to_string(&out.stats.seconds).unwrap_or_default(),
+    );
     io::exr::write_multilayer(&args.output, &out.film, &meta)?;
     if let Some(p) = &args.png {
         io::png::write_png(p, &out.film.combined(), 1.0)?;
     }
     if let Some(p) = &args.stats {
-        let text = serde_json::to_string_pretty(&out.stats).map_err(|e| Error::Internal(e.to_string()))?;
+        let text =
+            serde_json::to_string_pretty(&out.stats).map_err(|e| Error::Internal(e.to_string()))?;
         std::fs::write(p, text).map_err(|e| Error::io(p, e))?;
     }
     Ok(())

@@ -174,7 +174,10 @@ fn albedo_by_eval(bsdf: &Bsdf, wo: Vec3, ior: f32, n: usize, seed: u64) -> (f64,
         s2 += v * v;
     }
     let mean = s / n as f64;
-    (mean, ((s2 / n as f64 - mean * mean).max(0.0) / n as f64).sqrt())
+    (
+        mean,
+        ((s2 / n as f64 - mean * mean).max(0.0) / n as f64).sqrt(),
+    )
 }
 
 fn ior_of(d: &MaterialDesc) -> f32 {
@@ -231,7 +234,9 @@ fn lambert_albedo_one_is_exact() {
     for deg in ANGLES {
         let wo = wo_at(deg);
         for _ in 0..10_000 {
-            let s = bsdf.sample(wo, rng.f32(), rng.vec2()).expect("lambert samples");
+            let s = bsdf
+                .sample(wo, rng.f32(), rng.vec2())
+                .expect("lambert samples");
             assert!((s.weight - Vec3::ONE).abs().max_element() < 1e-6, "{s:?}");
             assert!(s.wi.z * wo.z > 0.0);
         }
@@ -254,7 +259,9 @@ fn smooth_dielectric_r_plus_t_is_one() {
         for deg in ANGLES {
             let wo = wo_at(deg);
             for _ in 0..10_000 {
-                let s = bsdf.sample(wo, rng.f32(), rng.vec2()).expect("always a sample");
+                let s = bsdf
+                    .sample(wo, rng.f32(), rng.vec2())
+                    .expect("always a sample");
                 // Every event carries weight R/R or T/T: the flux is kept exactly.
                 assert!(
                     (s.importance_weight() - Vec3::ONE).abs().max_element() < 1e-5,
@@ -356,7 +363,8 @@ fn material_queries() {
         assert_eq!(m.is_emissive(), name == "emission", "{name}");
         assert_eq!(
             bsdf.has_non_delta(),
-            bsdf.lobes().any(|(_, l)| l.flags() & LobeFlags::SPECULAR == 0)
+            bsdf.lobes()
+                .any(|(_, l)| l.flags() & LobeFlags::SPECULAR == 0)
         );
     }
     let e = Material::from_desc(&MaterialDesc::Emission {

@@ -9,7 +9,9 @@ use photonmap::scene::{Scene, SceneDesc};
 use std::path::PathBuf;
 
 pub fn data(path: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(path)
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(path)
 }
 
 pub fn load_scene(name: &str) -> SceneDesc {
@@ -18,8 +20,17 @@ pub fn load_scene(name: &str) -> SceneDesc {
 
 pub fn render(desc: &SceneDesc, spp: u32, seed: u64, threads: usize) -> RenderOutput {
     let scene = Scene::build(desc).expect("scene builds");
-    let settings = RenderSettings { spp, seed, threads, filter: Filter::Box, ..Default::default() };
-    Renderer::new(&scene).settings(settings).render().expect("render succeeds")
+    let settings = RenderSettings {
+        spp,
+        seed,
+        threads,
+        filter: Filter::Box,
+        ..Default::default()
+    };
+    Renderer::new(&scene)
+        .settings(settings)
+        .render()
+        .expect("render succeeds")
 }
 
 /// Sum of the given terms.
@@ -44,7 +55,11 @@ pub fn mean_and_var(batches: &[Image]) -> (Image, Image) {
     for i in 0..w * h {
         for c in 0..3 {
             let m = batches.iter().map(|b| b.data[i][c]).sum::<f32>() / k;
-            let s2 = batches.iter().map(|b| (b.data[i][c] - m).powi(2)).sum::<f32>() / (k - 1.0);
+            let s2 = batches
+                .iter()
+                .map(|b| (b.data[i][c] - m).powi(2))
+                .sum::<f32>()
+                / (k - 1.0);
             mean.data[i][c] = m;
             var.data[i][c] = s2 / k;
         }
@@ -71,7 +86,8 @@ pub fn expected_rel_mse(var_a: &Image, var_b: &Image, b: &Image) -> f64 {
     let mut s = 0.0f64;
     for i in 0..b.data.len() {
         for c in 0..3 {
-            s += (var_a.data[i][c] + var_b.data[i][c]) as f64 / ((b.data[i][c] as f64).powi(2) + REL_EPS as f64);
+            s += (var_a.data[i][c] + var_b.data[i][c]) as f64
+                / ((b.data[i][c] as f64).powi(2) + REL_EPS as f64);
         }
     }
     s / (b.data.len() * 3) as f64

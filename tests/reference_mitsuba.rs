@@ -14,10 +14,14 @@ use common::*;
 use photonmap::io::exr::read_rgb_layers;
 use photonmap::render::aov::Term;
 use photonmap::render::film::Image;
+use photonmap::scene::desc::LightDesc;
+use photonmap::scene::SceneDesc;
 
 fn reference(name: &str) -> (Image, Image) {
-    let (mean, _) = read_rgb_layers(data(&format!("references/{name}.exr"))).expect("reference EXR");
-    let (se, _) = read_rgb_layers(data(&format!("references/{name}.stderr.exr"))).expect("reference stderr EXR");
+    let (mean, _) =
+        read_rgb_layers(data(&format!("references/{name}.exr"))).expect("reference EXR");
+    let (se, _) = read_rgb_layers(data(&format!("references/{name}.stderr.exr")))
+        .expect("reference stderr EXR");
     let mean = mean[""].clone();
     let mut var = se[""].clone();
     for p in var.data.iter_mut() {
@@ -28,9 +32,16 @@ fn reference(name: &str) -> (Image, Image) {
     (mean, var)
 }
 
-fn compare(scene: &str, reference_name: &str, terms: &[Term], spp: u32) {
-    let desc = load_scene(scene);
-    let batches: Vec<Image> = (0..4).map(|seed| sum_terms(&render(&desc, spp, 1000 + seed, 0), terms)).collect();
+/// (relMSE / noise-only relMSE, relative error of the mean per channel).
+fn compare_desc(
+    desc: &SceneDesc,
+    reference_name: &str,
+    terms: &[Term],
+    spp: u32,
+) -> (f64, [f32; 3]) {
+    let batches: Vec<Image> = (0..4)
+        .map(|seed| sum_terms(&render(desc, spp, 1000 + seed, 0), terms))
+        .collect();
     let (ours, var_ours) = mean_and_var(&batches);
     let (refm, var_ref) = reference(reference_name);
     assert_eq!((ours.width, ours.height), (refm.width, refm.height));
@@ -41,16 +52,52 @@ fn compare(scene: &str, reference_name: &str, terms: &[Term], spp: u32) {
     eprintln!(
         "{reference_name}: relMSE {measured:.3e}, noise-only {expected:.3e}, ratio {ratio:.3}; mean ours {mo:?} ref {mr:?}"
     );
-    assert!(ratio < 1.3, "{reference_name}: relMSE {measured:.3e} is {ratio:.2}x the noise floor {expected:.3e}");
-    for c in 0..3 {
-        let rel = (mo[c] / mr[c] - 1.0).abs();
-        assert!(rel < 0.01, "{reference_name}: mean channel {c} differs by {:.2}%", rel * 100.0);
+    (ratio, [0, 1, 2].map(|c| (mo[c] / mr[c] - 1.0).abs()))
+}
+
+fn compare(scene: &str, reference_name: &str, terms: &[Term], spp: u32) {
+    let (ratio, mean_err) = compare_desc(&load_scene(scene), reference_name, terms, spp);
+    assert!(
+        ratio < 1.3,
+        "{reference_name}: relMSE is {ratio:.2}x the noise floor"
+    );
+    for (c, rel) in mean_err.iter().enumerate() {
+        assert!(
+            *rel < 0.01,
+            "{reference_name}: mean channel {c} differs by {:.2}%",
+            rel * 100.0
+        );
     }
+}
+
+/// The statistic has the power to see a small error: the same scene with a 2% brighter light
+/// must fail the threshold that the faithful scene passes.
+#[test]
+fn a_two_percent_brighter_light_is_detected() {
+    let mut desc = load_scene("cornell_diffuse");
+    for l in desc.lights.iter_mut() {
+        if let LightDesc::Rect { power, .. } = l {
+            *power *= 1.02;
+        }
+    }
+    let (ratio, mean_err) = compare_desc(
+        &desc,
+        "cornell_diffuse_direct",
+        &[Term::Direct, Term::Emission],
+        64,
+    );
+    assert!(ratio > 1.3, "a 2% error went unnoticed: ratio {ratio:.3}");
+    assert!(mean_err.iter().all(|e| *e > 0.01), "{mean_err:?}");
 }
 
 #[test]
 fn diffuse_cornell_direct_matches_mitsuba() {
-    compare("cornell_diffuse", "cornell_diffuse_direct", &[Term::Direct, Term::Emission], 64);
+    compare(
+        "cornell_diffuse",
+        "cornell_diffuse_direct",
+        &[Term::Direct, Term::Emission],
+        64,
+    );
 }
 
 #[test]

@@ -14,10 +14,20 @@ fn bit_identical_for_one_and_two_threads() {
     let b = render(&desc, 4, 42, 2);
     for t in Term::ALL {
         let (x, y) = (&a.film.term(t).data, &b.film.term(t).data);
-        assert!(x.iter().zip(y).all(|(p, q)| p.map(f32::to_bits) == q.map(f32::to_bits)), "{} differs", t.name());
+        assert!(
+            x.iter()
+                .zip(y)
+                .all(|(p, q)| p.map(f32::to_bits) == q.map(f32::to_bits)),
+            "{} differs",
+            t.name()
+        );
     }
     let c = render(&desc, 4, 43, 2);
-    assert_ne!(a.film.term(Term::Direct).data, c.film.term(Term::Direct).data, "the seed matters");
+    assert_ne!(
+        a.film.term(Term::Direct).data,
+        c.film.term(Term::Direct).data,
+        "the seed matters"
+    );
 }
 
 #[test]
@@ -31,7 +41,11 @@ fn combined_is_the_exact_sum_and_terms_are_finite() {
         let mut s = [0.0f32; 3];
         for t in Term::ALL {
             let v = out.film.term(t).data[i];
-            assert!(v.iter().all(|c| c.is_finite() && *c >= 0.0), "{} pixel {i}: {v:?}", t.name());
+            assert!(
+                v.iter().all(|c| c.is_finite() && *c >= 0.0),
+                "{} pixel {i}: {v:?}",
+                t.name()
+            );
             for c in 0..3 {
                 s[c] += v[c];
             }
@@ -40,12 +54,20 @@ fn combined_is_the_exact_sum_and_terms_are_finite() {
     }
     // The default scene shows emission (the light), direct light, and specular (the spheres).
     for t in [Term::Direct, Term::Specular, Term::Emission] {
-        assert!(out.film.term(t).mean().max_element() > 0.0, "{} is empty", t.name());
+        assert!(
+            out.film.term(t).mean().max_element() > 0.0,
+            "{} is empty",
+            t.name()
+        );
     }
     // No photon pass yet: indirect and caustic are zeros, and the stats say why.
     for t in [Term::Indirect, Term::Caustic, Term::Volume] {
         assert_eq!(out.film.term(t).mean().max_element(), 0.0);
-        assert!(out.stats.skipped.iter().any(|s| s.term == t.name()), "{} not reported as skipped", t.name());
+        assert!(
+            out.stats.skipped.iter().any(|s| s.term == t.name()),
+            "{} not reported as skipped",
+            t.name()
+        );
     }
     assert_eq!(out.stats.non_finite_samples, 0);
 }
@@ -73,6 +95,11 @@ fn scene_translated_far_from_the_origin_renders_the_same() {
     let a = render(&base, 16, 5, 0).film.term(Term::Direct).mean();
     let b = render(&far, 16, 5, 0).film.term(Term::Direct).mean();
     for c in 0..3 {
-        assert!((a[c] / b[c] - 1.0).abs() < 0.03, "channel {c}: {} vs {}", a[c], b[c]);
+        assert!(
+            (a[c] / b[c] - 1.0).abs() < 0.03,
+            "channel {c}: {} vs {}",
+            a[c],
+            b[c]
+        );
     }
 }

@@ -100,9 +100,21 @@ fn min_nan_a(a: f32, b: f32) -> f32 {
 /// scaled by 1 + 2γ₃ as in pbrt-v4 §6.8.2) and when a slab computation yields NaN.
 #[inline(always)]
 fn hit_box(node: &BvhNode, r: &BoxRay, t_max: f32) -> bool {
-    let (nx, fx) = if r.neg[0] { (node.max.x, node.min.x) } else { (node.min.x, node.max.x) };
-    let (ny, fy) = if r.neg[1] { (node.max.y, node.min.y) } else { (node.min.y, node.max.y) };
-    let (nz, fz) = if r.neg[2] { (node.max.z, node.min.z) } else { (node.min.z, node.max.z) };
+    let (nx, fx) = if r.neg[0] {
+        (node.max.x, node.min.x)
+    } else {
+        (node.min.x, node.max.x)
+    };
+    let (ny, fy) = if r.neg[1] {
+        (node.max.y, node.min.y)
+    } else {
+        (node.min.y, node.max.y)
+    };
+    let (nz, fz) = if r.neg[2] {
+        (node.max.z, node.min.z)
+    } else {
+        (node.min.z, node.max.z)
+    };
     let t0x = (nx - r.o.x) * r.inv_d.x;
     let t0y = (ny - r.o.y) * r.inv_d.y;
     let t0z = (nz - r.o.z) * r.inv_d.z;
@@ -125,7 +137,10 @@ impl Bvh {
 
     /// Bounds of the root (empty for an empty hierarchy).
     pub fn bounds(&self) -> Bounds3 {
-        self.nodes.first().map(|n| n.bounds()).unwrap_or(Bounds3::EMPTY)
+        self.nodes
+            .first()
+            .map(|n| n.bounds())
+            .unwrap_or(Bounds3::EMPTY)
     }
 
     /// Walks the nodes hit by a ray, nearer child first.

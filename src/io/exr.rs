@@ -9,18 +9,28 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 fn channel(name: String, img: &Image, c: usize) -> AnyChannel<FlatSamples> {
-    AnyChannel::new(name.as_str(), FlatSamples::F32(img.data.iter().map(|p| p[c]).collect()))
+    AnyChannel::new(
+        name.as_str(),
+        FlatSamples::F32(img.data.iter().map(|p| p[c]).collect()),
+    )
 }
 
 /// Writes the beauty and every term. `metadata` becomes string attributes of the header.
-pub fn write_multilayer(path: impl AsRef<Path>, film: &Film, metadata: &BTreeMap<String, String>) -> Result<()> {
+pub fn write_multilayer(
+    path: impl AsRef<Path>,
+    film: &Film,
+    metadata: &BTreeMap<String, String>,
+) -> Result<()> {
     let path = path.as_ref();
     let combined = film.combined();
     let mut channels: Vec<AnyChannel<FlatSamples>> = Vec::new();
     for (c, n) in ["R", "G", "B"].iter().enumerate() {
         channels.push(channel((*n).to_string(), &combined, c));
     }
-    channels.push(AnyChannel::new("A", FlatSamples::F32(vec![1.0; film.width * film.height])));
+    channels.push(AnyChannel::new(
+        "A",
+        FlatSamples::F32(vec![1.0; film.width * film.height]),
+    ));
     for t in Term::ALL {
         for (c, n) in ["R", "G", "B"].iter().enumerate() {
             channels.push(channel(format!("{}.{n}", t.name()), film.term(t), c));
@@ -28,7 +38,10 @@ pub fn write_multilayer(path: impl AsRef<Path>, film: &Film, metadata: &BTreeMap
     }
     let mut attrs = LayerAttributes::default();
     for (k, v) in metadata {
-        attrs.other.insert(Text::from(format!("photonmap/{k}").as_str()), AttributeValue::Text(Text::from(v.as_str())));
+        attrs.other.insert(
+            Text::from(format!("photonmap/{k}").as_str()),
+            AttributeValue::Text(Text::from(v.as_str())),
+        );
     }
     let layer = Layer::new(
         (film.width, film.height),
@@ -36,12 +49,17 @@ pub fn write_multilayer(path: impl AsRef<Path>, film: &Film, metadata: &BTreeMap
         Encoding::SMALL_LOSSLESS,
         AnyChannels::sort(channels.into()),
     );
-    exr::prelude::Image::from_layer(layer).write().to_file(path).map_err(|e| Error::io(path, e))
+    exr::prelude::Image::from_layer(layer)
+        .write()
+        .to_file(path)
+        .map_err(|e| Error::io(path, e))
 }
 
 /// Reads every RGB group of a single-part EXR: `""` for `R,G,B`, and `"direct"` for
 /// `direct.R/G/B`, and so on. Also returns the string attributes.
-pub fn read_rgb_layers(path: impl AsRef<Path>) -> Result<(BTreeMap<String, Image>, BTreeMap<String, String>)> {
+pub fn read_rgb_layers(
+    path: impl AsRef<Path>,
+) -> Result<(BTreeMap<String, Image>, BTreeMap<String, String>)> {
     let path = path.as_ref();
     let img = read()
         .no_deep_data()
@@ -55,7 +73,12 @@ pub fn read_rgb_layers(path: impl AsRef<Path>) -> Result<(BTreeMap<String, Image
     let mut meta = BTreeMap::new();
     for layer in &img.layer_data {
         let (w, h) = (layer.size.width(), layer.size.height());
-        let layer_prefix = layer.attributes.layer_name.as_ref().map(|t| format!("{t}.")).unwrap_or_default();
+        let layer_prefix = layer
+            .attributes
+            .layer_name
+            .as_ref()
+            .map(|t| format!("{t}."))
+            .unwrap_or_default();
         for (k, v) in &layer.attributes.other {
             if let AttributeValue::Text(t) = v {
                 meta.insert(k.to_string(), t.to_string());

@@ -6,7 +6,11 @@ use std::path::Path;
 
 /// Linear to sRGB-encoded [0,1] (IEC 61966-2-1).
 pub fn linear_to_srgb(x: f32) -> f32 {
-    let x = if x.is_finite() { x.clamp(0.0, 1.0) } else { 0.0 };
+    let x = if x.is_finite() {
+        x.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     if x <= 0.003_130_8 {
         12.92 * x
     } else {
@@ -18,7 +22,11 @@ pub fn linear_to_srgb(x: f32) -> f32 {
 pub fn write_png(path: impl AsRef<Path>, img: &Image, exposure: f32) -> Result<()> {
     let path = path.as_ref();
     let file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
-    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), img.width as u32, img.height as u32);
+    let mut enc = png::Encoder::new(
+        std::io::BufWriter::new(file),
+        img.width as u32,
+        img.height as u32,
+    );
     enc.set_color(png::ColorType::Rgb);
     enc.set_depth(png::BitDepth::Eight);
     enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual);

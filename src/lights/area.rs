@@ -36,18 +36,45 @@ pub struct AreaLight {
 }
 
 impl AreaLight {
-    pub fn new(shape: AreaShape, center: Vec3, ex: Vec3, ey: Vec3, n: Vec3, power: f32, color: Spectrum, two_sided: bool) -> Self {
+    pub fn new(
+        shape: AreaShape,
+        center: Vec3,
+        ex: Vec3,
+        ey: Vec3,
+        n: Vec3,
+        power: f32,
+        color: Spectrum,
+        two_sided: bool,
+    ) -> Self {
         let cross = ex.cross(ey).length();
         let area = match shape {
             AreaShape::Rect => 4.0 * cross,
             AreaShape::Disk => PI * cross,
         };
         let sides = if two_sided { 2.0 } else { 1.0 };
-        let radiance = if area > 0.0 { color * (power / (PI * area * sides)) } else { Spectrum::ZERO };
+        let radiance = if area > 0.0 {
+            color * (power / (PI * area * sides))
+        } else {
+            Spectrum::ZERO
+        };
         let (a, b, d) = (ex.dot(ex), ex.dot(ey), ey.dot(ey));
         let det = a * d - b * b;
-        let gram_inv = if det > 0.0 { [d / det, -b / det, -b / det, a / det] } else { [0.0; 4] };
-        AreaLight { shape, center, ex, ey, n: n.normalize(), area, radiance, two_sided, gram_inv }
+        let gram_inv = if det > 0.0 {
+            [d / det, -b / det, -b / det, a / det]
+        } else {
+            [0.0; 4]
+        };
+        AreaLight {
+            shape,
+            center,
+            ex,
+            ey,
+            n: n.normalize(),
+            area,
+            radiance,
+            two_sided,
+            gram_inv,
+        }
     }
 
     fn point_at(&self, u: Vec2) -> Vec3 {

@@ -26,8 +26,17 @@ impl DistantLight {
         let cos_half_angle = if half > 1e-6 { half.cos() } else { 1.0 };
         let sin2 = half.sin() * half.sin();
         let e = color * irradiance;
-        let radiance = if cos_half_angle < 1.0 { e / (PI * sin2) } else { Spectrum::ZERO };
-        DistantLight { to_light: -direction.normalize(), irradiance: e, cos_half_angle, radiance }
+        let radiance = if cos_half_angle < 1.0 {
+            e / (PI * sin2)
+        } else {
+            Spectrum::ZERO
+        };
+        DistantLight {
+            to_light: -direction.normalize(),
+            irradiance: e,
+            cos_half_angle,
+            radiance,
+        }
     }
 
     pub fn sample_li(&self, u: Vec2) -> Option<LightSample> {
@@ -42,7 +51,8 @@ impl DistantLight {
                 delta: true,
             });
         }
-        let wi = Frame::from_normal(self.to_light).to_world(warp::square_to_uniform_cone(u, self.cos_half_angle));
+        let wi = Frame::from_normal(self.to_light)
+            .to_world(warp::square_to_uniform_cone(u, self.cos_half_angle));
         Some(LightSample {
             wi,
             li: self.radiance,

@@ -52,7 +52,11 @@ impl EnvironmentLight {
             let dist = Distribution2D::new(&f, w, h);
             (tex, dist)
         });
-        EnvironmentLight { scale, image, to_world }
+        EnvironmentLight {
+            scale,
+            image,
+            to_world,
+        }
     }
 
     /// Radiance arriving from world direction `d` (pointing away from the scene).
@@ -80,7 +84,15 @@ impl EnvironmentLight {
                 (wi, pdf_uv / (2.0 * PI * PI * cos_lat))
             }
         };
-        Some(LightSample { wi, li: self.le(wi), pdf, dist: f32::INFINITY, p: Vec3::ZERO, n: Vec3::ZERO, delta: false })
+        Some(LightSample {
+            wi,
+            li: self.le(wi),
+            pdf,
+            dist: f32::INFINITY,
+            p: Vec3::ZERO,
+            n: Vec3::ZERO,
+            delta: false,
+        })
     }
 
     pub fn pdf_li(&self, wi: Vec3) -> f32 {
@@ -108,7 +120,10 @@ impl EnvironmentLight {
                 let mut wsum = 0.0;
                 for j in 0..n {
                     for i in 0..2 * n {
-                        let uv = Vec2::new((i as f32 + 0.5) / (2 * n) as f32, (j as f32 + 0.5) / n as f32);
+                        let uv = Vec2::new(
+                            (i as f32 + 0.5) / (2 * n) as f32,
+                            (j as f32 + 0.5) / n as f32,
+                        );
                         let w = (PI * (uv.y - 0.5)).cos();
                         s += tex.eval_rgb(uv) * w;
                         wsum += w;

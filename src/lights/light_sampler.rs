@@ -12,7 +12,10 @@ pub struct LightSampler {
 impl LightSampler {
     pub fn new(powers: &[Spectrum]) -> Self {
         let f: Vec<f32> = powers.iter().map(|p| luminance(*p).max(0.0)).collect();
-        LightSampler { dist: Distribution1D::new(&f), count: powers.len() }
+        LightSampler {
+            dist: Distribution1D::new(&f),
+            count: powers.len(),
+        }
     }
 
     /// (light index, probability), or None when there are no lights.

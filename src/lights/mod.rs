@@ -11,7 +11,7 @@ mod light_sampler;
 mod point;
 mod triangle;
 
-pub use area::{AreaShape, AreaLight};
+pub use area::{AreaLight, AreaShape};
 pub use distant::DistantLight;
 pub use environment::EnvironmentLight;
 pub use light_sampler::LightSampler;

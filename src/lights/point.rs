@@ -24,7 +24,11 @@ pub struct SpotShape {
 impl SpotShape {
     pub fn new(axis: Vec3, cone_angle: f32, blend: f32) -> Self {
         let cos_half = (0.5 * cone_angle).cos();
-        SpotShape { axis: axis.normalize(), cos_half, smooth: (1.0 - cos_half) * blend }
+        SpotShape {
+            axis: axis.normalize(),
+            cos_half,
+            smooth: (1.0 - cos_half) * blend,
+        }
     }
 
     /// Attenuation for light leaving along `w` (unit, away from the light), as Cycles' spot.
@@ -67,8 +71,19 @@ pub struct PointLight {
 }
 
 impl PointLight {
-    pub fn new(position: Vec3, power: f32, color: Spectrum, radius: f32, spot: Option<SpotShape>) -> Self {
-        PointLight { position, radius, intensity: color * (power / (4.0 * PI)), spot }
+    pub fn new(
+        position: Vec3,
+        power: f32,
+        color: Spectrum,
+        radius: f32,
+        spot: Option<SpotShape>,
+    ) -> Self {
+        PointLight {
+            position,
+            radius,
+            intensity: color * (power / (4.0 * PI)),
+            spot,
+        }
     }
 
     /// Sphere radiance; intensity = radiance x pi r^2.

@@ -23,7 +23,15 @@ impl TriangleLight {
         let c = (v[1] - v[0]).cross(v[2] - v[0]);
         let len = c.length();
         let n = if len > 0.0 { c / len } else { Vec3::Z };
-        TriangleLight { v, uv, n, area: 0.5 * len, material, instance, prim }
+        TriangleLight {
+            v,
+            uv,
+            n,
+            area: 0.5 * len,
+            material,
+            instance,
+            prim,
+        }
     }
 
     pub fn emission(&self, uv: Vec2, ctx: &LightCtx) -> Spectrum {

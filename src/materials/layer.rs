@@ -87,7 +87,11 @@ impl CoatAlbedoTable {
     }
 
     fn cell(x: f32, n: usize) -> (usize, f32) {
-        let x = if x.is_finite() { x.clamp(0.0, 1.0) } else { 0.0 } * (n - 1) as f32;
+        let x = if x.is_finite() {
+            x.clamp(0.0, 1.0)
+        } else {
+            0.0
+        } * (n - 1) as f32;
         let i = (x as usize).min(n - 2);
         (i, x - i as f32)
     }

@@ -94,10 +94,7 @@ impl Principled {
             let coat = reflection_lobe(r, Fresnel::Dielectric { eta });
             bsdf.add(w_base, coat);
         }
-        bsdf.add(
-            w_base,
-            Lobe::CoatedDiffuse(CoatedDiffuse::new(base, r, f0)),
-        );
+        bsdf.add(w_base, Lobe::CoatedDiffuse(CoatedDiffuse::new(base, r, f0)));
         bsdf
     }
 

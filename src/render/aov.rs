@@ -105,7 +105,10 @@ mod tests {
             assert_eq!(Term::ALL[t.index()], t);
         }
         let m = TermMask::NONE.with(Term::Caustic).with(Term::Direct);
-        assert_eq!(m.iter().collect::<Vec<_>>(), vec![Term::Direct, Term::Caustic]);
+        assert_eq!(
+            m.iter().collect::<Vec<_>>(),
+            vec![Term::Direct, Term::Caustic]
+        );
         assert!(!m.without(Term::Direct).contains(Term::Direct));
     }
 }

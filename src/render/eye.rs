@@ -21,7 +21,7 @@ pub fn trace(scene: &Scene, mut ray: Ray, s: &EyeSettings, rng: &mut Rng) -> Ter
     let mut out = TermRadiance::default();
     let mut beta = Spectrum::ONE;
     let mut bounces = 0u32;
-    let mut add = |out: &mut TermRadiance, term: Term, bounces: u32, l: Spectrum| {
+    let add = |out: &mut TermRadiance, term: Term, bounces: u32, l: Spectrum| {
         let t = specular::route(term, bounces);
         if s.terms.contains(t) && is_finite3(l) {
             out.add(t, l);
@@ -30,16 +30,33 @@ pub fn trace(scene: &Scene, mut ray: Ray, s: &EyeSettings, rng: &mut Rng) -> Ter
     loop {
         match scene.intersect(&ray) {
             SceneHit::Miss => {
-                add(&mut out, Term::Emission, bounces, beta * emission::background(scene, ray.d));
+                add(
+                    &mut out,
+                    Term::Emission,
+                    bounces,
+                    beta * emission::background(scene, ray.d),
+                );
                 break;
             }
             SceneHit::Light { index, p, .. } => {
-                add(&mut out, Term::Emission, bounces, beta * scene.light_le(index, p, ray.d));
+                add(
+                    &mut out,
+                    Term::Emission,
+                    bounces,
+                    beta * scene.light_le(index, p, ray.d),
+                );
                 break;
             }
             SceneHit::Surface(mut si) => {
-                let Some(mat) = scene.materials.get(si.material as usize) else { break };
-                add(&mut out, Term::Emission, bounces, beta * emission::surface_emission(scene, &si));
+                let Some(mat) = scene.materials.get(si.material as usize) else {
+                    break;
+                };
+                add(
+                    &mut out,
+                    Term::Emission,
+                    bounces,
+                    beta * emission::surface_emission(scene, &si),
+                );
                 // Opaque surfaces are two-sided: shade the side the ray came from.
                 let frame0 = Frame::from_normal_tangent(si.ns, si.dpdu);
                 let bsdf0 = mat.bsdf(frame0, si.uv, &scene.textures);
@@ -47,16 +64,32 @@ pub fn trace(scene: &Scene, mut ray: Ray, s: &EyeSettings, rng: &mut Rng) -> Ter
                     si.ng = -si.ng;
                     si.ns = -si.ns;
                 }
-                let bsdf = if si.ns == frame0.n { bsdf0 } else { mat.bsdf(Frame::from_normal_tangent(si.ns, si.dpdu), si.uv, &scene.textures) };
-                if bsdf.has_non_delta() && s.terms.contains(specular::route(Term::Direct, bounces)) {
-                    add(&mut out, Term::Direct, bounces, beta * direct::estimate(scene, &si, &bsdf, rng));
+                let bsdf = if si.ns == frame0.n {
+                    bsdf0
+                } else {
+                    mat.bsdf(
+                        Frame::from_normal_tangent(si.ns, si.dpdu),
+                        si.uv,
+                        &scene.textures,
+                    )
+                };
+                if bsdf.has_non_delta() && s.terms.contains(specular::route(Term::Direct, bounces))
+                {
+                    add(
+                        &mut out,
+                        Term::Direct,
+                        bounces,
+                        beta * direct::estimate(scene, &si, &bsdf, rng),
+                    );
                 }
                 if bsdf.flags() & LobeFlags::SPECULAR == 0 || bounces >= s.max_specular_depth {
                     break;
                 }
                 let u_lobe = rng.f32();
                 let u = rng.vec2();
-                let Some(bs) = bsdf.sample(si.wo, u_lobe, u) else { break };
+                let Some(bs) = bsdf.sample(si.wo, u_lobe, u) else {
+                    break;
+                };
                 if !bs.is_delta() {
                     break; // the non-delta part was estimated above
                 }

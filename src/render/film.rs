@@ -29,7 +29,10 @@ impl Filter {
                 (-0.5 * x * x).exp()
             })
             .collect();
-        Filter::Gaussian { sigma, table: Distribution1D::new(&f) }
+        Filter::Gaussian {
+            sigma,
+            table: Distribution1D::new(&f),
+        }
     }
 
     /// Offset from the pixel centre, in pixels, for a uniform `u` in [0,1)^2.
@@ -75,7 +78,11 @@ pub struct Image {
 
 impl Image {
     pub fn new(width: usize, height: usize) -> Self {
-        Image { width, height, data: vec![[0.0; 3]; width * height] }
+        Image {
+            width,
+            height,
+            data: vec![[0.0; 3]; width * height],
+        }
     }
     pub fn get(&self, x: usize, y: usize) -> Spectrum {
         Spectrum::from(self.data[y * self.width + x])
@@ -116,7 +123,13 @@ pub struct Film {
 
 impl Film {
     pub fn new(width: usize, height: usize) -> Self {
-        Film { width, height, terms: (0..Term::COUNT).map(|_| Image::new(width, height)).collect() }
+        Film {
+            width,
+            height,
+            terms: (0..Term::COUNT)
+                .map(|_| Image::new(width, height))
+                .collect(),
+        }
     }
 
     pub fn set_pixel(&mut self, x: usize, y: usize, value: &TermRadiance) {
@@ -153,7 +166,11 @@ mod tests {
 
     #[test]
     fn filters_stay_in_support_and_are_centred() {
-        for f in [Filter::Box, Filter::Tent { radius: 1.0 }, Filter::gaussian(0.5)] {
+        for f in [
+            Filter::Box,
+            Filter::Tent { radius: 1.0 },
+            Filter::gaussian(0.5),
+        ] {
             let mut mean = Vec2::ZERO;
             let n = 64;
             for j in 0..n {

@@ -5,4 +5,6 @@ pub mod film;
 mod renderer;
 pub mod terms;
 
-pub use renderer::{ProgressFn, Quality, RenderOutput, RenderSettings, RenderStats, Renderer, SkippedTerm};
+pub use renderer::{
+    ProgressFn, Quality, RenderOutput, RenderSettings, RenderStats, Renderer, SkippedTerm,
+};

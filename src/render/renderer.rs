@@ -30,7 +30,12 @@ pub enum Quality {
 }
 
 impl Quality {
-    pub const ALL: [Quality; 4] = [Quality::Draft, Quality::Medium, Quality::High, Quality::Final];
+    pub const ALL: [Quality; 4] = [
+        Quality::Draft,
+        Quality::Medium,
+        Quality::High,
+        Quality::Final,
+    ];
     pub fn name(self) -> &'static str {
         match self {
             Quality::Draft => "draft",
@@ -120,7 +125,12 @@ pub struct Renderer<'a> {
 
 impl<'a> Renderer<'a> {
     pub fn new(scene: &'a Scene) -> Self {
-        Renderer { scene, settings: RenderSettings::default(), progress: None, cancel: None }
+        Renderer {
+            scene,
+            settings: RenderSettings::default(),
+            progress: None,
+            cancel: None,
+        }
     }
     pub fn settings(mut self, s: RenderSettings) -> Self {
         self.settings = s;
@@ -154,13 +164,20 @@ impl<'a> Renderer<'a> {
                 "disabled in the render settings".to_string()
             } else {
                 match t {
-                    Term::Indirect => "no photon pass in this build: indirect light is not estimated".into(),
-                    Term::Caustic => "no photon pass in this build: caustics are not estimated".into(),
+                    Term::Indirect => {
+                        "no photon pass in this build: indirect light is not estimated".into()
+                    }
+                    Term::Caustic => {
+                        "no photon pass in this build: caustics are not estimated".into()
+                    }
                     Term::Volume => "the scene has no participating media".into(),
                     _ => continue,
                 }
             };
-            out.push(SkippedTerm { term: t.name(), reason });
+            out.push(SkippedTerm {
+                term: t.name(),
+                reason,
+            });
         }
         out
     }
@@ -168,7 +185,10 @@ impl<'a> Renderer<'a> {
     pub fn render(self) -> Result<RenderOutput> {
         let s = &self.settings;
         if s.spp == 0 {
-            return Err(Error::InvalidSetting { setting: "spp".into(), message: "must be at least 1".into() });
+            return Err(Error::InvalidSetting {
+                setting: "spp".into(),
+                message: "must be at least 1".into(),
+            });
         }
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(s.threads)
@@ -176,10 +196,17 @@ impl<'a> Renderer<'a> {
             .map_err(|e| Error::Internal(format!("thread pool: {e}")))?;
         let (w, h) = (self.scene.width, self.scene.height);
         let start = Instant::now();
-        let eye_settings = EyeSettings { terms: s.terms, max_specular_depth: s.max_specular_depth };
+        let eye_settings = EyeSettings {
+            terms: s.terms,
+            max_specular_depth: s.max_specular_depth,
+        };
         let rows_done = AtomicUsize::new(0);
         let non_finite = AtomicUsize::new(0);
-        let cancelled = || self.cancel.as_ref().is_some_and(|c| c.load(Ordering::Relaxed));
+        let cancelled = || {
+            self.cancel
+                .as_ref()
+                .is_some_and(|c| c.load(Ordering::Relaxed))
+        };
         let nx = (s.spp as f32).sqrt().floor().max(1.0) as u32;
         let ny = s.spp.div_ceil(nx);
 
@@ -199,11 +226,18 @@ impl<'a> Renderer<'a> {
                             // Stratified over an nx-by-ny grid, then warped by the filter.
                             let (cx, cy) = (i % nx, (i / nx) % ny);
                             let j = rng.vec2();
-                            let u = Vec2::new((cx as f32 + j.x) / nx as f32, (cy as f32 + j.y) / ny as f32);
+                            let u = Vec2::new(
+                                (cx as f32 + j.x) / nx as f32,
+                                (cy as f32 + j.y) / ny as f32,
+                            );
                             let offset = s.filter.sample(u);
                             let film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
                             let cr = self.scene.camera.generate_ray(film, rng.vec2());
-                            let ray = Ray { o: cr.o, d: cr.d, t_max: cr.t_max };
+                            let ray = Ray {
+                                o: cr.o,
+                                d: cr.d,
+                                t_max: cr.t_max,
+                            };
                             let l = eye::trace(self.scene, ray, &eye_settings, &mut rng);
                             for t in Term::ALL {
                                 let v = l.0[t.index()];

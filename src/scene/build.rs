@@ -5,7 +5,10 @@ use super::camera::Camera;
 use super::desc::*;
 use crate::error::Result;
 use crate::geometry::{Accel, Instance, MeshGeom, Ray, SurfaceInteraction};
-use crate::lights::{AreaLight, AreaShape, DistantLight, EnvironmentLight, Light, LightCtx, LightSampler, PointLight, SpotShape, TriangleLight};
+use crate::lights::{
+    AreaLight, AreaShape, DistantLight, EnvironmentLight, Light, LightCtx, LightSampler,
+    PointLight, SpotShape, TriangleLight,
+};
 use crate::materials::{texture::Texture, Material};
 use crate::math::{Bounds3, Spectrum, Transform};
 use glam::{Vec2, Vec3};
@@ -36,7 +39,12 @@ pub struct Scene {
 pub enum SceneHit {
     Surface(SurfaceInteraction),
     /// The surface of an analytic light (lights do not occlude other light).
-    Light { index: u32, t: f32, p: Vec3, n: Vec3 },
+    Light {
+        index: u32,
+        t: f32,
+        p: Vec3,
+        n: Vec3,
+    },
     Miss,
 }
 
@@ -51,22 +59,33 @@ impl Scene {
         let textures: Vec<Texture> = desc.textures.iter().map(Texture::from_desc).collect();
         let materials: Vec<Material> = desc.materials.iter().map(Material::from_desc).collect();
 
-        let prototypes: std::collections::HashSet<u32> = desc.instances.iter().map(|i| i.mesh).collect();
+        let prototypes: std::collections::HashSet<u32> =
+            desc.instances.iter().map(|i| i.mesh).collect();
         let mut meshes = Vec::with_capacity(desc.meshes.len());
         let mut instances = Vec::new();
         for (i, m) in desc.meshes.iter().enumerate() {
             meshes.push(mesh_geom(m));
             let t = Transform::from_rows(&m.transform).unwrap_or_default();
             if !prototypes.contains(&(i as u32)) {
-                instances.push(Instance { mesh: i as u32, transform: t });
+                instances.push(Instance {
+                    mesh: i as u32,
+                    transform: t,
+                });
             }
         }
         for inst in &desc.instances {
-            let mesh_t = Transform::from_rows(&desc.meshes[inst.mesh as usize].transform).unwrap_or_default();
+            let mesh_t = Transform::from_rows(&desc.meshes[inst.mesh as usize].transform)
+                .unwrap_or_default();
             let t = Transform::from_rows(&inst.transform).unwrap_or_default();
-            instances.push(Instance { mesh: inst.mesh, transform: mesh_t.then(&t) });
+            instances.push(Instance {
+                mesh: inst.mesh,
+                transform: mesh_t.then(&t),
+            });
         }
-        let triangle_count = instances.iter().map(|i| meshes[i.mesh as usize].indices.len()).sum();
+        let triangle_count = instances
+            .iter()
+            .map(|i| meshes[i.mesh as usize].indices.len())
+            .sum();
         let accel = Accel::build(meshes, instances);
         let mut bounds = accel.bounds();
 
@@ -81,7 +100,11 @@ impl Scene {
                 _ => {}
             }
         }
-        let (center, radius) = if bounds.is_empty() { (Vec3::ZERO, 1.0) } else { bounds.bounding_sphere() };
+        let (center, radius) = if bounds.is_empty() {
+            (Vec3::ZERO, 1.0)
+        } else {
+            bounds.bounding_sphere()
+        };
         let radius = radius.max(1e-6);
 
         // Emissive triangles.
@@ -99,7 +122,13 @@ impl Scene {
                     None => [Vec2::ZERO, Vec2::X, Vec2::Y],
                 };
                 emissive.insert((ii as u32, prim as u32), lights.len() as u32);
-                lights.push(Light::Triangle(TriangleLight::new(v, uv, mat, ii as u32, prim as u32)));
+                lights.push(Light::Triangle(TriangleLight::new(
+                    v,
+                    uv,
+                    mat,
+                    ii as u32,
+                    prim as u32,
+                )));
             }
         }
         if let Some(env) = &desc.environment {
@@ -108,7 +137,12 @@ impl Scene {
             let t = Transform::from_rows(&env.transform).unwrap_or_default();
             lights.push(Light::Environment(EnvironmentLight::new(scale, tex, t)));
         }
-        let ctx = LightCtx { materials: &materials, textures: &textures, scene_center: center, scene_radius: radius };
+        let ctx = LightCtx {
+            materials: &materials,
+            textures: &textures,
+            scene_center: center,
+            scene_radius: radius,
+        };
         let powers: Vec<Spectrum> = lights.iter().map(|l| l.power(&ctx)).collect();
         let light_sampler = LightSampler::new(&powers);
         let infinite_lights = (0..lights.len() as u32)
@@ -146,7 +180,12 @@ impl Scene {
     }
 
     pub fn light_ctx(&self) -> LightCtx<'_> {
-        LightCtx { materials: &self.materials, textures: &self.textures, scene_center: self.center, scene_radius: self.radius }
+        LightCtx {
+            materials: &self.materials,
+            textures: &self.textures,
+            scene_center: self.center,
+            scene_radius: self.radius,
+        }
     }
 
     /// Closest surface or light surface along the ray.
@@ -211,8 +250,14 @@ fn mesh_geom(m: &MeshDesc) -> MeshGeom {
     MeshGeom {
         positions: m.positions.iter().map(|p| v3(*p)).collect(),
         indices: m.indices.clone(),
-        normals: m.normals.as_ref().map(|n| n.iter().map(|v| v3(*v)).collect()),
-        uvs: m.uvs.as_ref().map(|u| u.iter().map(|v| Vec2::from(*v)).collect()),
+        normals: m
+            .normals
+            .as_ref()
+            .map(|n| n.iter().map(|v| v3(*v)).collect()),
+        uvs: m
+            .uvs
+            .as_ref()
+            .map(|u| u.iter().map(|v| Vec2::from(*v)).collect()),
         material_ids: match &m.material_indices {
             Some(mi) => mi.clone(),
             None => vec![m.material; m.indices.len()],
@@ -222,33 +267,114 @@ fn mesh_geom(m: &MeshDesc) -> MeshGeom {
 
 fn light_from_desc(l: &LightDesc) -> Light {
     match l {
-        LightDesc::Point { position, power, color, radius, .. } => {
-            Light::Point(PointLight::new(v3(*position), *power, v3(*color), *radius, None))
-        }
-        LightDesc::Sphere { position, radius, power, color, .. } => {
-            Light::Point(PointLight::new(v3(*position), *power, v3(*color), *radius, None))
-        }
-        LightDesc::Spot { position, direction, power, color, cone_angle, blend, radius, .. } => {
+        LightDesc::Point {
+            position,
+            power,
+            color,
+            radius,
+            ..
+        } => Light::Point(PointLight::new(
+            v3(*position),
+            *power,
+            v3(*color),
+            *radius,
+            None,
+        )),
+        LightDesc::Sphere {
+            position,
+            radius,
+            power,
+            color,
+            ..
+        } => Light::Point(PointLight::new(
+            v3(*position),
+            *power,
+            v3(*color),
+            *radius,
+            None,
+        )),
+        LightDesc::Spot {
+            position,
+            direction,
+            power,
+            color,
+            cone_angle,
+            blend,
+            radius,
+            ..
+        } => {
             let spot = SpotShape::new(v3(*direction), *cone_angle, *blend);
-            Light::Point(PointLight::new(v3(*position), *power, v3(*color), *radius, Some(spot)))
+            Light::Point(PointLight::new(
+                v3(*position),
+                *power,
+                v3(*color),
+                *radius,
+                Some(spot),
+            ))
         }
-        LightDesc::Rect { transform, width, height, power, color, two_sided, .. } => {
-            area_light(AreaShape::Rect, transform, 0.5 * width, 0.5 * height, *power, v3(*color), *two_sided)
-        }
-        LightDesc::Disk { transform, radius, power, color, two_sided, .. } => {
-            area_light(AreaShape::Disk, transform, *radius, *radius, *power, v3(*color), *two_sided)
-        }
-        LightDesc::Distant { direction, irradiance, color, angle, .. } => {
-            Light::Distant(DistantLight::new(v3(*direction), *irradiance, v3(*color), *angle))
-        }
+        LightDesc::Rect {
+            transform,
+            width,
+            height,
+            power,
+            color,
+            two_sided,
+            ..
+        } => area_light(
+            AreaShape::Rect,
+            transform,
+            0.5 * width,
+            0.5 * height,
+            *power,
+            v3(*color),
+            *two_sided,
+        ),
+        LightDesc::Disk {
+            transform,
+            radius,
+            power,
+            color,
+            two_sided,
+            ..
+        } => area_light(
+            AreaShape::Disk,
+            transform,
+            *radius,
+            *radius,
+            *power,
+            v3(*color),
+            *two_sided,
+        ),
+        LightDesc::Distant {
+            direction,
+            irradiance,
+            color,
+            angle,
+            ..
+        } => Light::Distant(DistantLight::new(
+            v3(*direction),
+            *irradiance,
+            v3(*color),
+            *angle,
+        )),
     }
 }
 
-fn area_light(shape: AreaShape, m: &Matrix, hx: f32, hy: f32, power: f32, color: Spectrum, two_sided: bool) -> Light {
+fn area_light(
+    shape: AreaShape,
+    m: &Matrix,
+    hx: f32,
+    hy: f32,
+    power: f32,
+    color: Spectrum,
+    two_sided: bool,
+) -> Light {
     let t = Transform::from_rows(m).unwrap_or_default();
     let center = t.point(Vec3::ZERO);
     let ex = t.vector(Vec3::X * hx);
     let ey = t.vector(Vec3::Y * hy);
     let n = t.normal(-Vec3::Z);
-    Light::Area(AreaLight::new(shape, center, ex, ey, n, power, color, two_sided))
+    Light::Area(AreaLight::new(
+        shape, center, ex, ey, n, power, color, two_sided,
+    ))
 }

@@ -14,5 +14,6 @@ pub const DEFAULT_SCENE_JSON: &str = include_str!("default_scene.json");
 
 /// Parses the embedded default scene.
 pub fn default_scene() -> SceneDesc {
-    crate::io::scene_json::from_str(DEFAULT_SCENE_JSON).expect("the embedded default scene is valid")
+    crate::io::scene_json::from_str(DEFAULT_SCENE_JSON)
+        .expect("the embedded default scene is valid")
 }

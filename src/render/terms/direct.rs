@@ -37,9 +37,17 @@ pub fn estimate(scene: &Scene, si: &SurfaceInteraction, bsdf: &Bsdf, rng: &mut R
         if let Some(ls) = light.sample_li(si.p, u_pos, &ctx) {
             let f = bsdf.eval(wo, ls.wi) * ls.wi.dot(si.ns).abs();
             if f.max_element() > 0.0 {
-                let shadow = if ls.dist.is_finite() { si.spawn_ray_to(ls.p) } else { si.spawn_ray(ls.wi) };
+                let shadow = if ls.dist.is_finite() {
+                    si.spawn_ray_to(ls.p)
+                } else {
+                    si.spawn_ray(ls.wi)
+                };
                 if !scene.accel.occluded(&shadow) {
-                    let w = if ls.delta { 1.0 } else { power_heuristic(pmf * ls.pdf, bsdf.pdf(wo, ls.wi)) };
+                    let w = if ls.delta {
+                        1.0
+                    } else {
+                        power_heuristic(pmf * ls.pdf, bsdf.pdf(wo, ls.wi))
+                    };
                     l += f * ls.li * (w / (pmf * ls.pdf));
                 }
             }
@@ -53,13 +61,15 @@ pub fn estimate(scene: &Scene, si: &SurfaceInteraction, bsdf: &Bsdf, rng: &mut R
             let (le, light_pdf) = match scene.intersect(&ray) {
                 SceneHit::Light { index, p, n, .. } => {
                     let light = &scene.lights[index as usize];
-                    let pdf = scene.light_sampler.pmf(index as usize) * light.pdf_li(si.p, bs.wi, p, n);
+                    let pdf =
+                        scene.light_sampler.pmf(index as usize) * light.pdf_li(si.p, bs.wi, p, n);
                     (scene.light_le(index, p, bs.wi), pdf)
                 }
                 SceneHit::Surface(hit) => match scene.emissive.get(&(hit.instance, hit.prim)) {
                     Some(&index) => {
                         let light = &scene.lights[index as usize];
-                        let pdf = scene.light_sampler.pmf(index as usize) * light.pdf_li(si.p, bs.wi, hit.p, hit.ng);
+                        let pdf = scene.light_sampler.pmf(index as usize)
+                            * light.pdf_li(si.p, bs.wi, hit.p, hit.ng);
                         (super::emission::surface_emission(scene, &hit), pdf)
                     }
                     None => (Spectrum::ZERO, 0.0),
@@ -69,7 +79,8 @@ pub fn estimate(scene: &Scene, si: &SurfaceInteraction, bsdf: &Bsdf, rng: &mut R
                     let mut pdf = 0.0;
                     for &i in &scene.infinite_lights {
                         let light = &scene.lights[i as usize];
-                        pdf += scene.light_sampler.pmf(i as usize) * light.pdf_li(si.p, bs.wi, glam::Vec3::ZERO, glam::Vec3::ZERO);
+                        pdf += scene.light_sampler.pmf(i as usize)
+                            * light.pdf_li(si.p, bs.wi, glam::Vec3::ZERO, glam::Vec3::ZERO);
                     }
                     if !scene.infinite_lights.is_empty() {
                         le = scene.background(bs.wi);
