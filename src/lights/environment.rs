@@ -76,8 +76,8 @@ impl EnvironmentLight {
             Some((_, dist)) => {
                 let (uv, pdf_uv) = dist.sample(u);
                 let local = uv_to_dir(uv);
-                let cos_lat = (PI * (uv.y - 0.5)).cos();
-                if cos_lat <= 1e-6 {
+                let cos_lat = local.truncate().length();
+                if cos_lat <= 0.0 {
                     return None;
                 }
                 let wi = self.to_world.vector(local).normalize();
@@ -101,8 +101,8 @@ impl EnvironmentLight {
             Some((_, dist)) => {
                 let local = self.to_world.inv_vector(wi).normalize_or_zero();
                 let uv = dir_to_uv(local);
-                let cos_lat = (PI * (uv.y - 0.5)).cos();
-                if cos_lat <= 1e-6 {
+                let cos_lat = local.truncate().length();
+                if cos_lat <= 0.0 {
                     return 0.0;
                 }
                 dist.pdf(uv) / (2.0 * PI * PI * cos_lat)

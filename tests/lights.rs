@@ -1,0 +1,273 @@
+//! Light sampling: chi-square of every non-delta light's `sample_li` against its `pdf_li`, and
+//! each light's power Φ against a Monte Carlo estimate of the flux through an enclosing sphere.
+
+use glam::{Vec2, Vec3};
+use photonmap::lights::*;
+use photonmap::materials::{texture::Texture, Material};
+use photonmap::math::{Spectrum, Transform, PI};
+use photonmap::sampling::chi2::{assert_chi2, Chi2Config};
+use photonmap::sampling::{warp, Rng};
+use photonmap::scene::desc::{ColorInput, MaterialDesc, TextureDesc, WrapMode};
+
+fn emissive_materials() -> Vec<Material> {
+    vec![Material::from_desc(&MaterialDesc::Emission {
+        name: "glow".into(),
+        color: ColorInput::Value([1.0, 0.5, 0.25]),
+        strength: 3.0,
+    })]
+}
+
+fn ctx<'a>(materials: &'a [Material], textures: &'a [Texture]) -> LightCtx<'a> {
+    LightCtx {
+        materials,
+        textures,
+        scene_center: Vec3::ZERO,
+        scene_radius: 10.0,
+    }
+}
+
+fn sky_texture() -> Texture {
+    // A bright spot on a dim sky, to exercise importance sampling.
+    let (w, h) = (32u32, 16u32);
+    let mut data = Vec::new();
+    for j in 0..h {
+        for i in 0..w {
+            let v = if (i, j) == (5, 4) || (i, j) == (6, 4) {
+                50.0
+            } else {
+                0.2 + (i as f32) / 64.0
+            };
+            data.extend_from_slice(&[v, v * 0.8, v * 0.6]);
+        }
+    }
+    Texture::from_desc(&TextureDesc {
+        name: "sky".into(),
+        width: w,
+        height: h,
+        channels: 3,
+        data,
+        wrap: WrapMode::Repeat,
+    })
+}
+
+fn rect_light() -> Light {
+    let t = Transform::from_rows(&[
+        [1.0, 0.0, 0.0, 0.2],
+        [0.0, 0.0, 1.0, 1.0],
+        [0.0, -1.0, 0.0, 0.1],
+        [0.0, 0.0, 0.0, 1.0],
+    ])
+    .unwrap();
+    Light::Area(AreaLight::new(
+        AreaShape::Rect,
+        t.point(Vec3::ZERO),
+        t.vector(Vec3::X * 0.6),
+        t.vector(Vec3::Y * 0.3),
+        t.normal(-Vec3::Z),
+        10.0,
+        Spectrum::ONE,
+        false,
+    ))
+}
+
+fn disk_light() -> Light {
+    Light::Area(AreaLight::new(
+        AreaShape::Disk,
+        Vec3::new(0.0, 1.0, 0.0),
+        Vec3::X * 0.5,
+        Vec3::Z * 0.3,
+        -Vec3::Y,
+        5.0,
+        Spectrum::ONE,
+        true,
+    ))
+}
+
+/// Distance along `d` from `o` to the light's surface, for the chi-square pdf.
+fn hit_light(light: &Light, o: Vec3, d: Vec3, ctx: &LightCtx) -> Option<(Vec3, Vec3)> {
+    match light {
+        Light::Area(a) => a.intersect(o, d, f32::INFINITY).map(|t| (o + d * t, a.n)),
+        Light::Point(p) => p.intersect(o, d, f32::INFINITY).map(|t| {
+            let q = o + d * t;
+            (q, (q - p.position).normalize())
+        }),
+        Light::Triangle(tri) => {
+            let _ = ctx;
+            let (e1, e2) = (tri.v[1] - tri.v[0], tri.v[2] - tri.v[0]);
+            let pv = d.cross(e2);
+            let det = e1.dot(pv);
+            if det.abs() < 1e-12 {
+                return None;
+            }
+            let tv = o - tri.v[0];
+            let u = tv.dot(pv) / det;
+            let qv = tv.cross(e1);
+            let v = d.dot(qv) / det;
+            let t = e2.dot(qv) / det;
+            (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t > 0.0).then(|| (o + d * t, tri.n))
+        }
+        _ => Some((Vec3::ZERO, Vec3::ZERO)),
+    }
+}
+
+fn lights_under_test() -> Vec<(&'static str, Light)> {
+    let tex = sky_texture();
+    vec![
+        (
+            "sphere",
+            Light::Point(PointLight::new(
+                Vec3::new(0.3, 1.2, -0.2),
+                20.0,
+                Spectrum::ONE,
+                0.4,
+                None,
+            )),
+        ),
+        ("rect", rect_light()),
+        ("disk", disk_light()),
+        (
+            "distant_with_angle",
+            Light::Distant(DistantLight::new(
+                Vec3::new(0.2, -1.0, 0.1),
+                3.0,
+                Spectrum::ONE,
+                0.3,
+            )),
+        ),
+        (
+            "environment_constant",
+            Light::Environment(EnvironmentLight::new(
+                Spectrum::ONE,
+                None,
+                Transform::IDENTITY,
+            )),
+        ),
+        (
+            "environment_image",
+            Light::Environment(EnvironmentLight::new(
+                Spectrum::ONE,
+                Some(tex),
+                Transform::IDENTITY,
+            )),
+        ),
+        (
+            "triangle",
+            Light::Triangle(TriangleLight::new(
+                [
+                    Vec3::new(-0.5, 1.0, -0.5),
+                    Vec3::new(0.7, 1.1, -0.4),
+                    Vec3::new(0.0, 0.9, 0.6),
+                ],
+                [Vec2::ZERO, Vec2::X, Vec2::Y],
+                0,
+                0,
+                0,
+            )),
+        ),
+    ]
+}
+
+#[test]
+fn light_sampling_matches_its_pdf() {
+    let materials = emissive_materials();
+    let textures: Vec<Texture> = vec![];
+    let c = ctx(&materials, &textures);
+    let p = Vec3::new(0.05, 0.0, 0.02);
+    let all = lights_under_test();
+    let cfg = Chi2Config {
+        samples: 400_000,
+        theta_bins: 20,
+        phi_bins: 40,
+        num_tests: all.len(),
+        fine_step: 0.005,
+        ..Default::default()
+    };
+    for (name, light) in &all {
+        let r = assert_chi2(
+            name,
+            &cfg,
+            |u| {
+                let s = light.sample_li(p, Vec2::new(u.x, u.y), &c)?;
+                Some((s.wi, s.pdf))
+            },
+            |d| match hit_light(light, p, d, &c) {
+                Some((pl, nl)) => light.pdf_li(p, d, pl, nl),
+                None => 0.0,
+            },
+        );
+        eprintln!(
+            "{name}: chi2 {:.1} dof {} p {:.3}",
+            r.chi2, r.dof, r.p_value
+        );
+    }
+}
+
+/// Φ against the flux through a sphere of radius R around the light: Φ = 4 pi R^2 E[E(x)],
+/// with E(x) = L cos / pdf from one light sample at a uniform point x on the sphere.
+#[test]
+fn light_power_matches_monte_carlo_flux() {
+    let materials = emissive_materials();
+    let textures: Vec<Texture> = vec![];
+    let c = ctx(&materials, &textures);
+    let spot = SpotShape::new(Vec3::new(0.0, -1.0, 0.2), 1.2, 0.4);
+    let mut lights = lights_under_test();
+    lights.retain(|(_, l)| !l.is_infinite());
+    lights.push((
+        "point",
+        Light::Point(PointLight::new(
+            Vec3::new(0.1, 0.2, 0.0),
+            7.0,
+            Spectrum::new(1.0, 0.5, 0.2),
+            0.0,
+            None,
+        )),
+    ));
+    lights.push((
+        "spot",
+        Light::Point(PointLight::new(
+            Vec3::ZERO,
+            7.0,
+            Spectrum::ONE,
+            0.0,
+            Some(spot),
+        )),
+    ));
+    lights.push((
+        "spot_with_radius",
+        Light::Point(PointLight::new(
+            Vec3::ZERO,
+            7.0,
+            Spectrum::ONE,
+            0.1,
+            Some(spot),
+        )),
+    ));
+    let radius = 25.0f32;
+    let n = 400_000;
+    for (name, light) in &lights {
+        let mut rng = Rng::new(9, 0);
+        let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+        for _ in 0..n {
+            let x = warp::square_to_uniform_sphere(rng.vec2()) * radius;
+            let e = match light.sample_li(x, rng.vec2(), &c) {
+                Some(s) => {
+                    let cos = s.wi.dot(-x.normalize()).max(0.0);
+                    photonmap::math::luminance(s.li) as f64 * cos as f64 / s.pdf as f64
+                }
+                None => 0.0,
+            };
+            sum += e;
+            sum2 += e * e;
+        }
+        let area = 4.0 * PI as f64 * (radius as f64).powi(2);
+        let mean = sum / n as f64;
+        let se = ((sum2 / n as f64 - mean * mean) / n as f64).sqrt();
+        let (est, se) = (mean * area, se * area);
+        let phi = photonmap::math::luminance(light.power(&c)) as f64;
+        eprintln!("{name}: power {phi:.4}, Monte Carlo {est:.4} +- {se:.4}");
+        assert!(
+            (est - phi).abs() < 4.0 * se + 2e-3 * phi,
+            "{name}: power {phi} but flux {est} +- {se}"
+        );
+    }
+}
