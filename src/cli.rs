@@ -58,6 +58,43 @@ pub struct RenderArgs {
     /// Pixel filter: box, tent, gaussian.
     #[arg(long, default_value = "gaussian", value_parser = parse_filter)]
     pub filter: Filter,
+    /// Photons to store in the global map (overrides the preset).
+    #[arg(long)]
+    pub photons: Option<usize>,
+    /// Photons to store in the caustic map (overrides the preset).
+    #[arg(long)]
+    pub caustic_photons: Option<usize>,
+    /// Photons per radiance estimate (k nearest).
+    #[arg(long)]
+    pub gather: Option<usize>,
+    /// Largest photon search radius, in scene units (default: from the scene size).
+    #[arg(long)]
+    pub radius: Option<f32>,
+    /// Final-gathering rays per shading point (overrides the preset).
+    #[arg(long)]
+    pub final_gather_rays: Option<u32>,
+    /// Irradiance caching for final gathering: on or off.
+    #[arg(long, value_parser = parse_on_off)]
+    pub irradiance_cache: Option<bool>,
+    /// Irradiance-cache error tolerance (Ward's a; smaller is more accurate and slower).
+    #[arg(long)]
+    pub cache_tolerance: Option<f32>,
+    /// USD: camera prim path to render through (default: the first camera found).
+    #[arg(long, value_name = "PRIM")]
+    pub camera: Option<String>,
+    /// USD: frames to render, as usdrecord: `1:10x2`, `1,5,9` or `7`. With several frames,
+    /// `#` characters in the output name are replaced by the zero-padded frame number.
+    #[arg(long)]
+    pub frames: Option<String>,
+    /// USD: geometry purposes to include besides `default` (usdrecord's --purposes).
+    #[arg(long, default_value = "render")]
+    pub purposes: String,
+    /// USD: refinement complexity (accepted for usdrecord compatibility).
+    #[arg(long)]
+    pub complexity: Option<String>,
+    /// USD: treat importer warnings as errors.
+    #[arg(long)]
+    pub strict: bool,
     /// Write render statistics as JSON.
     #[arg(long, value_name = "stats.json")]
     pub stats: Option<PathBuf>,
@@ -72,6 +109,14 @@ pub struct RenderArgs {
 fn parse_quality(s: &str) -> std::result::Result<Quality, String> {
     Quality::parse(s)
         .ok_or_else(|| format!("unknown quality `{s}` (expected draft, medium, high or final)"))
+}
+
+fn parse_on_off(s: &str) -> std::result::Result<bool, String> {
+    match s {
+        "on" | "true" | "1" => Ok(true),
+        "off" | "false" | "0" => Ok(false),
+        _ => Err(format!("expected on or off, got `{s}`")),
+    }
 }
 
 fn parse_filter(s: &str) -> std::result::Result<Filter, String> {
@@ -89,8 +134,14 @@ impl RenderArgs {
                     .and_then(|e| e.to_str())
                     .unwrap_or("")
                     .to_ascii_lowercase();
+                if matches!(ext.as_str(), "usd" | "usda" | "usdc" | "usdz") {
+                    return Err(Error::io(
+                        p,
+                        "USD stages are read by the `photonmap` command of the Python package (pip install .)",
+                    ));
+                }
                 if ext != "json" {
-                    return Err(Error::io(p, format!("unsupported scene format `.{ext}`: this command reads .json scene files")));
+                    return Err(Error::io(p, format!("unsupported scene format `.{ext}`: expected .json, .usd, .usda, .usdc or .usdz")));
                 }
                 io::scene_json::load(p)?
             }
@@ -116,15 +167,48 @@ impl RenderArgs {
         crate::scene::validate(desc)
     }
 
+    /// The preset, with every explicit flag applied over it.
     pub fn settings(&self) -> RenderSettings {
-        RenderSettings {
-            spp: self.spp.unwrap_or(self.quality.spp()),
-            seed: self.seed,
-            threads: self.threads,
-            max_specular_depth: self.max_specular_depth,
-            filter: self.filter.clone(),
-            ..Default::default()
+        let mut s = self.quality.settings();
+        s.spp = self.spp.unwrap_or(s.spp);
+        s.seed = self.seed;
+        s.threads = self.threads;
+        s.max_specular_depth = self.max_specular_depth;
+        s.filter = self.filter.clone();
+        let p = &mut s.photons;
+        p.global = self.photons.unwrap_or(p.global);
+        p.caustic = self.caustic_photons.unwrap_or(p.caustic);
+        p.gather = self.gather.unwrap_or(p.gather);
+        p.max_radius = self.radius.or(p.max_radius);
+        p.final_gather_rays = self.final_gather_rays.unwrap_or(p.final_gather_rays);
+        p.irradiance_cache = self.irradiance_cache.unwrap_or(p.irradiance_cache);
+        p.cache_tolerance = self.cache_tolerance.unwrap_or(p.cache_tolerance);
+        s
+    }
+
+    /// Checks the values clap cannot: positive counts and radii.
+    pub fn check(&self) -> Result<()> {
+        let bad = |setting: &str, message: &str| Err(Error::InvalidSetting { setting: setting.into(), message: message.into() });
+        if self.spp == Some(0) {
+            return bad("--spp", "must be at least 1");
         }
+        if self.gather == Some(0) {
+            return bad("--gather", "must be at least 1");
+        }
+        if let Some(r) = self.radius {
+            if !(r.is_finite() && r > 0.0) {
+                return bad("--radius", "must be a finite number > 0");
+            }
+        }
+        if let Some(t) = self.cache_tolerance {
+            if !(t.is_finite() && t > 0.0) {
+                return bad("--cache-tolerance", "must be a finite number > 0");
+            }
+        }
+        if self.width == Some(0) || self.height == Some(0) {
+            return bad("--width/--height", "must be at least 1");
+        }
+        Ok(())
     }
 }
 
@@ -133,6 +217,7 @@ pub fn run_render(
     args: &RenderArgs,
     progress: Option<Arc<crate::render::ProgressFn>>,
 ) -> Result<RenderOutput> {
+    args.check()?;
     let t0 = std::time::Instant::now();
     let desc = args.load_scene()?;
     let scene = Scene::build(&desc)?;

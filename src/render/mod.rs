@@ -3,8 +3,8 @@ pub mod aov;
 pub mod eye;
 pub mod film;
 mod renderer;
+pub mod settings;
 pub mod terms;
 
-pub use renderer::{
-    ProgressFn, Quality, RenderOutput, RenderSettings, RenderStats, Renderer, SkippedTerm,
-};
+pub use renderer::{ProgressFn, RenderOutput, RenderStats, Renderer, SkippedTerm};
+pub use settings::{PhotonSettings, Quality, RenderSettings};

@@ -3,9 +3,10 @@
 //! Each pixel draws its random numbers from its own stream, derived from (seed, pixel index),
 //! and pixels are independent (see `film`), so the output is bit-identical for any thread count.
 
-use super::aov::{Term, TermMask};
+use super::aov::Term;
 use super::eye::{self, EyeSettings};
-use super::film::{Film, Filter, TermRadiance};
+use super::film::{Film, TermRadiance};
+use super::settings::RenderSettings;
 use crate::error::{Error, Result};
 use crate::geometry::Ray;
 use crate::sampling::Rng;
@@ -18,69 +19,6 @@ use std::time::Instant;
 
 /// Called with (fraction done in [0,1], phase name). May be called from worker threads.
 pub type ProgressFn = dyn Fn(f32, &str) + Send + Sync;
-
-/// Quality presets shared by the CLI, the Python API and Blender.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Quality {
-    Draft,
-    Medium,
-    High,
-    Final,
-}
-
-impl Quality {
-    pub const ALL: [Quality; 4] = [
-        Quality::Draft,
-        Quality::Medium,
-        Quality::High,
-        Quality::Final,
-    ];
-    pub fn name(self) -> &'static str {
-        match self {
-            Quality::Draft => "draft",
-            Quality::Medium => "medium",
-            Quality::High => "high",
-            Quality::Final => "final",
-        }
-    }
-    pub fn parse(s: &str) -> Option<Quality> {
-        Self::ALL.into_iter().find(|q| q.name() == s)
-    }
-    /// Camera samples per pixel.
-    pub fn spp(self) -> u32 {
-        match self {
-            Quality::Draft => 4,
-            Quality::Medium => 16,
-            Quality::High => 64,
-            Quality::Final => 256,
-        }
-    }
-}
-
-#[derive(Clone, Debug)]
-pub struct RenderSettings {
-    pub spp: u32,
-    pub seed: u64,
-    /// 0 = all cores.
-    pub threads: usize,
-    pub max_specular_depth: u32,
-    pub filter: Filter,
-    pub terms: TermMask,
-}
-
-impl Default for RenderSettings {
-    fn default() -> Self {
-        RenderSettings {
-            spp: Quality::Medium.spp(),
-            seed: 0,
-            threads: 0,
-            max_specular_depth: 8,
-            filter: Filter::gaussian(0.5),
-            terms: TermMask::ALL,
-        }
-    }
-}
 
 /// Why a term is zero in this render.
 #[derive(Clone, Debug, Serialize)]

@@ -1,0 +1,124 @@
+//! Render settings and the quality presets shared by the CLI, the Python API and Blender.
+
+use super::aov::TermMask;
+use super::film::Filter;
+use serde::Serialize;
+
+/// Quality presets. Each maps to camera samples and photon-map parameters.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Quality {
+    Draft,
+    Medium,
+    High,
+    Final,
+}
+
+impl Quality {
+    pub const ALL: [Quality; 4] = [Quality::Draft, Quality::Medium, Quality::High, Quality::Final];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Quality::Draft => "draft",
+            Quality::Medium => "medium",
+            Quality::High => "high",
+            Quality::Final => "final",
+        }
+    }
+
+    pub fn parse(s: &str) -> Option<Quality> {
+        Self::ALL.into_iter().find(|q| q.name() == s)
+    }
+
+    /// Camera samples per pixel.
+    pub fn spp(self) -> u32 {
+        match self {
+            Quality::Draft => 4,
+            Quality::Medium => 16,
+            Quality::High => 64,
+            Quality::Final => 256,
+        }
+    }
+
+    /// Photon-map parameters of the preset.
+    pub fn photons(self) -> PhotonSettings {
+        let (global, caustic, fg_rays) = match self {
+            Quality::Draft => (50_000, 20_000, 16),
+            Quality::Medium => (200_000, 100_000, 32),
+            Quality::High => (500_000, 300_000, 64),
+            Quality::Final => (2_000_000, 1_000_000, 128),
+        };
+        PhotonSettings { global, caustic, final_gather_rays: fg_rays, ..PhotonSettings::default() }
+    }
+
+    /// The full settings of the preset.
+    pub fn settings(self) -> RenderSettings {
+        RenderSettings { spp: self.spp(), photons: self.photons(), ..RenderSettings::default() }
+    }
+}
+
+/// Photon-map parameters (Jensen 2001, chapters 6-9).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PhotonSettings {
+    /// Photons to store in the global map (Jensen shoots until this many are stored).
+    pub global: usize,
+    /// Photons to store in the caustic map.
+    pub caustic: usize,
+    /// Photons in each radiance estimate (k nearest).
+    pub gather: usize,
+    /// Largest search radius in scene units; `None` derives it from the scene size.
+    pub max_radius: Option<f32>,
+    /// Final-gathering rays per shading point.
+    pub final_gather_rays: u32,
+    /// Ward's irradiance cache for final gathering.
+    pub irradiance_cache: bool,
+    /// Irradiance-cache error tolerance (Ward's a).
+    pub cache_tolerance: f32,
+    /// Largest number of bounces a photon makes (Russian roulette ends most paths earlier).
+    pub max_bounces: u32,
+    /// Photons emitted at most per stored photon requested, so that a scene that stores
+    /// nothing still ends.
+    pub max_emitted_factor: usize,
+}
+
+impl Default for PhotonSettings {
+    fn default() -> Self {
+        PhotonSettings {
+            global: 200_000,
+            caustic: 100_000,
+            gather: 100,
+            max_radius: None,
+            final_gather_rays: 32,
+            irradiance_cache: true,
+            cache_tolerance: 0.15,
+            max_bounces: 32,
+            max_emitted_factor: 20,
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct RenderSettings {
+    pub spp: u32,
+    pub seed: u64,
+    /// 0 = all cores.
+    pub threads: usize,
+    pub max_specular_depth: u32,
+    pub filter: Filter,
+    pub terms: TermMask,
+    pub photons: PhotonSettings,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings {
+            spp: Quality::Medium.spp(),
+            seed: 0,
+            threads: 0,
+            max_specular_depth: 8,
+            filter: Filter::gaussian(0.5),
+            terms: TermMask::ALL,
+            photons: PhotonSettings::default(),
+        }
+    }
+}
