@@ -24,7 +24,7 @@ fn check_structure(bvh: &Bvh, b: &[Bounds3]) -> usize {
     }
     assert!(seen.iter().all(|&s| s == 1), "each primitive exactly once");
     fn depth(bvh: &Bvh, i: usize, b: &[Bounds3]) -> usize {
-        let n = bvh.nodes[i];
+        let n = *bvh.node(i).expect("node");
         let contains = |o: Bounds3| {
             n.min.cmple(o.min).all() && n.max.cmpge(o.max).all()
         };
@@ -35,9 +35,10 @@ fn check_structure(bvh: &Bvh, b: &[Bounds3]) -> usize {
             }
             1
         } else {
-            assert!(contains(bvh.nodes[i + 1].bounds()));
-            assert!(contains(bvh.nodes[n.offset as usize].bounds()));
-            1 + depth(bvh, i + 1, b).max(depth(bvh, n.offset as usize, b))
+            let (l, r) = (2 * n.offset as usize, 2 * n.offset as usize + 1);
+            assert!(contains(bvh.node(l).expect("left").bounds()));
+            assert!(contains(bvh.node(r).expect("right").bounds()));
+            1 + depth(bvh, l, b).max(depth(bvh, r, b))
         }
     }
     depth(bvh, 0, b)
@@ -67,7 +68,7 @@ fn empty_and_single() {
     assert!(!e.traverse(&BoxRay::new(Vec3::ZERO, Vec3::X), &mut t, |_, _, _| true));
     let one = [Bounds3 { min: Vec3::ZERO, max: Vec3::ONE }];
     let bvh = Bvh::build(&one, &centers(&one));
-    assert_eq!(bvh.nodes.len(), 1);
+    assert_eq!(bvh.pairs.len(), 1);
     assert_eq!(bvh.prims, vec![0]);
     // Empty and NaN bounds are left out.
     let bad = [Bounds3::EMPTY, Bounds3 { min: Vec3::NAN, max: Vec3::ONE }, one[0]];
