@@ -96,8 +96,13 @@ fn rays(acc: &Accel) -> (Vec<Ray>, Vec<Ray>) {
         if bounce.len() < RAYS {
             if let Some(h) = acc.intersect(&ray) {
                 let si = acc.interaction(&ray, &h);
-                let n = if si.ng.dot(si.wo) < 0.0 { -si.ng } else { si.ng };
-                let d = Frame::from_normal(n).to_world(warp::square_to_cosine_hemisphere(rng.vec2()));
+                let n = if si.ng.dot(si.wo) < 0.0 {
+                    -si.ng
+                } else {
+                    si.ng
+                };
+                let d =
+                    Frame::from_normal(n).to_world(warp::square_to_cosine_hemisphere(rng.vec2()));
                 bounce.push(si.spawn_ray(d));
             }
         }
@@ -111,7 +116,10 @@ fn mrays(f: impl Fn(&Ray) -> Option<f32>, rays: &[Ray]) -> (f64, usize) {
     for r in rays {
         hits += f(r).is_some() as usize;
     }
-    (rays.len() as f64 / start.elapsed().as_secs_f64() / 1e6, hits)
+    (
+        rays.len() as f64 / start.elapsed().as_secs_f64() / 1e6,
+        hits,
+    )
 }
 
 fn bench(c: &mut Criterion) {
@@ -119,10 +127,18 @@ fn bench(c: &mut Criterion) {
     let n_tris: usize = meshes.iter().map(|m| m.indices.len()).sum();
     let mut peer_tris: Vec<Tri> = meshes
         .iter()
-        .flat_map(|m| (0..m.indices.len() as u32).map(move |t| Tri { p: m.triangle(t), node: 0 }))
+        .flat_map(|m| {
+            (0..m.indices.len() as u32).map(move |t| Tri {
+                p: m.triangle(t),
+                node: 0,
+            })
+        })
         .collect();
     let instances: Vec<Instance> = (0..meshes.len() as u32)
-        .map(|mesh| Instance { mesh, transform: Transform::IDENTITY })
+        .map(|mesh| Instance {
+            mesh,
+            transform: Transform::IDENTITY,
+        })
         .collect();
 
     let t0 = Instant::now();
@@ -131,7 +147,10 @@ fn bench(c: &mut Criterion) {
     let t0 = Instant::now();
     let peer_bvh = bvh::bvh::Bvh::build_par(&mut peer_tris);
     let peer_build = t0.elapsed().as_secs_f64();
-    let peer = Peer { bvh: peer_bvh, tris: peer_tris };
+    let peer = Peer {
+        bvh: peer_bvh,
+        tris: peer_tris,
+    };
     eprintln!(
         "scene: {n_tris} triangles; build (2 threads): ours {ours_build:.3} s, bvh 0.13 {peer_build:.3} s"
     );

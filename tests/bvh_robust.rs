@@ -37,14 +37,33 @@ fn scene(place: Placement, box_lo: Vec3, box_hi: Vec3) -> (Accel, Vec3) {
         Placement::Origin => (1.0, Vec3::ZERO, Mat4::IDENTITY),
         Placement::BakedFar => (1.0, FAR, Mat4::IDENTITY),
         Placement::TranslatedFar => (1.0, Vec3::ZERO, Mat4::from_translation(FAR)),
-        Placement::ScaledFar => (1000.0, Vec3::ZERO, Mat4::from_translation(FAR) * Mat4::from_scale(Vec3::splat(1e-3))),
+        Placement::ScaledFar => (
+            1000.0,
+            Vec3::ZERO,
+            Mat4::from_translation(FAR) * Mat4::from_scale(Vec3::splat(1e-3)),
+        ),
     };
     let sphere = shapes::sphere(obj_offset, obj_scale, 48, 64);
-    let cube = shapes::cuboid(obj_offset + box_lo * obj_scale, obj_offset + box_hi * obj_scale);
+    let cube = shapes::cuboid(
+        obj_offset + box_lo * obj_scale,
+        obj_offset + box_hi * obj_scale,
+    );
     let t = Transform::new(m).expect("invertible");
     let meshes: Vec<MeshGeom> = vec![sphere, cube];
-    let instances = vec![Instance { mesh: 0, transform: t }, Instance { mesh: 1, transform: t }];
-    let center = if matches!(place, Placement::BakedFar | Placement::TranslatedFar | Placement::ScaledFar) {
+    let instances = vec![
+        Instance {
+            mesh: 0,
+            transform: t,
+        },
+        Instance {
+            mesh: 1,
+            transform: t,
+        },
+    ];
+    let center = if matches!(
+        place,
+        Placement::BakedFar | Placement::TranslatedFar | Placement::ScaledFar
+    ) {
         FAR
     } else {
         Vec3::ZERO
@@ -67,7 +86,11 @@ fn reflect(d: Vec3, n: Vec3) -> Vec3 {
 
 /// Cosine-distributed direction on the side of the surface that `wo` is on.
 fn hemisphere(si: &SurfaceInteraction, rng: &mut Rng) -> Vec3 {
-    let n = if si.ng.dot(si.wo) < 0.0 { -si.ng } else { si.ng };
+    let n = if si.ng.dot(si.wo) < 0.0 {
+        -si.ng
+    } else {
+        si.ng
+    };
     Frame::from_normal(n).to_world(warp::square_to_cosine_hemisphere(rng.vec2()))
 }
 
@@ -76,7 +99,10 @@ fn primary(rng: &mut Rng, center: Vec3, i: u32) -> Ray {
     let dir = warp::square_to_uniform_sphere(rng.vec2());
     match i % 3 {
         0 => Ray::new(center + (rng.vec3() - 0.5) * 0.8, dir),
-        1 => Ray::new(center + Vec3::new(4.0, 0.0, 0.0) + (rng.vec3() - 0.5) * 1.5, dir),
+        1 => Ray::new(
+            center + Vec3::new(4.0, 0.0, 0.0) + (rng.vec3() - 0.5) * 1.5,
+            dir,
+        ),
         _ => {
             let o = center + Vec3::new(2.0, 0.0, 0.0) + dir * 8.0;
             let target = center + Vec3::new(2.0 * rng.f32(), 0.0, 0.0) + (rng.vec3() - 0.5) * 2.2;
@@ -94,7 +120,9 @@ fn spawned_rays_never_self_intersect() {
         let mut rng = Rng::new(17, pi as u64);
         for i in 0..30_000 {
             let ray = primary(&mut rng, center, i);
-            let Some(hit) = acc.intersect(&ray) else { continue };
+            let Some(hit) = acc.intersect(&ray) else {
+                continue;
+            };
             let si = acc.interaction(&ray, &hit);
             let outside = si.ng.dot(si.wo) > 0.0;
             for dir in [reflect(ray.d.normalize(), si.ng), hemisphere(&si, &mut rng)] {
@@ -103,11 +131,18 @@ fn spawned_rays_never_self_intersect() {
                 if let Some(h2) = acc.intersect(&r2) {
                     // Both solids are convex: leaving one from outside never meets it again,
                     // and from inside never meets the same (planar) triangle.
-                    let same = if outside { h2.instance == hit.instance } else { (h2.instance, h2.prim) == (hit.instance, hit.prim) };
+                    let same = if outside {
+                        h2.instance == hit.instance
+                    } else {
+                        (h2.instance, h2.prim) == (hit.instance, hit.prim)
+                    };
                     if same {
                         self_hits += 1;
                         if self_hits < 5 {
-                            eprintln!("{place:?}: self-hit at t = {} from {:?} (outside = {outside})", h2.t, si.p);
+                            eprintln!(
+                                "{place:?}: self-hit at t = {} from {:?} (outside = {outside})",
+                                h2.t, si.p
+                            );
                         }
                     }
                 }
@@ -115,7 +150,10 @@ fn spawned_rays_never_self_intersect() {
         }
     }
     assert!(spawned >= 100_000, "{spawned} spawned rays");
-    assert_eq!(self_hits, 0, "self-intersections among {spawned} spawned rays");
+    assert_eq!(
+        self_hits, 0,
+        "self-intersections among {spawned} spawned rays"
+    );
 }
 
 #[test]
@@ -128,7 +166,11 @@ fn rays_pass_through_closed_surfaces() {
         for _ in 0..20_000 {
             // From outside, towards the sphere or the box.
             let dir = warp::square_to_uniform_sphere(rng.vec2());
-            let aim = if rng.f32() < 0.5 { center } else { center + Vec3::new(4.0, 0.0, 0.0) };
+            let aim = if rng.f32() < 0.5 {
+                center
+            } else {
+                center + Vec3::new(4.0, 0.0, 0.0)
+            };
             let o = aim + dir * 10.0;
             let target = aim + (rng.vec3() - 0.5) * 1.9;
             let mut ray = Ray::new(o, target - o);
@@ -148,14 +190,20 @@ fn rays_pass_through_closed_surfaces() {
                 crossings += 1;
             }
             let depth = depth_inside(ray.o, center);
-            assert!(depth <= 4.0 * err + 1e-6, "{place:?}: leaked, escaped from {depth} inside a solid");
+            assert!(
+                depth <= 4.0 * err + 1e-6,
+                "{place:?}: leaked, escaped from {depth} inside a solid"
+            );
             odd += crossings % 2;
             passes += 1;
         }
     }
     assert!(passes >= 80_000);
     // Odd counts only come from rays clipping an edge within the error bound.
-    assert!(odd * 200 < passes, "{odd} of {passes} rays crossed an odd number of surfaces");
+    assert!(
+        odd * 200 < passes,
+        "{odd} of {passes} rays crossed an odd number of surfaces"
+    );
 }
 
 #[test]
@@ -163,12 +211,19 @@ fn shadow_rays_between_facing_surfaces_are_unoccluded() {
     let mut tested = 0u32;
     for (pi, place) in PLACEMENTS.into_iter().enumerate() {
         // An empty room: a box beside the sphere, seen from inside.
-        let (acc, center) = scene(place, Vec3::new(-3.0, -2.0, -2.5), Vec3::new(-1.2, 2.0, 2.5));
+        let (acc, center) = scene(
+            place,
+            Vec3::new(-3.0, -2.0, -2.5),
+            Vec3::new(-1.2, 2.0, 2.5),
+        );
         let inside = center + Vec3::new(-2.1, 0.0, 0.0);
         let mut rng = Rng::new(31, pi as u64);
         let mut pts: Vec<SurfaceInteraction> = Vec::new();
         while pts.len() < 600 {
-            let ray = Ray::new(inside + (rng.vec3() - 0.5) * 0.5, warp::square_to_uniform_sphere(rng.vec2()));
+            let ray = Ray::new(
+                inside + (rng.vec3() - 0.5) * 0.5,
+                warp::square_to_uniform_sphere(rng.vec2()),
+            );
             if let Some(h) = acc.intersect(&ray) {
                 if h.instance == 1 {
                     pts.push(acc.interaction(&ray, &h));
@@ -182,7 +237,12 @@ fn shadow_rays_between_facing_surfaces_are_unoccluded() {
                     continue;
                 }
                 let r = a.spawn_ray_to_interaction(b.p, b.p_error, b.ng);
-                assert!(!acc.occluded(&r), "{place:?}: {:?} -> {:?} occluded", a.p, b.p);
+                assert!(
+                    !acc.occluded(&r),
+                    "{place:?}: {:?} -> {:?} occluded",
+                    a.p,
+                    b.p
+                );
                 if matches!(place, Placement::Origin) {
                     assert!(!acc.occluded(&a.spawn_ray_to(b.p)));
                 }

@@ -116,7 +116,14 @@ impl Blas {
             }
             false
         });
-        best.map(|(t, k, b1, b2)| (t, self.bvh.prims.get(k as usize).copied().unwrap_or(0), b1, b2))
+        best.map(|(t, k, b1, b2)| {
+            (
+                t,
+                self.bvh.prims.get(k as usize).copied().unwrap_or(0),
+                b1,
+                b2,
+            )
+        })
     }
 
     /// Whether any triangle is hit below `t_max`.
@@ -176,7 +183,11 @@ impl Accel {
                 .map(|bl| bl.bvh.bounds())
                 .unwrap_or(Bounds3::EMPTY);
             let identity = i.transform.m == Mat4::IDENTITY;
-            wb.push(if identity { b } else { transform_bounds(&i.transform.m, &b) });
+            wb.push(if identity {
+                b
+            } else {
+                transform_bounds(&i.transform.m, &b)
+            });
             inst.push(InstData {
                 identity,
                 swaps_handedness: i.transform.swaps_handedness(),
@@ -198,36 +209,42 @@ impl Accel {
         let world = RayCtx::new(ray.o, ray.d);
         let mut t_max = ray.t_max;
         let mut best = None;
-        self.top.traverse(&world.boxr, &mut t_max, |first, count, t_max| {
-            for k in first..first + count {
-                let Some(&ii) = self.top.prims.get(k) else { continue };
-                let (Some(id), Some(inst)) = (self.inst.get(ii as usize), self.instances.get(ii as usize))
-                else {
-                    continue;
-                };
-                let Some(blas) = self.blas.get(inst.mesh as usize) else { continue };
-                let found = if id.identity {
-                    blas.closest(&world, *t_max)
-                } else {
-                    let (r, dt) = object_ray(&inst.transform.inv, ray.o, ray.d);
-                    blas.closest(&r, *t_max - dt)
-                        .map(|(t, p, b1, b2)| (t + dt, p, b1, b2))
-                };
-                if let Some((t, prim, b1, b2)) = found {
-                    if t < *t_max {
-                        *t_max = t;
-                        best = Some(Hit {
-                            t,
-                            instance: ii,
-                            prim,
-                            b1,
-                            b2,
-                        });
+        self.top
+            .traverse(&world.boxr, &mut t_max, |first, count, t_max| {
+                for k in first..first + count {
+                    let Some(&ii) = self.top.prims.get(k) else {
+                        continue;
+                    };
+                    let (Some(id), Some(inst)) =
+                        (self.inst.get(ii as usize), self.instances.get(ii as usize))
+                    else {
+                        continue;
+                    };
+                    let Some(blas) = self.blas.get(inst.mesh as usize) else {
+                        continue;
+                    };
+                    let found = if id.identity {
+                        blas.closest(&world, *t_max)
+                    } else {
+                        let (r, dt) = object_ray(&inst.transform.inv, ray.o, ray.d);
+                        blas.closest(&r, *t_max - dt)
+                            .map(|(t, p, b1, b2)| (t + dt, p, b1, b2))
+                    };
+                    if let Some((t, prim, b1, b2)) = found {
+                        if t < *t_max {
+                            *t_max = t;
+                            best = Some(Hit {
+                                t,
+                                instance: ii,
+                                prim,
+                                b1,
+                                b2,
+                            });
+                        }
                     }
                 }
-            }
-            false
-        });
+                false
+            });
         best
     }
 
@@ -235,26 +252,32 @@ impl Accel {
     pub fn occluded(&self, ray: &Ray) -> bool {
         let world = RayCtx::new(ray.o, ray.d);
         let mut t_max = ray.t_max;
-        self.top.traverse(&world.boxr, &mut t_max, |first, count, t_max| {
-            for k in first..first + count {
-                let Some(&ii) = self.top.prims.get(k) else { continue };
-                let (Some(id), Some(inst)) = (self.inst.get(ii as usize), self.instances.get(ii as usize))
-                else {
-                    continue;
-                };
-                let Some(blas) = self.blas.get(inst.mesh as usize) else { continue };
-                let hit = if id.identity {
-                    blas.any(&world, *t_max)
-                } else {
-                    let (r, dt) = object_ray(&inst.transform.inv, ray.o, ray.d);
-                    blas.any(&r, *t_max - dt)
-                };
-                if hit {
-                    return true;
+        self.top
+            .traverse(&world.boxr, &mut t_max, |first, count, t_max| {
+                for k in first..first + count {
+                    let Some(&ii) = self.top.prims.get(k) else {
+                        continue;
+                    };
+                    let (Some(id), Some(inst)) =
+                        (self.inst.get(ii as usize), self.instances.get(ii as usize))
+                    else {
+                        continue;
+                    };
+                    let Some(blas) = self.blas.get(inst.mesh as usize) else {
+                        continue;
+                    };
+                    let hit = if id.identity {
+                        blas.any(&world, *t_max)
+                    } else {
+                        let (r, dt) = object_ray(&inst.transform.inv, ray.o, ray.d);
+                        blas.any(&r, *t_max - dt)
+                    };
+                    if hit {
+                        return true;
+                    }
                 }
-            }
-            false
-        })
+                false
+            })
     }
 
     /// Surface geometry at `hit`, which must come from [`Accel::intersect`] with `ray`.
@@ -280,7 +303,10 @@ impl Accel {
         let (pw, p_error) = if identity {
             (p_obj, err_obj)
         } else {
-            (tf.point(p_obj), transform_point_error(&tf.m, p_obj, err_obj))
+            (
+                tf.point(p_obj),
+                transform_point_error(&tf.m, p_obj, err_obj),
+            )
         };
 
         let n_obj = face_normal(&p);
@@ -304,7 +330,11 @@ impl Accel {
         let dp12 = p[1] - p[2];
         let det = duv02.x * duv12.y - duv02.y * duv12.x;
         let dpdu_obj = (duv12.y * dp02 - duv02.y * dp12) / det;
-        let dpdu_w = if identity { dpdu_obj } else { tf.vector(dpdu_obj) };
+        let dpdu_w = if identity {
+            dpdu_obj
+        } else {
+            tf.vector(dpdu_obj)
+        };
         let dpdu = if det.abs() > 1e-20 && dpdu_w.is_finite() && dpdu_w.cross(ng) != Vec3::ZERO {
             dpdu_w
         } else {
@@ -366,7 +396,11 @@ impl Accel {
 /// The three per-vertex attributes of a triangle, when the attribute array covers them.
 fn tri_attr<T: Copy>(attr: Option<&[T]>, idx: Option<&[u32; 3]>) -> Option<[T; 3]> {
     let (a, i) = (attr?, idx?);
-    Some([*a.get(i[0] as usize)?, *a.get(i[1] as usize)?, *a.get(i[2] as usize)?])
+    Some([
+        *a.get(i[0] as usize)?,
+        *a.get(i[1] as usize)?,
+        *a.get(i[2] as usize)?,
+    ])
 }
 
 trait IdentityFlag {

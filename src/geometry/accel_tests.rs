@@ -35,7 +35,8 @@ fn transforms() -> Vec<Transform> {
             Quat::from_axis_angle(Vec3::new(1.0, 2.0, -0.5).normalize(), 0.9),
             Vec3::new(3.0, -1.0, 0.5),
         )),
-        tf(Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0)) * Mat4::from_translation(Vec3::new(2.0, 2.0, 0.0))),
+        tf(Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0))
+            * Mat4::from_translation(Vec3::new(2.0, 2.0, 0.0))),
         tf(Mat4::from_rotation_z(2.0) * Mat4::from_scale(Vec3::new(0.3, -1.7, 0.9))),
         // Sheared.
         tf(Mat4::from_cols_array(&[
@@ -49,7 +50,9 @@ fn transforms() -> Vec<Transform> {
 fn brute(acc: &Accel, ray: &Ray) -> Option<Hit> {
     let mut best: Option<Hit> = None;
     for (ii, inst) in acc.instances.iter().enumerate() {
-        let Some(mesh) = acc.meshes.get(inst.mesh as usize) else { continue };
+        let Some(mesh) = acc.meshes.get(inst.mesh as usize) else {
+            continue;
+        };
         let (r, dt) = if acc.inst[ii].identity {
             (RayCtx::new(ray.o, ray.d), 0.0)
         } else {
@@ -63,7 +66,13 @@ fn brute(acc: &Accel, ray: &Ray) -> Option<Hit> {
             let t_max = best.map_or(ray.t_max, |h| h.t);
             if let Some(h) = intersect_triangle(&r.tri, t_max - dt, p[0], p[1], p[2]) {
                 if h.t + dt < t_max {
-                    best = Some(Hit { t: h.t + dt, instance: ii as u32, prim, b1: h.b1, b2: h.b2 });
+                    best = Some(Hit {
+                        t: h.t + dt,
+                        instance: ii as u32,
+                        prim,
+                        b1: h.b1,
+                        b2: h.b2,
+                    });
                 }
             }
         }
@@ -74,7 +83,11 @@ fn brute(acc: &Accel, ray: &Ray) -> Option<Hit> {
 fn random_ray(rng: &mut Rng, scale: f32) -> Ray {
     let o = (rng.vec3() * 2.0 - 1.0) * scale;
     let d = crate::sampling::warp::square_to_uniform_sphere(rng.vec2()) * (0.1 + 3.0 * rng.f32());
-    let t_max = if rng.f32() < 0.3 { rng.f32() * 3.0 } else { f32::INFINITY };
+    let t_max = if rng.f32() < 0.3 {
+        rng.f32() * 3.0
+    } else {
+        f32::INFINITY
+    };
     Ray::with_t_max(o, d, t_max)
 }
 
@@ -84,8 +97,20 @@ fn empty_scenes_hit_nothing() {
     let cases = [
         Accel::build(vec![], vec![]),
         Accel::build(vec![MeshGeom::default()], vec![]),
-        Accel::build(vec![MeshGeom::default()], vec![Instance { mesh: 0, transform: Transform::IDENTITY }]),
-        Accel::build(vec![], vec![Instance { mesh: 3, transform: Transform::IDENTITY }]),
+        Accel::build(
+            vec![MeshGeom::default()],
+            vec![Instance {
+                mesh: 0,
+                transform: Transform::IDENTITY,
+            }],
+        ),
+        Accel::build(
+            vec![],
+            vec![Instance {
+                mesh: 3,
+                transform: Transform::IDENTITY,
+            }],
+        ),
         Accel::default(),
     ];
     for a in cases {
@@ -100,11 +125,21 @@ fn empty_scenes_hit_nothing() {
 #[test]
 fn closest_and_any_hit_match_brute_force_with_instancing() {
     let mut rng = Rng::new(42, 0);
-    let meshes = vec![soup(400, &mut rng, 0.6), soup(50, &mut rng, 1.5), shapes::sphere(Vec3::ZERO, 1.0, 12, 16)];
+    let meshes = vec![
+        soup(400, &mut rng, 0.6),
+        soup(50, &mut rng, 1.5),
+        shapes::sphere(Vec3::ZERO, 1.0, 12, 16),
+    ];
     let mut instances = Vec::new();
     for (k, t) in transforms().into_iter().enumerate() {
-        instances.push(Instance { mesh: (k % 3) as u32, transform: t });
-        instances.push(Instance { mesh: ((k + 1) % 3) as u32, transform: t });
+        instances.push(Instance {
+            mesh: (k % 3) as u32,
+            transform: t,
+        });
+        instances.push(Instance {
+            mesh: ((k + 1) % 3) as u32,
+            transform: t,
+        });
     }
     let acc = Accel::build(meshes, instances);
     let mut hits = 0;
@@ -134,8 +169,13 @@ fn closest_and_any_hit_match_brute_force_with_instancing() {
 fn hits_agree_with_world_space_triangles() {
     let mut rng = Rng::new(9, 0);
     let meshes = vec![soup(300, &mut rng, 0.8)];
-    let instances: Vec<Instance> =
-        transforms().into_iter().map(|t| Instance { mesh: 0, transform: t }).collect();
+    let instances: Vec<Instance> = transforms()
+        .into_iter()
+        .map(|t| Instance {
+            mesh: 0,
+            transform: t,
+        })
+        .collect();
     let acc = Accel::build(meshes, instances);
     let world: Vec<(u32, u32, [Vec3; 3])> = (0..acc.instances().len() as u32)
         .flat_map(|i| (0..300u32).map(move |p| (i, p)))
@@ -171,33 +211,56 @@ fn interaction_geometry() {
     mesh.normals = Some(mesh.positions.iter().map(|p| p.normalize()).collect());
     mesh.material_ids = (0..mesh.indices.len() as u32).map(|i| i % 5).collect();
     let mut rng = Rng::new(3, 0);
-    let instances: Vec<Instance> =
-        transforms().into_iter().map(|t| Instance { mesh: 0, transform: t }).collect();
+    let instances: Vec<Instance> = transforms()
+        .into_iter()
+        .map(|t| Instance {
+            mesh: 0,
+            transform: t,
+        })
+        .collect();
     let acc = Accel::build(vec![mesh.clone()], instances);
     let mut checked = 0;
     for i in 0..4000 {
         // Aimed at an instance's centre, from 5 units away.
-        let c = acc.instances()[i % acc.instances().len()].transform.point(Vec3::ZERO);
+        let c = acc.instances()[i % acc.instances().len()]
+            .transform
+            .point(Vec3::ZERO);
         let o = c + crate::sampling::warp::square_to_uniform_sphere(rng.vec2()) * 5.0;
         let ray = Ray::new(o, (c + (rng.vec3() - 0.5) - o) * (0.2 + rng.f32()));
-        let Some(h) = acc.intersect(&ray) else { continue };
+        let Some(h) = acc.intersect(&ray) else {
+            continue;
+        };
         let si = acc.interaction(&ray, &h);
         let w = acc.triangle_world(h.instance, h.prim);
         let wn = face_normal(&w).normalize();
-        assert!(si.ng.dot(wn) > 0.999, "ng follows world winding: {:?} vs {wn:?}", si.ng);
+        assert!(
+            si.ng.dot(wn) > 0.999,
+            "ng follows world winding: {:?} vs {wn:?}",
+            si.ng
+        );
         assert!((si.ng.length() - 1.0).abs() < 1e-5 && (si.ns.length() - 1.0).abs() < 1e-5);
         // Outward vertex normals: ns on the side of the outward object-space winding, which
         // is the side of ng unless the instance mirrors the mesh (ng follows world winding).
-        let mirrored = acc.instances()[h.instance as usize].transform.swaps_handedness();
+        let mirrored = acc.instances()[h.instance as usize]
+            .transform
+            .swaps_handedness();
         let side = if mirrored { -1.0 } else { 1.0 };
         assert!(side * si.ns.dot(si.ng) > 0.5, "{:?} {:?}", si.ns, si.ng);
         let at = ray.at(h.t);
-        assert!((si.p - at).length() < 1e-4 * (1.0 + at.length()), "{:?} vs {at:?}", si.p);
+        assert!(
+            (si.p - at).length() < 1e-4 * (1.0 + at.length()),
+            "{:?} vs {at:?}",
+            si.p
+        );
         assert!(si.p_error.cmpge(Vec3::ZERO).all() && si.p_error.max_element() < 1e-4);
         assert_eq!(si.uv, Vec2::new(h.b1, h.b2));
         assert_eq!(si.material, h.prim % 5);
         assert!((si.wo - (-ray.d.normalize())).length() < 1e-6);
-        assert!(si.dpdu.is_finite() && si.dpdu.length() > 0.0 && si.dpdu.dot(si.ng).abs() < 1e-3 * si.dpdu.length());
+        assert!(
+            si.dpdu.is_finite()
+                && si.dpdu.length() > 0.0
+                && si.dpdu.dot(si.ng).abs() < 1e-3 * si.dpdu.length()
+        );
         checked += 1;
     }
     assert!(checked > 500);
@@ -211,19 +274,42 @@ fn degenerate_inputs() {
         ..Default::default()
     };
     // One triangle.
-    let one = Accel::build(vec![tri.clone()], vec![Instance { mesh: 0, transform: Transform::IDENTITY }]);
+    let one = Accel::build(
+        vec![tri.clone()],
+        vec![Instance {
+            mesh: 0,
+            transform: Transform::IDENTITY,
+        }],
+    );
     let down = Ray::new(Vec3::new(0.2, 0.2, 1.0), -Vec3::Z);
     let h = one.intersect(&down).expect("hit");
     assert!((h.t - 1.0).abs() < 1e-6 && h.prim == 0);
     assert!(one.occluded(&down));
-    assert!(one.intersect(&Ray::new(Vec3::new(0.9, 0.9, 1.0), -Vec3::Z)).is_none());
+    assert!(one
+        .intersect(&Ray::new(Vec3::new(0.9, 0.9, 1.0), -Vec3::Z))
+        .is_none());
 
     // Coincident triangles, zero-area triangles and out-of-range indices mixed in.
-    let mut m = MeshGeom { positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::X * 2.0], ..Default::default() };
+    let mut m = MeshGeom {
+        positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::X * 2.0],
+        ..Default::default()
+    };
     for i in 0..1000 {
-        m.indices.push(if i % 3 == 0 { [0, 1, 3] } else if i % 7 == 0 { [0, 9, 1] } else { [0, 1, 2] });
+        m.indices.push(if i % 3 == 0 {
+            [0, 1, 3]
+        } else if i % 7 == 0 {
+            [0, 9, 1]
+        } else {
+            [0, 1, 2]
+        });
     }
-    let acc = Accel::build(vec![m], vec![Instance { mesh: 0, transform: Transform::IDENTITY }]);
+    let acc = Accel::build(
+        vec![m],
+        vec![Instance {
+            mesh: 0,
+            transform: Transform::IDENTITY,
+        }],
+    );
     let h = acc.intersect(&down).expect("hit");
     assert!((h.t - 1.0).abs() < 1e-6);
     assert!(acc.occluded(&down));
@@ -233,7 +319,11 @@ fn degenerate_inputs() {
         if let Some(h) = acc.intersect(&ray) {
             assert!(h.t.is_finite() && h.b1.is_finite() && h.b2.is_finite());
             let [a, b, c] = acc.mesh(0).indices[h.prim as usize];
-            assert_eq!([a, b, c], [0, 1, 2], "only the non-degenerate triangle is hit");
+            assert_eq!(
+                [a, b, c],
+                [0, 1, 2],
+                "only the non-degenerate triangle is hit"
+            );
         }
     }
 }
@@ -247,7 +337,11 @@ fn million_triangles_with_one_centroid() {
         let a = k as f32 * 0.618_034 * std::f32::consts::TAU;
         let q = Quat::from_axis_angle(Vec3::new(a.cos(), a.sin(), 0.3).normalize(), a * 1.7);
         let s = 0.1 + (k % 97) as f32 * 0.01;
-        let offs = [Vec3::new(1.0, 0.0, 0.0), Vec3::new(-0.5, 0.8, 0.0), Vec3::new(-0.5, -0.8, 0.0)];
+        let offs = [
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(-0.5, 0.8, 0.0),
+            Vec3::new(-0.5, -0.8, 0.0),
+        ];
         for o in offs {
             positions.push(c + q * o * s);
         }
@@ -258,7 +352,13 @@ fn million_triangles_with_one_centroid() {
         ..Default::default()
     };
     let start = std::time::Instant::now();
-    let acc = Accel::build(vec![mesh], vec![Instance { mesh: 0, transform: Transform::IDENTITY }]);
+    let acc = Accel::build(
+        vec![mesh],
+        vec![Instance {
+            mesh: 0,
+            transform: Transform::IDENTITY,
+        }],
+    );
     let secs = start.elapsed().as_secs_f32();
     assert!(secs < 60.0, "build took {secs} s");
     let mut rng = Rng::new(2, 0);

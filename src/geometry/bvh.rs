@@ -111,9 +111,21 @@ fn min_nan_a(a: f32, b: f32) -> f32 {
 /// Returns the entry distance when the box is hit, else `f32::INFINITY`.
 #[inline(always)]
 fn hit_box(node: &BvhNode, r: &BoxRay, t_max: f32) -> f32 {
-    let (nx, fx) = if r.neg[0] { (node.max.x, node.min.x) } else { (node.min.x, node.max.x) };
-    let (ny, fy) = if r.neg[1] { (node.max.y, node.min.y) } else { (node.min.y, node.max.y) };
-    let (nz, fz) = if r.neg[2] { (node.max.z, node.min.z) } else { (node.min.z, node.max.z) };
+    let (nx, fx) = if r.neg[0] {
+        (node.max.x, node.min.x)
+    } else {
+        (node.min.x, node.max.x)
+    };
+    let (ny, fy) = if r.neg[1] {
+        (node.max.y, node.min.y)
+    } else {
+        (node.min.y, node.max.y)
+    };
+    let (nz, fz) = if r.neg[2] {
+        (node.max.z, node.min.z)
+    } else {
+        (node.min.z, node.max.z)
+    };
     let t0x = (nx - r.o.x) * r.inv_d.x;
     let t0y = (ny - r.o.y) * r.inv_d.y;
     let t0z = (nz - r.o.z) * r.inv_d.z;
@@ -175,10 +187,7 @@ impl Bvh {
         let mut stack = [(0u32, 0.0f32); STACK_DEPTH];
         let mut sp = 0usize;
         let mut current = 0usize;
-        loop {
-            let Some(node) = self.node(current) else {
-                break;
-            };
+        while let Some(node) = self.node(current) {
             if node.count > 0 {
                 if leaf(node.offset as usize, node.count as usize, t_max) {
                     return true;

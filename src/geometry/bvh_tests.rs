@@ -7,7 +7,10 @@ fn boxes(n: usize, rng: &mut Rng) -> Vec<Bounds3> {
         .map(|_| {
             let c = rng.vec3() * 10.0;
             let h = rng.vec3() * 0.3;
-            Bounds3 { min: c - h, max: c + h }
+            Bounds3 {
+                min: c - h,
+                max: c + h,
+            }
         })
         .collect()
 }
@@ -25,9 +28,7 @@ fn check_structure(bvh: &Bvh, b: &[Bounds3]) -> usize {
     assert!(seen.iter().all(|&s| s == 1), "each primitive exactly once");
     fn depth(bvh: &Bvh, i: usize, b: &[Bounds3]) -> usize {
         let n = *bvh.node(i).expect("node");
-        let contains = |o: Bounds3| {
-            n.min.cmple(o.min).all() && n.max.cmpge(o.max).all()
-        };
+        let contains = |o: Bounds3| n.min.cmple(o.min).all() && n.max.cmpge(o.max).all();
         if n.count > 0 {
             assert!(n.count as usize <= MAX_LEAF);
             for k in n.offset as usize..(n.offset + n.count as u32) as usize {
@@ -66,12 +67,22 @@ fn empty_and_single() {
     assert!(e.is_empty());
     let mut t = f32::INFINITY;
     assert!(!e.traverse(&BoxRay::new(Vec3::ZERO, Vec3::X), &mut t, |_, _, _| true));
-    let one = [Bounds3 { min: Vec3::ZERO, max: Vec3::ONE }];
+    let one = [Bounds3 {
+        min: Vec3::ZERO,
+        max: Vec3::ONE,
+    }];
     let bvh = Bvh::build(&one, &centers(&one));
     assert_eq!(bvh.pairs.len(), 1);
     assert_eq!(bvh.prims, vec![0]);
     // Empty and NaN bounds are left out.
-    let bad = [Bounds3::EMPTY, Bounds3 { min: Vec3::NAN, max: Vec3::ONE }, one[0]];
+    let bad = [
+        Bounds3::EMPTY,
+        Bounds3 {
+            min: Vec3::NAN,
+            max: Vec3::ONE,
+        },
+        one[0],
+    ];
     let bvh = Bvh::build(&bad, &centers(&bad));
     assert_eq!(bvh.prims, vec![2]);
 }
@@ -79,7 +90,13 @@ fn empty_and_single() {
 #[test]
 fn identical_centroids_terminate_balanced() {
     let n = 1_000_000;
-    let b = vec![Bounds3 { min: Vec3::splat(-1.0), max: Vec3::splat(1.0) }; n];
+    let b = vec![
+        Bounds3 {
+            min: Vec3::splat(-1.0),
+            max: Vec3::splat(1.0)
+        };
+        n
+    ];
     let bvh = Bvh::build(&b, &centers(&b));
     let d = check_structure(&bvh, &b);
     assert!(d <= 22, "depth {d} for {n} coincident primitives");
@@ -108,7 +125,10 @@ fn traversal_finds_every_box_hit() {
             let mut t1 = f64::INFINITY;
             for a in 0..3 {
                 let inv = 1.0 / d[a] as f64;
-                let (mut n, mut f) = ((bb.min[a] - o[a]) as f64 * inv, (bb.max[a] - o[a]) as f64 * inv);
+                let (mut n, mut f) = (
+                    (bb.min[a] - o[a]) as f64 * inv,
+                    (bb.max[a] - o[a]) as f64 * inv,
+                );
                 if n > f {
                     std::mem::swap(&mut n, &mut f);
                 }

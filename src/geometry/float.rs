@@ -48,7 +48,17 @@ mod tests {
 
     #[test]
     fn next_float_steps_one_ulp() {
-        for &v in &[0.0f32, -0.0, 1.0, -1.0, 1e-38, -1e-38, 1e5, -3.5e7, f32::MAX] {
+        for &v in &[
+            0.0f32,
+            -0.0,
+            1.0,
+            -1.0,
+            1e-38,
+            -1e-38,
+            1e5,
+            -3.5e7,
+            f32::MAX,
+        ] {
             let up = next_float_up(v);
             let down = next_float_down(v);
             assert!(up > v, "{v}");

@@ -105,7 +105,12 @@ impl SurfaceInteraction {
     /// | `other_p_error` | its error bound |
     /// | `other_n` | its geometric normal |
     #[inline]
-    pub fn spawn_ray_to_interaction(&self, other_p: Vec3, other_p_error: Vec3, other_n: Vec3) -> Ray {
+    pub fn spawn_ray_to_interaction(
+        &self,
+        other_p: Vec3,
+        other_p_error: Vec3,
+        other_n: Vec3,
+    ) -> Ray {
         let from = offset_ray_origin(self.p, self.p_error, self.ng, other_p - self.p);
         let to = offset_ray_origin(other_p, other_p_error, other_n, from - other_p);
         Ray::with_t_max(from, to - from, 1.0 - SHADOW_EPSILON)

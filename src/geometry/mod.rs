@@ -15,7 +15,9 @@ mod triangle;
 pub use accel::{Accel, Hit};
 pub use bvh::{BoxRay, Bvh, BvhNode};
 pub use float::{gamma, next_float_down, next_float_up, MACHINE_EPSILON};
-pub use interaction::{offset_ray_origin, transform_point_error, SurfaceInteraction, SHADOW_EPSILON};
+pub use interaction::{
+    offset_ray_origin, transform_point_error, SurfaceInteraction, SHADOW_EPSILON,
+};
 pub use mesh::{Instance, MeshGeom};
 pub use ray::Ray;
 pub use triangle::{intersect_triangle, TriHit, TriRay};

@@ -35,7 +35,11 @@ pub fn sphere_displaced(
         let theta = std::f32::consts::PI * r as f32 / rings as f32;
         for s in 0..segments {
             let phi = 2.0 * std::f32::consts::PI * s as f32 / segments as f32;
-            let d = Vec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos());
+            let d = Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            );
             positions.push(put(d));
         }
     }

@@ -22,9 +22,15 @@ fn hits_inside_with_barycentrics_and_t() {
 fn misses_outside_behind_and_beyond_t_max() {
     assert!(hit(Vec3::new(0.8, 0.8, 1.0), -Vec3::Z, TRI).is_none());
     assert!(hit(Vec3::new(-0.1, 0.2, 1.0), -Vec3::Z, TRI).is_none());
-    assert!(hit(Vec3::new(0.2, 0.2, 1.0), Vec3::Z, TRI).is_none(), "behind");
+    assert!(
+        hit(Vec3::new(0.2, 0.2, 1.0), Vec3::Z, TRI).is_none(),
+        "behind"
+    );
     let r = TriRay::new(Vec3::new(0.2, 0.2, 1.0), -Vec3::Z);
-    assert!(intersect_triangle(&r, 1.0, TRI[0], TRI[1], TRI[2]).is_none(), "t_max is exclusive");
+    assert!(
+        intersect_triangle(&r, 1.0, TRI[0], TRI[1], TRI[2]).is_none(),
+        "t_max is exclusive"
+    );
     assert!(intersect_triangle(&r, 1.0001, TRI[0], TRI[1], TRI[2]).is_some());
 }
 
@@ -56,7 +62,10 @@ fn degenerate_triangles_never_give_nan() {
             let target = p[0] + (p[2] - p[0]) * rng.f32();
             for d in [d, target - o] {
                 if let Some(h) = hit(o, d, p) {
-                    assert!(h.t.is_finite() && h.b1.is_finite() && h.b2.is_finite(), "{h:?}");
+                    assert!(
+                        h.t.is_finite() && h.b1.is_finite() && h.b2.is_finite(),
+                        "{h:?}"
+                    );
                 }
             }
         }
@@ -69,7 +78,9 @@ fn degenerate_triangles_never_give_nan() {
 #[test]
 fn watertight_on_shared_edges_and_vertices() {
     let mesh = shapes::sphere(Vec3::new(0.3, -0.2, 0.1), 1.3, 17, 23);
-    let tris: Vec<[Vec3; 3]> = (0..mesh.indices.len() as u32).map(|t| mesh.triangle(t)).collect();
+    let tris: Vec<[Vec3; 3]> = (0..mesh.indices.len() as u32)
+        .map(|t| mesh.triangle(t))
+        .collect();
     let mut rng = Rng::new(11, 0);
     let mut rays = 0;
     for (ti, p) in tris.iter().enumerate() {
@@ -88,7 +99,9 @@ fn watertight_on_shared_edges_and_vertices() {
                     let r = TriRay::new(o, target - o);
                     let n = tris
                         .iter()
-                        .filter(|q| intersect_triangle(&r, f32::INFINITY, q[0], q[1], q[2]).is_some())
+                        .filter(|q| {
+                            intersect_triangle(&r, f32::INFINITY, q[0], q[1], q[2]).is_some()
+                        })
                         .count();
                     assert!(n >= 1, "ray through edge of triangle {ti} leaked");
                     rays += 1;
@@ -114,10 +127,17 @@ fn watertight_on_a_quad_diagonal() {
     let mut rng = Rng::new(3, 0);
     for i in 0..100_000 {
         // Interior points of the diagonal only: its ends are corners of the quad.
-        let s = if i % 100 == 0 { 0.5 } else { rng.f32().max(1e-3) };
+        let s = if i % 100 == 0 {
+            0.5
+        } else {
+            rng.f32().max(1e-3)
+        };
         let target = a + (c - a) * s;
         let o = target + Vec3::new(rng.f32() - 0.5, rng.f32() - 0.5, 1.0) * 3.0;
-        let n = [t1, t2].iter().filter(|p| hit(o, target - o, **p).is_some()).count();
+        let n = [t1, t2]
+            .iter()
+            .filter(|p| hit(o, target - o, **p).is_some())
+            .count();
         assert!(n >= 1, "ray {i} through the shared edge leaked");
     }
 }
