@@ -1,7 +1,7 @@
-//! Generic bounding volume hierarchy over primitives given by their bounds: flattened
-//! depth-first 32-byte nodes and a stack-based traversal that visits the child nearer
-//! along the ray first (pbrt-v4 §7.3, `BVHAggregate`). The builder is in
-//! [`super::bvh_build`].
+//! Generic bounding volume hierarchy over primitives given by their bounds (after pbrt-v4
+//! §7.3, `BVHAggregate`): flattened 32-byte nodes, siblings stored side by side in one
+//! 64-byte line and sibling pairs in depth-first order; a stack-based traversal tests both
+//! children together and visits the nearer first. The builder is in [`super::bvh_build`].
 
 use super::float::gamma;
 use crate::math::Bounds3;
@@ -12,9 +12,9 @@ use glam::Vec3;
 /// | field | meaning |
 /// |-------|---------|
 /// | `min`, `max` | bounds of everything below the node |
-/// | `offset` | leaf: index of the first entry in [`Bvh::prims`]; interior: index of the second child (the first child follows the node) |
+/// | `offset` | leaf: index of the first entry in [`Bvh::prims`]; interior: index of the [`NodePair`] holding its two children |
 /// | `count` | number of primitives in a leaf; 0 for an interior node |
-/// | `axis` | split axis of an interior node (0 = x, 1 = y, 2 = z) |
+/// | `axis` | split axis of an interior node (0 = x, 1 = y, 2 = z); informative, traversal orders children by entry distance |
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C, align(32))]
 pub struct BvhNode {
@@ -39,13 +39,23 @@ impl BvhNode {
     }
 }
 
+/// The two children of an interior node, side by side in one 64-byte cache line, so
+/// that testing both costs one memory access.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C, align(64))]
+pub struct NodePair(pub [BvhNode; 2]);
+
+const _: () = assert!(std::mem::size_of::<NodePair>() == 64);
+
 /// Depth of the traversal stack. The builder bounds the tree depth well below this.
 pub(crate) const STACK_DEPTH: usize = 128;
 
-/// A flattened BVH. `prims` lists primitive indices in leaf order.
+/// A flattened BVH. Node `i` is `pairs[i / 2].0[i % 2]`; the root is node 0 (its slot
+/// partner is unused) and sibling pairs follow in depth-first order. `prims` lists
+/// primitive indices in leaf order.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Bvh {
-    pub nodes: Vec<BvhNode>,
+    pub pairs: Vec<NodePair>,
     pub prims: Vec<u32>,
 }
 
@@ -98,8 +108,9 @@ fn min_nan_a(a: f32, b: f32) -> f32 {
 
 /// Slab test of `node` against the ray; conservative under rounding (the far distance is
 /// scaled by 1 + 2γ₃ as in pbrt-v4 §6.8.2) and when a slab computation yields NaN.
+/// Returns the entry distance when the box is hit, else `f32::INFINITY`.
 #[inline(always)]
-fn hit_box(node: &BvhNode, r: &BoxRay, t_max: f32) -> bool {
+fn hit_box(node: &BvhNode, r: &BoxRay, t_max: f32) -> f32 {
     let (nx, fx) = if r.neg[0] {
         (node.max.x, node.min.x)
     } else {
@@ -123,7 +134,11 @@ fn hit_box(node: &BvhNode, r: &BoxRay, t_max: f32) -> bool {
     let t1z = (fz - r.o.z) * r.inv_d.z;
     let t0 = max_nan_a(t0x, max_nan_a(t0y, max_nan_a(t0z, 0.0)));
     let t1 = min_nan_a(t1x, min_nan_a(t1y, min_nan_a(t1z, t_max)));
-    t0 <= t1 * ROBUST_SCALE
+    if t0 <= t1 * ROBUST_SCALE {
+        t0
+    } else {
+        f32::INFINITY
+    }
 }
 
 const ROBUST_SCALE: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
@@ -132,18 +147,24 @@ impl Bvh {
     /// True when the hierarchy holds no primitive.
     #[inline]
     pub fn is_empty(&self) -> bool {
-        self.nodes.is_empty()
+        self.pairs.is_empty()
+    }
+
+    /// Node `i`, if it exists.
+    #[inline(always)]
+    pub fn node(&self, i: usize) -> Option<&BvhNode> {
+        self.pairs.get(i >> 1).map(|p| &p.0[i & 1])
     }
 
     /// Bounds of the root (empty for an empty hierarchy).
     pub fn bounds(&self) -> Bounds3 {
-        self.nodes
-            .first()
-            .map(|n| n.bounds())
-            .unwrap_or(Bounds3::EMPTY)
+        self.node(0).map(|n| n.bounds()).unwrap_or(Bounds3::EMPTY)
     }
 
-    /// Walks the nodes hit by a ray, nearer child first.
+    /// Walks the nodes hit by a ray, nearer child first: both children of an interior
+    /// node are tested, the nearer (by entry distance) is visited and the farther is
+    /// pushed with its entry distance, and skipped when popped if a closer hit was found
+    /// meanwhile.
     ///
     /// | parameter | meaning |
     /// |-----------|---------|
@@ -157,41 +178,56 @@ impl Bvh {
     where
         F: FnMut(usize, usize, &mut f32) -> bool,
     {
-        let nodes = &self.nodes[..];
-        if nodes.is_empty() {
+        let Some(root) = self.node(0) else {
+            return false;
+        };
+        if hit_box(root, r, *t_max) == f32::INFINITY {
             return false;
         }
-        let mut stack = [0u32; STACK_DEPTH];
+        let mut stack = [(0u32, 0.0f32); STACK_DEPTH];
         let mut sp = 0usize;
         let mut current = 0usize;
-        loop {
-            let Some(node) = nodes.get(current) else {
-                break;
-            };
-            if hit_box(node, r, *t_max) {
-                if node.count > 0 {
-                    if leaf(node.offset as usize, node.count as usize, t_max) {
-                        return true;
-                    }
-                } else {
-                    let (near, far) = if r.neg[(node.axis & 3).min(2) as usize] {
-                        (node.offset as usize, current + 1)
+        while let Some(node) = self.node(current) {
+            if node.count > 0 {
+                if leaf(node.offset as usize, node.count as usize, t_max) {
+                    return true;
+                }
+            } else {
+                let Some(NodePair([na, nb])) = self.pairs.get(node.offset as usize) else {
+                    break;
+                };
+                let (a, b) = (2 * node.offset as usize, 2 * node.offset as usize + 1);
+                let ta = hit_box(na, r, *t_max);
+                let tb = hit_box(nb, r, *t_max);
+                if ta != f32::INFINITY {
+                    if tb != f32::INFINITY {
+                        let (near, far, tf) = if tb < ta { (b, a, ta) } else { (a, b, tb) };
+                        if sp < STACK_DEPTH {
+                            stack[sp] = (far as u32, tf);
+                            sp += 1;
+                        }
+                        current = near;
                     } else {
-                        (current + 1, node.offset as usize)
-                    };
-                    if sp < STACK_DEPTH {
-                        stack[sp] = far as u32;
-                        sp += 1;
+                        current = a;
                     }
-                    current = near;
+                    continue;
+                } else if tb != f32::INFINITY {
+                    current = b;
                     continue;
                 }
             }
-            if sp == 0 {
-                break;
+            // Pop the next subtree that may still hold a closer hit.
+            loop {
+                if sp == 0 {
+                    return false;
+                }
+                sp -= 1;
+                let (i, t) = stack[sp];
+                if t <= *t_max {
+                    current = i as usize;
+                    break;
+                }
             }
-            sp -= 1;
-            current = stack[sp] as usize;
         }
         false
     }

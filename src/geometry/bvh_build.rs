@@ -10,13 +10,13 @@
 //! | depth | SAH splits stop at depth [`SAH_MAX_DEPTH`]; below, middle splits keep the tree shallower than the traversal stack |
 //! | parallelism | subtrees larger than [`PARALLEL_THRESHOLD`] are built with `rayon::join`; the tree does not depend on the thread count |
 
-use super::bvh::{Bvh, BvhNode};
+use super::bvh::{Bvh, BvhNode, NodePair};
 use crate::math::Bounds3;
 use glam::Vec3;
 
 pub const BINS: usize = 16;
-pub const MAX_LEAF: usize = 4;
-pub const TRAVERSAL_COST: f32 = 1.0;
+pub const MAX_LEAF: usize = 8;
+pub const TRAVERSAL_COST: f32 = 2.0;
 pub const SAH_MAX_DEPTH: u32 = 64;
 pub const PARALLEL_THRESHOLD: usize = 8192;
 
@@ -81,42 +81,45 @@ impl Bvh {
             return Bvh::default();
         }
         let root = build_rec(&mut prims, 0, 0);
-        let mut nodes = Vec::with_capacity(root.size() as usize);
-        flatten(&root, &mut nodes);
+        let mut pairs = Vec::with_capacity(root.size() as usize / 2 + 1);
+        pairs.push(NodePair::default());
+        flatten(&root, &mut pairs, 0);
         Bvh {
-            nodes,
+            pairs,
             prims: prims.iter().map(|p| p.index).collect(),
         }
     }
 }
 
-fn flatten(n: &Node, out: &mut Vec<BvhNode>) {
-    match n {
-        Node::Leaf { b, first, count } => out.push(BvhNode {
+/// Writes `n` as node `at` and, for an interior node, appends its children as a pair and
+/// recurses into them (depth-first order of pairs).
+fn flatten(n: &Node, out: &mut Vec<NodePair>, at: usize) {
+    let node = match n {
+        Node::Leaf { b, first, count } => BvhNode {
             min: b.min,
             max: b.max,
             offset: *first,
             count: *count as u16,
             axis: 0,
             pad: 0,
-        }),
-        Node::Inner { b, axis, kids, .. } => {
-            let at = out.len();
-            out.push(BvhNode {
-                min: b.min,
-                max: b.max,
-                offset: 0,
-                count: 0,
-                axis: *axis,
-                pad: 0,
-            });
-            flatten(&kids.0, out);
-            let second = out.len() as u32;
-            if let Some(node) = out.get_mut(at) {
-                node.offset = second;
-            }
-            flatten(&kids.1, out);
-        }
+        },
+        Node::Inner { b, axis, .. } => BvhNode {
+            min: b.min,
+            max: b.max,
+            offset: out.len() as u32,
+            count: 0,
+            axis: *axis,
+            pad: 0,
+        },
+    };
+    if let Some(p) = out.get_mut(at >> 1) {
+        p.0[at & 1] = node;
+    }
+    if let Node::Inner { kids, .. } = n {
+        let pair = out.len();
+        out.push(NodePair::default());
+        flatten(&kids.0, out, 2 * pair);
+        flatten(&kids.1, out, 2 * pair + 1);
     }
 }
 

@@ -27,7 +27,7 @@ fn check_structure(bvh: &Bvh, b: &[Bounds3]) -> usize {
     }
     assert!(seen.iter().all(|&s| s == 1), "each primitive exactly once");
     fn depth(bvh: &Bvh, i: usize, b: &[Bounds3]) -> usize {
-        let n = bvh.nodes[i];
+        let n = *bvh.node(i).expect("node");
         let contains = |o: Bounds3| n.min.cmple(o.min).all() && n.max.cmpge(o.max).all();
         if n.count > 0 {
             assert!(n.count as usize <= MAX_LEAF);
@@ -36,9 +36,10 @@ fn check_structure(bvh: &Bvh, b: &[Bounds3]) -> usize {
             }
             1
         } else {
-            assert!(contains(bvh.nodes[i + 1].bounds()));
-            assert!(contains(bvh.nodes[n.offset as usize].bounds()));
-            1 + depth(bvh, i + 1, b).max(depth(bvh, n.offset as usize, b))
+            let (l, r) = (2 * n.offset as usize, 2 * n.offset as usize + 1);
+            assert!(contains(bvh.node(l).expect("left").bounds()));
+            assert!(contains(bvh.node(r).expect("right").bounds()));
+            1 + depth(bvh, l, b).max(depth(bvh, r, b))
         }
     }
     depth(bvh, 0, b)
@@ -71,7 +72,7 @@ fn empty_and_single() {
         max: Vec3::ONE,
     }];
     let bvh = Bvh::build(&one, &centers(&one));
-    assert_eq!(bvh.nodes.len(), 1);
+    assert_eq!(bvh.pairs.len(), 1);
     assert_eq!(bvh.prims, vec![0]);
     // Empty and NaN bounds are left out.
     let bad = [

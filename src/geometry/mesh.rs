@@ -31,7 +31,7 @@ impl MeshGeom {
         self.indices.len()
     }
 
-    /// Position of vertex `i`, or the origin-free fallback `positions[0]` when out of range.
+    /// Position of vertex `i`; `positions[0]` (or the origin) when `i` is out of range.
     #[inline]
     pub(crate) fn position(&self, i: u32) -> Vec3 {
         match self.positions.get(i as usize) {

@@ -13,7 +13,7 @@ pub mod shapes;
 mod triangle;
 
 pub use accel::{Accel, Hit};
-pub use bvh::{Bvh, BvhNode};
+pub use bvh::{BoxRay, Bvh, BvhNode, NodePair};
 pub use float::{gamma, next_float_down, next_float_up, MACHINE_EPSILON};
 pub use interaction::{
     offset_ray_origin, transform_point_error, SurfaceInteraction, SHADOW_EPSILON,

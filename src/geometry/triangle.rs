@@ -115,7 +115,8 @@ pub fn intersect_triangle(r: &TriRay, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) 
     }
     let inv_det = 1.0 / det;
     let t = t_scaled * inv_det;
-    if !(t < t_max) {
+    // Also rejects a NaN t.
+    if t.partial_cmp(&t_max) != Some(std::cmp::Ordering::Less) {
         return None;
     }
     let b1 = e1 * inv_det;
