@@ -6,6 +6,7 @@
 
 mod area;
 mod distant;
+mod emit;
 mod environment;
 mod light_sampler;
 mod point;
@@ -13,6 +14,7 @@ mod triangle;
 
 pub use area::{AreaLight, AreaShape};
 pub use distant::DistantLight;
+pub use emit::{LeSample, Target};
 pub use environment::EnvironmentLight;
 pub use light_sampler::LightSampler;
 pub use point::{PointLight, SpotShape};

@@ -16,6 +16,8 @@
 //!   queries.
 
 pub mod kdtree;
+pub mod map;
+pub mod trace;
 #[allow(clippy::module_inception)]
 pub mod photon;
 

@@ -1,0 +1,110 @@
+//! Photon maps (Jensen 2001, chapter 7): a kd-tree of photons and the radiance estimate.
+
+use super::{KnnScratch, Photon, PhotonKdTree, PhotonRecord as _};
+use crate::materials::bsdf::Bsdf;
+use crate::math::{Spectrum, PI};
+use glam::Vec3;
+use serde::Serialize;
+
+/// Which map: the global map takes every photon at a non-specular surface; the caustic map
+/// only those whose path is light -> specular+ -> non-specular.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MapKind {
+    Global,
+    Caustic,
+}
+
+impl MapKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            MapKind::Global => "global",
+            MapKind::Caustic => "caustic",
+        }
+    }
+}
+
+/// User flag (see `Photon::user_flags`) of a photon stored at its first surface hit.
+pub const FLAG_FIRST_HIT: u16 = 1;
+
+/// Density-estimation filter (Jensen 2001, §7.2.2).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum EstimateFilter {
+    /// Constant kernel over the disk of radius r.
+    Constant,
+    /// Cone filter w = 1 - d / (k r), normalised by 1 - 2/(3k) (eq. 7.8).
+    Cone { k: f32 },
+}
+
+pub struct PhotonMap {
+    pub kind: MapKind,
+    pub tree: PhotonKdTree<Photon>,
+    /// Photon paths emitted to fill the map (the photons' power is already divided by it).
+    pub emitted: u64,
+}
+
+impl PhotonMap {
+    pub fn len(&self) -> usize {
+        self.tree.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.tree.is_empty()
+    }
+    pub fn memory_bytes(&self) -> usize {
+        self.tree.memory_bytes()
+    }
+
+    /// Reflected radiance at `p` towards `wo` (Jensen 2001, eq. 7.6):
+    /// L = sum_p f(wo, wi_p) Phi_p / (pi r^2), over the `k` nearest photons within `max_r2`,
+    /// counting only photons that arrived on the side of `n` (the side `wo` is on).
+    #[allow(clippy::too_many_arguments)]
+    pub fn radiance(
+        &self,
+        p: Vec3,
+        n: Vec3,
+        wo: Vec3,
+        bsdf: &Bsdf,
+        k: usize,
+        max_r2: f32,
+        filter: EstimateFilter,
+        scratch: &mut KnnScratch,
+    ) -> Spectrum {
+        let found = self.tree.knn(p, k, max_r2, scratch);
+        if found.len() < 2 {
+            return Spectrum::ZERO;
+        }
+        let r2 = found.iter().map(|nb| nb.dist2).fold(0.0f32, f32::max);
+        if !(r2 > 0.0) {
+            return Spectrum::ZERO;
+        }
+        let r = r2.sqrt();
+        let mut sum = Spectrum::ZERO;
+        for nb in found {
+            let ph = self.tree.get(nb.index);
+            let wi = ph.incoming();
+            if wi.dot(n) <= 0.0 {
+                continue;
+            }
+            let w = match filter {
+                EstimateFilter::Constant => 1.0,
+                EstimateFilter::Cone { k } => (1.0 - nb.dist2.sqrt() / (k * r)).max(0.0),
+            };
+            sum += bsdf.eval(wo, wi) * ph.power() * w;
+        }
+        let norm = match filter {
+            EstimateFilter::Constant => 1.0,
+            EstimateFilter::Cone { k } => 1.0 - 2.0 / (3.0 * k),
+        };
+        sum / (norm * PI * r2)
+    }
+
+    /// Total power of the photons flagged as first hits (for the energy test).
+    pub fn first_hit_power(&self) -> Spectrum {
+        self.tree
+            .photons()
+            .iter()
+            .filter(|p| p.user_flags() & FLAG_FIRST_HIT != 0)
+            .map(|p| p.power())
+            .sum()
+    }
+}

@@ -1,0 +1,172 @@
+//! The first pass: photons leave the lights and are propagated with Russian roulette
+//! (Jensen 2001, chapter 5 and §6.3), and stored at non-specular surfaces.
+//!
+//! Determinism: photons are traced in batches of `BATCH` paths; batch b draws from its own
+//! random stream (seed, map, b), and batches are concatenated in order. Rounds of batches run
+//! until the map holds its target number of photons (Jensen shoots until N are stored) or the
+//! emission cap is reached. The result does not depend on the thread count.
+
+use super::map::{MapKind, PhotonMap, FLAG_FIRST_HIT};
+use super::{Photon, PhotonKdTree};
+use crate::geometry::Ray;
+use crate::lights::{LeSample, Light, Target};
+use crate::materials::bsdf::{Component, LobeFlags};
+use crate::math::{is_finite3, Frame, Spectrum};
+use crate::sampling::Rng;
+use crate::scene::Scene;
+use glam::Vec3;
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Photon paths per batch.
+pub const BATCH: u64 = 2048;
+
+/// A photon before normalisation by the number emitted.
+#[derive(Clone, Copy)]
+struct RawPhoton {
+    p: Vec3,
+    power: Spectrum,
+    d: Vec3,
+    first: bool,
+}
+
+pub struct TraceParams<'a> {
+    pub kind: MapKind,
+    /// Photons to store.
+    pub target: usize,
+    /// Emission cap, in photon paths.
+    pub max_emitted: u64,
+    pub max_bounces: u32,
+    pub seed: u64,
+    /// Specular objects to aim caustic photons at; empty = emit everywhere.
+    pub targets: &'a [Target],
+    pub cancel: Option<&'a AtomicBool>,
+}
+
+/// Mean of a colour, the probability used for Russian roulette.
+#[inline]
+fn mean(c: Spectrum) -> f32 {
+    (c.x + c.y + c.z) / 3.0
+}
+
+/// Traces one photon path, appending what it stores.
+fn trace_path(scene: &Scene, le: LeSample, scale: f32, kind: MapKind, max_bounces: u32, rng: &mut Rng, out: &mut Vec<RawPhoton>) {
+    let mut power = le.weight * scale;
+    let mut ray = Ray { o: le.o, d: le.d, t_max: f32::INFINITY };
+    let mut specular_bounces = 0u32;
+    for bounce in 0..max_bounces {
+        let Some(hit) = scene.accel.intersect(&ray) else { break };
+        let mut si = scene.accel.interaction(&ray, &hit);
+        let Some(mat) = scene.materials.get(si.material as usize) else { break };
+        let frame0 = Frame::from_normal_tangent(si.ns, si.dpdu);
+        let mut bsdf = mat.bsdf(frame0, si.uv, &scene.textures);
+        if bsdf.flags() & LobeFlags::TRANSMISSION == 0 && si.ng.dot(si.wo) < 0.0 {
+            si.ng = -si.ng;
+            si.ns = -si.ns;
+            bsdf = mat.bsdf(Frame::from_normal_tangent(si.ns, si.dpdu), si.uv, &scene.textures);
+        }
+        if bsdf.has_non_delta() {
+            match kind {
+                MapKind::Global => out.push(RawPhoton { p: si.p, power, d: ray.d, first: bounce == 0 }),
+                MapKind::Caustic => {
+                    // Light -> specular+ -> here: a caustic photon. Its path ends here.
+                    if specular_bounces == bounce && bounce > 0 {
+                        out.push(RawPhoton { p: si.p, power, d: ray.d, first: false });
+                    }
+                    break;
+                }
+            }
+        }
+        // Russian roulette (Jensen 2001, §6.3): diffuse with probability P_d, specular
+        // reflection with P_s, transmission with P_t, else absorbed; the surviving photon's
+        // power is scaled per channel by the component's reflectance over its probability.
+        let (d, s, t) = bsdf.rr_reflectivities(si.wo);
+        let (pd, ps, pt) = (mean(d), mean(s), mean(t));
+        let q = rng.f32();
+        let (component, p) = if q < pd {
+            (Component::Diffuse, pd)
+        } else if q < pd + ps {
+            (Component::Specular, ps)
+        } else if q < pd + ps + pt {
+            (Component::Transmission, pt)
+        } else {
+            break;
+        };
+        if kind == MapKind::Caustic && component == Component::Diffuse {
+            break;
+        }
+        let u_lobe = rng.f32();
+        let u = rng.vec2();
+        let Some(bs) = bsdf.sample_component(si.wo, component, u_lobe, u) else { break };
+        let new_power = power * bs.importance_weight() / p;
+        if !is_finite3(new_power) || new_power.max_element() <= 0.0 {
+            break;
+        }
+        power = new_power;
+        if bs.is_delta() {
+            specular_bounces += 1;
+        } else if kind == MapKind::Caustic {
+            break;
+        }
+        ray = si.spawn_ray(bs.wi);
+    }
+}
+
+/// Traces batch `b`: `BATCH` photon paths.
+fn trace_batch(scene: &Scene, params: &TraceParams, b: u64) -> Vec<RawPhoton> {
+    let mut rng = Rng::derive(params.seed, 0x5048_4F54 ^ params.kind as u64, b);
+    let ctx = scene.light_ctx();
+    let mut out = Vec::new();
+    for _ in 0..BATCH {
+        let Some((li, pmf, _)) = scene.light_sampler.sample(rng.f32()) else { break };
+        let light: &Light = &scene.lights[li];
+        let (u_pos, u_dir, u_sel) = (rng.vec2(), rng.vec2(), rng.f32());
+        let le = if params.targets.is_empty() {
+            light.sample_le(u_pos, u_dir, &ctx)
+        } else {
+            light.sample_le_towards(u_pos, u_dir, u_sel, params.targets, &ctx)
+        };
+        if let Some(le) = le {
+            if is_finite3(le.weight) && le.weight.max_element() > 0.0 {
+                trace_path(scene, le, 1.0 / pmf, params.kind, params.max_bounces, &mut rng, &mut out);
+            }
+        }
+    }
+    out
+}
+
+/// Shoots photons until `params.target` are stored or the cap is reached, and builds the map.
+pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
+    let mut raw: Vec<RawPhoton> = Vec::new();
+    let mut batches = 0u64;
+    let max_batches = params.max_emitted.div_ceil(BATCH).max(1);
+    let mut round = 4u64;
+    while raw.len() < params.target && batches < max_batches {
+        if params.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+            return None;
+        }
+        let n = round.min(max_batches - batches);
+        let results: Vec<Vec<RawPhoton>> = (batches..batches + n).into_par_iter().map(|b| trace_batch(scene, params, b)).collect();
+        for r in results {
+            raw.extend(r);
+        }
+        batches += n;
+        // Size the next round from the storage rate seen so far (deterministic).
+        let per_batch = raw.len() as f64 / batches as f64;
+        let missing = params.target.saturating_sub(raw.len()) as f64;
+        round = if per_batch > 0.0 { ((missing / per_batch).ceil() as u64).clamp(1, 512) } else { (round * 2).min(512) };
+    }
+    let emitted = batches * BATCH;
+    let inv = 1.0 / emitted as f32;
+    let photons: Vec<Photon> = raw
+        .iter()
+        .filter_map(|r| {
+            let mut ph = Photon::new(r.p, r.power * inv, r.d).ok()?;
+            if r.first {
+                ph.set_user_flags(FLAG_FIRST_HIT);
+            }
+            Some(ph)
+        })
+        .collect();
+    Some(PhotonMap { kind: params.kind, tree: PhotonKdTree::build(photons), emitted })
+}
