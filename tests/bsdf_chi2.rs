@@ -131,7 +131,7 @@ fn nearly_index_matched_dielectric_is_a_clean_pass_through() {
         for deg in [0.0f32, 40.0, 85.0, 130.0] {
             let wo = wo_at(deg);
             let (r, ..) = fresnel_dielectric(wo.z, 1.0001);
-            assert!(r < 1e-6, "{r}");
+            assert!(r < 1e-4, "{r}");
             for _ in 0..1000 {
                 let s = bsdf.sample(wo, rng.f32(), rng.vec2()).expect("a sample");
                 assert!(s.is_delta());
