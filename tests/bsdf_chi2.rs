@@ -64,7 +64,12 @@ fn chi2_lambert() {
     });
     let bsdf = m.bsdf(local(), Vec2::ZERO, &[]);
     for deg in [0.0, 45.0, 85.0] {
-        chi2_bsdf(&format!("lambert {deg}"), &bsdf, wo_at(deg), &cfg(0.02, true));
+        chi2_bsdf(
+            &format!("lambert {deg}"),
+            &bsdf,
+            wo_at(deg),
+            &cfg(0.02, true),
+        );
         // Two-sided: seen from below it mirrors.
         chi2_bsdf(
             &format!("lambert back {deg}"),
@@ -107,7 +112,10 @@ fn chi2_rough_dielectric() {
                 1.0,
                 dielectric_lobe(ior, roughness, Vec3::new(1.0, 0.8, 0.6)),
             );
-            assert!(matches!(bsdf.lobes().next(), Some((_, Lobe::RoughDielectric(_)))));
+            assert!(matches!(
+                bsdf.lobes().next(),
+                Some((_, Lobe::RoughDielectric(_)))
+            ));
             for deg in [10.0f32, 60.0, 85.0, 180.0 - 20.0, 180.0 - 70.0] {
                 let fine = if roughness < 0.5 { 0.006 } else { 0.02 };
                 chi2_bsdf(
@@ -161,7 +169,10 @@ fn smooth_dielectric_choice_follows_fresnel_and_tir() {
                 assert!(s.is_delta());
                 if s.wi.z * wo.z > 0.0 {
                     reflected += 1;
-                    assert!((s.pdf - r).abs() < 1e-6, "pdf is the discrete probability R");
+                    assert!(
+                        (s.pdf - r).abs() < 1e-6,
+                        "pdf is the discrete probability R"
+                    );
                     assert!((s.wi - Vec3::new(-wo.x, -wo.y, wo.z)).length() < 1e-5);
                     assert_eq!(s.eta, 1.0);
                 } else {
@@ -244,7 +255,12 @@ fn chi2_principled_mixture() {
     for (name, m, fine) in &sets {
         let bsdf = m.bsdf(local(), Vec2::ZERO, &[]);
         for deg in [5.0f32, 50.0, 80.0] {
-            chi2_bsdf(&format!("principled {name} {deg}"), &bsdf, wo_at(deg), &cfg(*fine, false));
+            chi2_bsdf(
+                &format!("principled {name} {deg}"),
+                &bsdf,
+                wo_at(deg),
+                &cfg(*fine, false),
+            );
         }
     }
 }

@@ -47,9 +47,7 @@ fn flip(v: Vec3) -> Vec3 {
 
 impl Lobe {
     /// Placeholder for unused slots (a black Lambertian).
-    pub const NONE: Lobe = Lobe::Lambert(Lambert {
-        albedo: Vec3::ZERO,
-    });
+    pub const NONE: Lobe = Lobe::Lambert(Lambert { albedo: Vec3::ZERO });
 
     /// [`LobeFlags`] of the lobe.
     pub fn flags(&self) -> u8 {

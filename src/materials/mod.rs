@@ -216,9 +216,7 @@ impl Material {
                     0.0
                 },
             },
-            MaterialDesc::Principled(p) => {
-                Material::Principled(Box::new(Principled::from_desc(p)))
-            }
+            MaterialDesc::Principled(p) => Material::Principled(Box::new(Principled::from_desc(p))),
         }
     }
 

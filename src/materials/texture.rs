@@ -295,11 +295,15 @@ mod tests {
     fn wrap_modes() {
         // 4x1 ramp 0, 1, 2, 3.
         let data = vec![0.0, 1.0, 2.0, 3.0];
-        let at = |w: WrapMode, u: f32| tex(4, 1, 1, data.clone(), w).eval_channel(Vec2::new(u, 0.5), 0);
+        let at =
+            |w: WrapMode, u: f32| tex(4, 1, 1, data.clone(), w).eval_channel(Vec2::new(u, 0.5), 0);
         // Texel centres at 0.125 + 0.25 i.
         assert!((at(WrapMode::Repeat, 1.125) - 0.0).abs() < 1e-5);
         assert!((at(WrapMode::Repeat, -0.125) - 3.0).abs() < 1e-5);
-        assert!((at(WrapMode::Repeat, 1.0) - 1.5).abs() < 1e-5, "blend of 3 and 0");
+        assert!(
+            (at(WrapMode::Repeat, 1.0) - 1.5).abs() < 1e-5,
+            "blend of 3 and 0"
+        );
         assert!((at(WrapMode::Clamp, 1.6) - 3.0).abs() < 1e-5);
         assert!((at(WrapMode::Clamp, -0.4) - 0.0).abs() < 1e-5);
         // Mirror: texel index 4 reads texel 3, 5 reads 2, -1 reads 0.

@@ -345,9 +345,7 @@ where
         failures.push(format!("the pdf integrates to {integral:.5} > 1"));
     }
     if cfg.normalized && (integral - 1.0).abs() > QUAD_TOL {
-        failures.push(format!(
-            "the pdf integrates to {integral:.5}, expected 1"
-        ));
+        failures.push(format!("the pdf integrates to {integral:.5}, expected 1"));
     }
     let n = cfg.samples.max(1) as f64;
     let frac = valid as f64 / n;
@@ -470,14 +468,24 @@ mod tests {
         assert_chi2(
             "uniform sphere",
             &cfg(),
-            |u| Some((square_to_uniform_sphere(Vec2::new(u.x, u.y)), UNIFORM_SPHERE_PDF)),
+            |u| {
+                Some((
+                    square_to_uniform_sphere(Vec2::new(u.x, u.y)),
+                    UNIFORM_SPHERE_PDF,
+                ))
+            },
             |_| UNIFORM_SPHERE_PDF,
         );
         let cm = 0.7f32;
         assert_chi2(
             "cone",
             &cfg(),
-            |u| Some((square_to_uniform_cone(Vec2::new(u.y, u.z), cm), uniform_cone_pdf(cm))),
+            |u| {
+                Some((
+                    square_to_uniform_cone(Vec2::new(u.y, u.z), cm),
+                    uniform_cone_pdf(cm),
+                ))
+            },
             |d| if d.z >= cm { uniform_cone_pdf(cm) } else { 0.0 },
         );
     }
@@ -488,7 +496,13 @@ mod tests {
         let r = chi2_test(
             &cfg(),
             |u| Some((square_to_cosine_hemisphere(Vec2::new(u.x, u.y)), f32::NAN)),
-            |d| if d.z > 0.0 { UNIFORM_HEMISPHERE_PDF } else { 0.0 },
+            |d| {
+                if d.z > 0.0 {
+                    UNIFORM_HEMISPHERE_PDF
+                } else {
+                    0.0
+                }
+            },
         );
         assert!(r.p_value < 1e-10 && !r.passed(), "{r}");
         // A reported pdf that disagrees with the pdf function.
