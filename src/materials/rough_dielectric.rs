@@ -165,7 +165,7 @@ impl RoughDielectric {
             )
         };
         let pdf = self.pdf(wo, wi, mask);
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         // f cos / pdf = (F or 1 - F) / (choice probability) x G2 / G1(wo) (Heitz 2018 eq. 19).
