@@ -144,7 +144,8 @@ fn nearly_index_matched_dielectric_is_a_clean_pass_through() {
                 let s = bsdf.sample(wo, rng.f32(), rng.vec2()).expect("a sample");
                 assert!(s.is_delta());
                 if s.wi.z * wo.z < 0.0 {
-                    assert!((s.wi + wo).length() < 1e-3, "straight through: {:?}", s.wi);
+                    // Snell bends it by at most ~ |eta - 1| / cos(theta) (1e-3 at 85 degrees).
+                    assert!((s.wi + wo).length() < 3e-3, "straight through: {:?}", s.wi);
                     assert!((s.importance_weight() - Vec3::ONE).abs().max_element() < 1e-4);
                 }
             }
