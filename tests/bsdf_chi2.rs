@@ -139,12 +139,13 @@ fn nearly_index_matched_dielectric_is_a_clean_pass_through() {
         for deg in [0.0f32, 40.0, 85.0, 130.0] {
             let wo = wo_at(deg);
             let (r, ..) = fresnel_dielectric(wo.z, 1.0001);
-            assert!(r < 1e-6, "{r}");
+            assert!(r < 1e-4, "{r}");
             for _ in 0..1000 {
                 let s = bsdf.sample(wo, rng.f32(), rng.vec2()).expect("a sample");
                 assert!(s.is_delta());
                 if s.wi.z * wo.z < 0.0 {
-                    assert!((s.wi + wo).length() < 1e-3, "straight through: {:?}", s.wi);
+                    // Snell bends it by at most ~ |eta - 1| / cos(theta) (1e-3 at 85 degrees).
+                    assert!((s.wi + wo).length() < 3e-3, "straight through: {:?}", s.wi);
                     assert!((s.importance_weight() - Vec3::ONE).abs().max_element() < 1e-4);
                 }
             }

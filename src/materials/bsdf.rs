@@ -371,7 +371,7 @@ impl Bsdf {
             return (weight.is_finite() && pdf > 0.0).then_some(BsdfSample { weight, pdf, ..s });
         }
         let pdf = self.pdf_sel(wo, s.wi, sel);
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         let f = self.eval_sel(wo, s.wi, sel);

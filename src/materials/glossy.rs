@@ -61,7 +61,7 @@ impl MicrofacetReflection {
             return None;
         }
         let pdf = self.pdf(wo, wi, mask);
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         // f cos / pdf = F G2 / G1(wo) (Heitz 2018 eq. 19).

@@ -7,83 +7,108 @@ use super::microfacet::{alpha_from_roughness, reflect, Ggx};
 use crate::math::{Spectrum, INV_PI};
 use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
 use glam::{Vec2, Vec3};
-use std::sync::OnceLock;
+use std::sync::Mutex;
 
-const N_MU: usize = 32;
-const N_ROUGH: usize = 16;
-const N_F0: usize = 16;
-/// Largest tabulated sqrt(F0); coats are clamped to F0 <= 0.9 (relative IOR ~ 37).
-const MAX_SQRT_F0: f32 = 0.948_683_3;
-const STRATA: usize = 24;
+const N_MU: usize = 48;
+const N_ROUGH: usize = 32;
+const STRATA: usize = 48;
 
-/// Directional albedo E(mu) = integral of f_coat |cos| of the coat's reflection (GGX with
-/// dielectric Fresnel, or the smooth Fresnel R(mu) at roughness 0), tabulated over
-/// (mu = cos theta, perceptual roughness, sqrt(F0)), with its cosine-weighted average
-/// E_avg = 2 integral E(mu) mu dmu computed exactly for the piecewise-linear interpolant.
+/// Directional albedo E(mu) = integral of f_coat |cos| of a coat's reflection (GGX with
+/// dielectric Fresnel, or the smooth Fresnel R(mu) at roughness 0) for one coat F0,
+/// tabulated over (sqrt(mu), perceptual roughness), with its cosine-weighted average
+/// E_avg = 2 integral E(mu) mu dmu computed exactly for the interpolant.
+#[derive(Debug, PartialEq)]
 pub struct CoatAlbedoTable {
+    f0: f32,
     e: Vec<f32>,
     e_avg: Vec<f32>,
 }
 
 fn coat_albedo(mu: f32, roughness: f32, eta: f32) -> f32 {
-    let mu = mu.clamp(2e-3, 1.0);
+    let mu = mu.clamp(1e-3, 1.0);
     if roughness <= 0.0 {
         return fresnel_dielectric(mu, eta).0;
     }
     let ggx = Ggx::new(alpha_from_roughness(roughness));
     let wo = Vec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu);
     let lo = ggx.lambda(wo);
+    // Midpoint rule over the visible-normal warp in t, where sin t = sqrt(u1) is the radius
+    // on the projected disk: the integrand is smooth in t (it has a square-root edge in u1 at
+    // the rim and at the centre), and du1 = sin 2t dt.
     let mut sum = 0.0f64;
-    for j in 0..STRATA {
-        for i in 0..STRATA {
-            let u = Vec2::new(
-                (i as f32 + 0.5) / STRATA as f32,
-                (j as f32 + 0.5) / STRATA as f32,
-            );
+    let h = std::f64::consts::FRAC_PI_2 / STRATA as f64;
+    for i in 0..STRATA {
+        let t = (i as f64 + 0.5) * h;
+        let w = (2.0 * t).sin() * h;
+        let st = t.sin();
+        for j in 0..STRATA {
+            let u = Vec2::new((st * st) as f32, (j as f32 + 0.5) / STRATA as f32);
             let m = ggx.sample_visible(wo, u);
             let wi = reflect(wo, m);
             if wi.z > 0.0 {
                 let f = fresnel_dielectric(wo.dot(m), eta).0;
-                sum += (f * (1.0 + lo) / (1.0 + lo + ggx.lambda(wi))) as f64;
+                sum += w * (f * (1.0 + lo) / (1.0 + lo + ggx.lambda(wi))) as f64;
             }
         }
     }
-    (sum / (STRATA * STRATA) as f64) as f32
+    (sum / STRATA as f64) as f32
 }
 
+/// 3-point Gauss-Legendre on [0, 1] (exact to degree 5).
+const GL3: [(f64, f64); 3] = [
+    (0.112_701_665_379_258_3, 5.0 / 18.0),
+    (0.5, 8.0 / 18.0),
+    (0.887_298_334_620_741_7, 5.0 / 18.0),
+];
+
 impl CoatAlbedoTable {
-    fn build() -> Self {
-        let mut e = vec![0.0f32; N_MU * N_ROUGH * N_F0];
-        let mut e_avg = vec![0.0f32; N_ROUGH * N_F0];
-        for k in 0..N_F0 {
-            let s = MAX_SQRT_F0 * k as f32 / (N_F0 - 1) as f32;
-            let eta = ior_from_f0(s * s);
-            for j in 0..N_ROUGH {
-                let r = j as f32 / (N_ROUGH - 1) as f32;
-                for i in 0..N_MU {
-                    let mu = i as f32 / (N_MU - 1) as f32;
-                    e[(k * N_ROUGH + j) * N_MU + i] = coat_albedo(mu, r, eta);
-                }
-                // Exact 2 * integral mu E(mu) dmu of the linear interpolant (Simpson is
-                // exact for the quadratic integrand on each segment).
-                let row = &e[(k * N_ROUGH + j) * N_MU..(k * N_ROUGH + j + 1) * N_MU];
-                let h = 1.0 / (N_MU - 1) as f64;
-                let mut acc = 0.0f64;
-                for i in 0..N_MU - 1 {
-                    let (a, b) = (i as f64 * h, (i + 1) as f64 * h);
-                    let (ea, eb) = (row[i] as f64, row[i + 1] as f64);
-                    acc += h / 6.0 * (a * ea + 4.0 * 0.5 * (a + b) * 0.5 * (ea + eb) + b * eb);
-                }
-                e_avg[k * N_ROUGH + j] = (2.0 * acc) as f32;
+    fn build(f0: f32) -> Self {
+        let eta = ior_from_f0(f0);
+        let mut e = vec![0.0f32; N_MU * N_ROUGH];
+        let mut e_avg = vec![0.0f32; N_ROUGH];
+        let h = 1.0 / (N_MU - 1) as f64;
+        for j in 0..N_ROUGH {
+            let r = j as f32 / (N_ROUGH - 1) as f32;
+            let row = &mut e[j * N_MU..(j + 1) * N_MU];
+            for (i, v) in row.iter_mut().enumerate() {
+                let s = i as f32 / (N_MU - 1) as f32;
+                *v = coat_albedo(s * s, r, eta);
             }
+            // 2 integral mu E dmu = integral 4 s^3 E(s) ds; E is linear in s on each
+            // segment, so 3-point Gauss-Legendre is exact.
+            let mut acc = 0.0f64;
+            for i in 0..N_MU - 1 {
+                let (ea, eb) = (row[i] as f64, row[i + 1] as f64);
+                for (x, w) in GL3 {
+                    let s = (i as f64 + x) * h;
+                    acc += w * h * 4.0 * s * s * s * (ea + (eb - ea) * x);
+                }
+            }
+            e_avg[j] = acc as f32;
         }
-        CoatAlbedoTable { e, e_avg }
+        CoatAlbedoTable { f0, e, e_avg }
     }
 
-    /// The table, built on first use (a few million GGX samples, once per process).
-    pub fn get() -> &'static CoatAlbedoTable {
-        static TABLE: OnceLock<CoatAlbedoTable> = OnceLock::new();
-        TABLE.get_or_init(CoatAlbedoTable::build)
+    /// The table for a coat of normal reflectance `f0`, built on first use (about a
+    /// million GGX samples) and kept for the life of the process.
+    pub fn for_f0(f0: f32) -> &'static CoatAlbedoTable {
+        static TABLES: Mutex<Vec<&'static CoatAlbedoTable>> = Mutex::new(Vec::new());
+        let f0 = if f0.is_finite() {
+            f0.clamp(0.0, 0.99)
+        } else {
+            0.0
+        };
+        let mut tables = TABLES.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(t) = tables.iter().find(|t| t.f0.to_bits() == f0.to_bits()) {
+            return t;
+        }
+        let t: &'static CoatAlbedoTable = Box::leak(Box::new(CoatAlbedoTable::build(f0)));
+        tables.push(t);
+        t
+    }
+
+    pub fn f0(&self) -> f32 {
+        self.f0
     }
 
     fn cell(x: f32, n: usize) -> (usize, f32) {
@@ -96,31 +121,21 @@ impl CoatAlbedoTable {
         (i, x - i as f32)
     }
 
-    fn coords(roughness: f32, f0: f32) -> ((usize, f32), (usize, f32)) {
-        let s = f0.clamp(0.0, 0.9).sqrt() / MAX_SQRT_F0;
-        (Self::cell(roughness, N_ROUGH), Self::cell(s, N_F0))
-    }
-
-    /// E(mu) by trilinear interpolation.
-    pub fn albedo(&self, mu: f32, roughness: f32, f0: f32) -> f32 {
-        let ((j, tj), (k, tk)) = Self::coords(roughness, f0);
-        let (i, ti) = Self::cell(mu, N_MU);
-        let at = |k: usize, j: usize| {
-            let base = (k * N_ROUGH + j) * N_MU + i;
-            self.e[base] * (1.0 - ti) + self.e[base + 1] * ti
+    /// E(mu) by bilinear interpolation in (sqrt(mu), roughness).
+    pub fn albedo(&self, mu: f32, roughness: f32) -> f32 {
+        let (j, tj) = Self::cell(roughness, N_ROUGH);
+        let (i, ti) = Self::cell(mu.max(0.0).sqrt(), N_MU);
+        let at = |j: usize| {
+            let b = j * N_MU + i;
+            self.e[b] * (1.0 - ti) + self.e[b + 1] * ti
         };
-        let lo = at(k, j) * (1.0 - tj) + at(k, j + 1) * tj;
-        let hi = at(k + 1, j) * (1.0 - tj) + at(k + 1, j + 1) * tj;
-        lo * (1.0 - tk) + hi * tk
+        at(j) * (1.0 - tj) + at(j + 1) * tj
     }
 
-    /// E_avg by bilinear interpolation (consistent with [`CoatAlbedoTable::albedo`]).
-    pub fn average(&self, roughness: f32, f0: f32) -> f32 {
-        let ((j, tj), (k, tk)) = Self::coords(roughness, f0);
-        let at = |k: usize, j: usize| self.e_avg[k * N_ROUGH + j];
-        let lo = at(k, j) * (1.0 - tj) + at(k, j + 1) * tj;
-        let hi = at(k + 1, j) * (1.0 - tj) + at(k + 1, j + 1) * tj;
-        lo * (1.0 - tk) + hi * tk
+    /// E_avg, interpolated in roughness like [`CoatAlbedoTable::albedo`].
+    pub fn average(&self, roughness: f32) -> f32 {
+        let (j, tj) = Self::cell(roughness, N_ROUGH);
+        self.e_avg[j] * (1.0 - tj) + self.e_avg[j + 1] * tj
     }
 }
 
@@ -134,28 +149,27 @@ impl CoatAlbedoTable {
 /// |---|---|
 /// | `albedo` | base colour |
 /// | `roughness` | the coat's perceptual roughness (0 = smooth coat) |
-/// | `f0` | the coat's normal-incidence reflectance, ((eta - 1) / (eta + 1))^2 |
+/// | `table` | the coat's albedo table, which fixes its F0 = ((eta - 1) / (eta + 1))^2 |
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CoatedDiffuse {
     pub albedo: Spectrum,
     pub roughness: f32,
-    pub f0: f32,
+    table: &'static CoatAlbedoTable,
     e_avg: f32,
 }
 
 impl CoatedDiffuse {
-    pub fn new(albedo: Spectrum, roughness: f32, f0: f32) -> Self {
-        let e_avg = CoatAlbedoTable::get().average(roughness, f0);
+    pub fn new(albedo: Spectrum, roughness: f32, table: &'static CoatAlbedoTable) -> Self {
         CoatedDiffuse {
             albedo,
             roughness,
-            f0,
-            e_avg,
+            table,
+            e_avg: table.average(roughness),
         }
     }
 
     fn transmitted(&self, mu: f32) -> f32 {
-        (1.0 - CoatAlbedoTable::get().albedo(mu, self.roughness, self.f0)).max(0.0)
+        (1.0 - self.table.albedo(mu, self.roughness)).max(0.0)
     }
 
     fn scale(&self) -> f32 {
@@ -209,5 +223,58 @@ impl CoatedDiffuse {
             return Vec3::ZERO;
         }
         self.albedo * self.transmitted(wo.z)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::Rng;
+
+    /// Reference E(mu): plain Monte Carlo with a million samples (unbiased, independent of
+    /// the table's quadrature).
+    fn reference(mu: f32, roughness: f32, eta: f32) -> f64 {
+        let ggx = Ggx::new(alpha_from_roughness(roughness));
+        let wo = Vec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu);
+        let lo = ggx.lambda(wo);
+        let mut rng = Rng::new(77, (mu * 1e6) as u64);
+        let n = 1 << 20;
+        let mut sum = 0.0f64;
+        for _ in 0..n {
+            let m = ggx.sample_visible(wo, rng.vec2());
+            let wi = reflect(wo, m);
+            if wi.z > 0.0 {
+                let f = fresnel_dielectric(wo.dot(m), eta).0;
+                sum += (f * (1.0 + lo) / (1.0 + lo + ggx.lambda(wi))) as f64;
+            }
+        }
+        sum / n as f64
+    }
+
+    #[test]
+    fn table_matches_brute_force() {
+        let mut rng = Rng::new(12, 0);
+        for f0 in [0.04f32, 0.2] {
+            let t = CoatAlbedoTable::for_f0(f0);
+            assert!(std::ptr::eq(t, CoatAlbedoTable::for_f0(f0)), "cached");
+            let eta = ior_from_f0(f0);
+            let mut worst = 0.0f64;
+            for _ in 0..12 {
+                let mu = 0.02 + 0.98 * rng.f32();
+                let r = 0.05 + 0.95 * rng.f32();
+                let err = (t.albedo(mu, r) as f64 - reference(mu, r, eta)).abs();
+                worst = worst.max(err);
+            }
+            eprintln!("F0 {f0}: worst table error {worst:.2e}");
+            assert!(worst < 6e-4, "F0 {f0}: {worst}");
+            // Smooth coat: the exact Fresnel reflectance.
+            for mu in [0.05f32, 0.3, 1.0] {
+                let e = t.albedo(mu, 0.0);
+                assert!(
+                    (e - fresnel_dielectric(mu, eta).0).abs() < 5e-3,
+                    "{mu}: {e}"
+                );
+            }
+        }
     }
 }

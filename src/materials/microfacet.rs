@@ -37,14 +37,15 @@ impl Ggx {
     }
 
     /// D(m), Walter 2007 eq. 33: alpha^2 / (pi cos^4 (alpha^2 + tan^2)^2), in the
-    /// equivalent form alpha^2 / (pi (cos^2 (alpha^2 - 1) + 1)^2).
+    /// equivalent form alpha^2 / (pi (alpha^2 cos^2 + sin^2)^2) for unit m; sin^2 is taken
+    /// from the tangential components so that small alpha keeps its precision near the pole.
     #[inline]
     pub fn d(&self, m: Vec3) -> f32 {
         if m.z <= 0.0 {
             return 0.0;
         }
         let a2 = self.alpha * self.alpha;
-        let t = m.z * m.z * (a2 - 1.0) + 1.0;
+        let t = a2 * m.z * m.z + (m.x * m.x + m.y * m.y);
         a2 / (PI * t * t)
     }
 
@@ -55,7 +56,7 @@ impl Ggx {
         if c2 <= 0.0 {
             return f32::INFINITY;
         }
-        let tan2 = ((1.0 - c2).max(0.0)) / c2;
+        let tan2 = (w.x * w.x + w.y * w.y) / c2;
         0.5 * (-1.0 + (1.0 + self.alpha * self.alpha * tan2).sqrt())
     }
 

@@ -2,7 +2,7 @@
 
 use super::bsdf::Bsdf;
 use super::fresnel::{f0_from_ior, ior_from_f0, Fresnel};
-use super::layer::CoatedDiffuse;
+use super::layer::{CoatAlbedoTable, CoatedDiffuse};
 use super::lobe::Lobe;
 use super::texture::{ColorParam, FloatParam, Texture};
 use super::{dielectric_lobe, reflection_lobe};
@@ -10,7 +10,7 @@ use crate::math::{Frame, Spectrum};
 use crate::scene::desc::PrincipledDesc;
 use glam::Vec2;
 
-/// Largest coat reflectance at normal incidence (the coat albedo table's range).
+/// Largest coat reflectance at normal incidence (relative IOR about 37).
 const MAX_COAT_F0: f32 = 0.9;
 
 /// Blender Principled BSDF / OpenPBR Surface (the subset photonmap renders).
@@ -49,6 +49,8 @@ pub struct Principled {
     pub specular: f32,
     pub emission_color: ColorParam,
     pub emission_strength: f32,
+    /// Albedo table of the coat (its F0 is fixed by `ior` and `specular`).
+    pub coat_table: &'static CoatAlbedoTable,
 }
 
 fn sane(v: f32, lo: f32, hi: f32, default: f32) -> f32 {
@@ -59,24 +61,31 @@ fn sane(v: f32, lo: f32, hi: f32, default: f32) -> f32 {
     }
 }
 
+fn coat_f0(ior: f32, specular: f32) -> f32 {
+    (specular * f0_from_ior(ior)).clamp(0.0, MAX_COAT_F0)
+}
+
 impl Principled {
     pub fn from_desc(d: &PrincipledDesc) -> Self {
+        let ior = sane(d.ior, 1.0, 10.0, 1.5);
+        let specular = sane(d.specular, 0.0, 10.0, 1.0);
         Principled {
             name: d.name.clone(),
             base_color: ColorParam::from_input(&d.base_color),
             metallic: FloatParam::from_input(&d.metallic),
             roughness: FloatParam::from_input(&d.roughness),
             transmission: sane(d.transmission, 0.0, 1.0, 0.0),
-            ior: sane(d.ior, 1.0, 10.0, 1.5),
-            specular: sane(d.specular, 0.0, 10.0, 1.0),
+            ior,
+            specular,
             emission_color: ColorParam::from_input(&d.emission_color),
             emission_strength: sane(d.emission_strength, 0.0, f32::MAX, 0.0),
+            coat_table: CoatAlbedoTable::for_f0(coat_f0(ior, specular)),
         }
     }
 
     /// Normal-incidence reflectance of the coat over the dielectric base.
     pub fn coat_f0(&self) -> f32 {
-        (self.specular * f0_from_ior(self.ior)).clamp(0.0, MAX_COAT_F0)
+        coat_f0(self.ior, self.specular)
     }
 
     pub fn bsdf(&self, frame: Frame, uv: Vec2, textures: &[Texture]) -> Bsdf {
@@ -94,7 +103,10 @@ impl Principled {
             let coat = reflection_lobe(r, Fresnel::Dielectric { eta });
             bsdf.add(w_base, coat);
         }
-        bsdf.add(w_base, Lobe::CoatedDiffuse(CoatedDiffuse::new(base, r, f0)));
+        bsdf.add(
+            w_base,
+            Lobe::CoatedDiffuse(CoatedDiffuse::new(base, r, self.coat_table)),
+        );
         bsdf
     }
 

@@ -165,7 +165,7 @@ impl RoughDielectric {
             )
         };
         let pdf = self.pdf(wo, wi, mask);
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         // f cos / pdf = (F or 1 - F) / (choice probability) x G2 / G1(wo) (Heitz 2018 eq. 19).
@@ -181,9 +181,12 @@ impl RoughDielectric {
         })
     }
 
-    /// Estimate: the smooth interface's R and (1 - R) x tint at the macro normal.
+    /// Estimate: the smooth interface's R and (1 - R) x tint at the macro normal, with R kept
+    /// inside [0.02, 0.98]: rough facets reflect and refract beyond the macro-surface's total
+    /// internal reflection, and a component chosen by these estimates must never have zero
+    /// probability where it scatters.
     pub fn albedo(&self, wo: Vec3, mask: u8) -> Spectrum {
-        let r = fresnel_dielectric(wo.z, self.eta).0;
+        let r = fresnel_dielectric(wo.z, self.eta).0.clamp(0.02, 0.98);
         let mut a = Vec3::ZERO;
         if mask & LobeFlags::REFLECTION != 0 {
             a += Vec3::splat(r);

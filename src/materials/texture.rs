@@ -96,8 +96,8 @@ impl Texture {
         if !uv.is_finite() {
             return None;
         }
-        if self.wrap == WrapMode::Black && !(0.0..1.0).contains(&uv.x)
-            || self.wrap == WrapMode::Black && !(0.0..1.0).contains(&uv.y)
+        if self.wrap == WrapMode::Black
+            && !((0.0..1.0).contains(&uv.x) && (0.0..1.0).contains(&uv.y))
         {
             return None;
         }
