@@ -188,7 +188,12 @@ impl RenderArgs {
 
     /// Checks the values clap cannot: positive counts and radii.
     pub fn check(&self) -> Result<()> {
-        let bad = |setting: &str, message: &str| Err(Error::InvalidSetting { setting: setting.into(), message: message.into() });
+        let bad = |setting: &str, message: &str| {
+            Err(Error::InvalidSetting {
+                setting: setting.into(),
+                message: message.into(),
+            })
+        };
         if self.spp == Some(0) {
             return bad("--spp", "must be at least 1");
         }

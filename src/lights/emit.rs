@@ -40,13 +40,23 @@ struct LightPoint {
 impl Light {
     fn sample_point(&self, u: Vec2) -> Option<LightPoint> {
         match self {
-            Light::Point(l) if l.radius == 0.0 => {
-                Some(LightPoint { p: l.position, n: Vec3::ZERO, pdf_pos: 1.0, two_sided: false, uv: Vec2::ZERO })
-            }
+            Light::Point(l) if l.radius == 0.0 => Some(LightPoint {
+                p: l.position,
+                n: Vec3::ZERO,
+                pdf_pos: 1.0,
+                two_sided: false,
+                uv: Vec2::ZERO,
+            }),
             Light::Point(l) => {
                 let n = warp::square_to_uniform_sphere(u);
                 let area = 4.0 * PI * l.radius * l.radius;
-                Some(LightPoint { p: l.position + n * l.radius, n, pdf_pos: 1.0 / area, two_sided: false, uv: Vec2::ZERO })
+                Some(LightPoint {
+                    p: l.position + n * l.radius,
+                    n,
+                    pdf_pos: 1.0 / area,
+                    two_sided: false,
+                    uv: Vec2::ZERO,
+                })
             }
             Light::Area(a) if a.area > 0.0 => {
                 let q = match a.shape {
@@ -54,14 +64,26 @@ impl Light {
                     super::AreaShape::Disk => warp::square_to_uniform_disk_concentric(u),
                 };
                 let p = a.center + a.ex * q.x + a.ey * q.y;
-                Some(LightPoint { p, n: a.n, pdf_pos: 1.0 / a.area, two_sided: a.two_sided, uv: Vec2::ZERO })
+                Some(LightPoint {
+                    p,
+                    n: a.n,
+                    pdf_pos: 1.0 / a.area,
+                    two_sided: a.two_sided,
+                    uv: Vec2::ZERO,
+                })
             }
             Light::Triangle(t) if t.area > 0.0 => {
                 let (b1, b2) = warp::square_to_uniform_triangle(u);
                 let b0 = 1.0 - b1 - b2;
                 let p = t.v[0] * b0 + t.v[1] * b1 + t.v[2] * b2;
                 let uv = t.uv[0] * b0 + t.uv[1] * b1 + t.uv[2] * b2;
-                Some(LightPoint { p, n: t.n, pdf_pos: 1.0 / t.area, two_sided: true, uv })
+                Some(LightPoint {
+                    p,
+                    n: t.n,
+                    pdf_pos: 1.0 / t.area,
+                    two_sided: true,
+                    uv,
+                })
             }
             _ => None,
         }
@@ -75,7 +97,9 @@ impl Light {
         }
         let cos = cos.abs();
         match self {
-            Light::Point(l) if l.radius == 0.0 => l.intensity * l.spot.map_or(1.0, |s| s.attenuation(d)),
+            Light::Point(l) if l.radius == 0.0 => {
+                l.intensity * l.spot.map_or(1.0, |s| s.attenuation(d))
+            }
             Light::Point(l) => l.le(lp.p) * cos,
             Light::Area(a) => a.radiance * cos,
             Light::Triangle(t) => t.emission(lp.uv, ctx) * cos,
@@ -87,7 +111,10 @@ impl Light {
     pub fn sample_le(&self, u_pos: Vec2, u_dir: Vec2, ctx: &LightCtx) -> Option<LeSample> {
         match self {
             Light::Distant(_) | Light::Environment(_) => {
-                let target = Target { center: ctx.scene_center, radius: ctx.scene_radius };
+                let target = Target {
+                    center: ctx.scene_center,
+                    radius: ctx.scene_radius,
+                };
                 self.sample_infinite(u_pos, u_dir, &[target], 0.5, ctx)
             }
             _ => {
@@ -95,10 +122,14 @@ impl Light {
                 let (d, pdf_dir) = match self {
                     Light::Point(l) if l.radius == 0.0 => match l.spot {
                         Some(s) => {
-                            let d = Frame::from_normal(s.axis).to_world(warp::square_to_uniform_cone(u_dir, s.cos_half));
+                            let d = Frame::from_normal(s.axis)
+                                .to_world(warp::square_to_uniform_cone(u_dir, s.cos_half));
                             (d, warp::uniform_cone_pdf(s.cos_half))
                         }
-                        None => (warp::square_to_uniform_sphere(u_dir), warp::UNIFORM_SPHERE_PDF),
+                        None => (
+                            warp::square_to_uniform_sphere(u_dir),
+                            warp::UNIFORM_SPHERE_PDF,
+                        ),
                     },
                     _ => {
                         // Cosine-weighted about the normal; a two-sided emitter picks a face.
@@ -113,7 +144,10 @@ impl Light {
                             }
                         }
                         let local = warp::square_to_cosine_hemisphere(u);
-                        (Frame::from_normal(n).to_world(local), side_pdf * warp::cosine_hemisphere_pdf(local))
+                        (
+                            Frame::from_normal(n).to_world(local),
+                            side_pdf * warp::cosine_hemisphere_pdf(local),
+                        )
                     }
                 };
                 if !(pdf_dir > 0.0) {
@@ -127,7 +161,14 @@ impl Light {
 
     /// A photon aimed at the targets: the target is chosen with `u_sel` in proportion to its
     /// solid angle (finite lights) or cross-section (lights at infinity).
-    pub fn sample_le_towards(&self, u_pos: Vec2, u_dir: Vec2, u_sel: f32, targets: &[Target], ctx: &LightCtx) -> Option<LeSample> {
+    pub fn sample_le_towards(
+        &self,
+        u_pos: Vec2,
+        u_dir: Vec2,
+        u_sel: f32,
+        targets: &[Target],
+        ctx: &LightCtx,
+    ) -> Option<LeSample> {
         if targets.is_empty() {
             return None;
         }
@@ -169,7 +210,14 @@ impl Light {
         let pdf_dir: f32 = cones
             .iter()
             .filter(|c| c.1 <= -1.0 || d.dot(c.0) >= c.1)
-            .map(|c| (c.2 / total) * if c.1 <= -1.0 { warp::UNIFORM_SPHERE_PDF } else { warp::uniform_cone_pdf(c.1) })
+            .map(|c| {
+                (c.2 / total)
+                    * if c.1 <= -1.0 {
+                        warp::UNIFORM_SPHERE_PDF
+                    } else {
+                        warp::uniform_cone_pdf(c.1)
+                    }
+            })
             .sum();
         if !(pdf_dir > 0.0) {
             return None;
@@ -180,7 +228,14 @@ impl Light {
 
     /// Distant and environment lights: a direction, then a point on a disk perpendicular to it
     /// covering one of the targets (chosen by cross-section), placed upstream of the scene.
-    fn sample_infinite(&self, u_pos: Vec2, u_dir: Vec2, targets: &[Target], u_sel: f32, ctx: &LightCtx) -> Option<LeSample> {
+    fn sample_infinite(
+        &self,
+        u_pos: Vec2,
+        u_dir: Vec2,
+        targets: &[Target],
+        u_sel: f32,
+        ctx: &LightCtx,
+    ) -> Option<LeSample> {
         let (d, radiance_over_pdf) = match self {
             Light::Distant(l) => {
                 let s = l.sample_li(u_dir)?;
@@ -222,6 +277,10 @@ impl Light {
             return None;
         }
         let back = 2.0 * ctx.scene_radius + (t.center - ctx.scene_center).length() + t.radius;
-        Some(LeSample { o: on_disk - d * back, d, weight: radiance_over_pdf / pdf_pos })
+        Some(LeSample {
+            o: on_disk - d * back,
+            d,
+            weight: radiance_over_pdf / pdf_pos,
+        })
     }
 }

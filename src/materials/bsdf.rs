@@ -202,6 +202,12 @@ impl Bsdf {
         })
     }
 
+    /// True when every lobe is Lambertian, so f is the same for all directions in the
+    /// hemisphere (irradiance caching applies).
+    pub fn is_lambertian(&self) -> bool {
+        self.lobes().next().is_some() && self.lobes().all(|(_, l)| matches!(l, Lobe::Lambert(_)))
+    }
+
     /// [`Bsdf::eval`] with local directions.
     pub fn eval_local(&self, wo: Vec3, wi: Vec3) -> Spectrum {
         self.eval_sel(wo, wi, SELECT_ALL)

@@ -1,6 +1,6 @@
 //! Photon maps (Jensen 2001, chapter 7): a kd-tree of photons and the radiance estimate.
 
-use super::{KnnScratch, Photon, PhotonKdTree, PhotonRecord as _};
+use super::{KnnScratch, Photon, PhotonKdTree};
 use crate::materials::bsdf::Bsdf;
 use crate::math::{Spectrum, PI};
 use glam::Vec3;

@@ -17,9 +17,9 @@
 
 pub mod kdtree;
 pub mod map;
-pub mod trace;
 #[allow(clippy::module_inception)]
 pub mod photon;
+pub mod trace;
 
 pub use kdtree::{
     KnnScratch, Neighbor, PhotonKdTree, MAX_TREE_DEPTH, PARALLEL_BUILD_THRESHOLD, SCAN_LEVELS,

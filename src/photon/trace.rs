@@ -50,28 +50,58 @@ fn mean(c: Spectrum) -> f32 {
 }
 
 /// Traces one photon path, appending what it stores.
-fn trace_path(scene: &Scene, le: LeSample, scale: f32, kind: MapKind, max_bounces: u32, rng: &mut Rng, out: &mut Vec<RawPhoton>) {
+fn trace_path(
+    scene: &Scene,
+    le: LeSample,
+    scale: f32,
+    kind: MapKind,
+    max_bounces: u32,
+    rng: &mut Rng,
+    out: &mut Vec<RawPhoton>,
+) {
     let mut power = le.weight * scale;
-    let mut ray = Ray { o: le.o, d: le.d, t_max: f32::INFINITY };
+    let mut ray = Ray {
+        o: le.o,
+        d: le.d,
+        t_max: f32::INFINITY,
+    };
     let mut specular_bounces = 0u32;
     for bounce in 0..max_bounces {
-        let Some(hit) = scene.accel.intersect(&ray) else { break };
+        let Some(hit) = scene.accel.intersect(&ray) else {
+            break;
+        };
         let mut si = scene.accel.interaction(&ray, &hit);
-        let Some(mat) = scene.materials.get(si.material as usize) else { break };
+        let Some(mat) = scene.materials.get(si.material as usize) else {
+            break;
+        };
         let frame0 = Frame::from_normal_tangent(si.ns, si.dpdu);
         let mut bsdf = mat.bsdf(frame0, si.uv, &scene.textures);
         if bsdf.flags() & LobeFlags::TRANSMISSION == 0 && si.ng.dot(si.wo) < 0.0 {
             si.ng = -si.ng;
             si.ns = -si.ns;
-            bsdf = mat.bsdf(Frame::from_normal_tangent(si.ns, si.dpdu), si.uv, &scene.textures);
+            bsdf = mat.bsdf(
+                Frame::from_normal_tangent(si.ns, si.dpdu),
+                si.uv,
+                &scene.textures,
+            );
         }
         if bsdf.has_non_delta() {
             match kind {
-                MapKind::Global => out.push(RawPhoton { p: si.p, power, d: ray.d, first: bounce == 0 }),
+                MapKind::Global => out.push(RawPhoton {
+                    p: si.p,
+                    power,
+                    d: ray.d,
+                    first: bounce == 0,
+                }),
                 MapKind::Caustic => {
                     // Light -> specular+ -> here: a caustic photon. Its path ends here.
                     if specular_bounces == bounce && bounce > 0 {
-                        out.push(RawPhoton { p: si.p, power, d: ray.d, first: false });
+                        out.push(RawPhoton {
+                            p: si.p,
+                            power,
+                            d: ray.d,
+                            first: false,
+                        });
                     }
                     break;
                 }
@@ -97,7 +127,9 @@ fn trace_path(scene: &Scene, le: LeSample, scale: f32, kind: MapKind, max_bounce
         }
         let u_lobe = rng.f32();
         let u = rng.vec2();
-        let Some(bs) = bsdf.sample_component(si.wo, component, u_lobe, u) else { break };
+        let Some(bs) = bsdf.sample_component(si.wo, component, u_lobe, u) else {
+            break;
+        };
         let new_power = power * bs.importance_weight() / p;
         if !is_finite3(new_power) || new_power.max_element() <= 0.0 {
             break;
@@ -118,7 +150,9 @@ fn trace_batch(scene: &Scene, params: &TraceParams, b: u64) -> Vec<RawPhoton> {
     let ctx = scene.light_ctx();
     let mut out = Vec::new();
     for _ in 0..BATCH {
-        let Some((li, pmf, _)) = scene.light_sampler.sample(rng.f32()) else { break };
+        let Some((li, pmf, _)) = scene.light_sampler.sample(rng.f32()) else {
+            break;
+        };
         let light: &Light = &scene.lights[li];
         let (u_pos, u_dir, u_sel) = (rng.vec2(), rng.vec2(), rng.f32());
         let le = if params.targets.is_empty() {
@@ -128,7 +162,15 @@ fn trace_batch(scene: &Scene, params: &TraceParams, b: u64) -> Vec<RawPhoton> {
         };
         if let Some(le) = le {
             if is_finite3(le.weight) && le.weight.max_element() > 0.0 {
-                trace_path(scene, le, 1.0 / pmf, params.kind, params.max_bounces, &mut rng, &mut out);
+                trace_path(
+                    scene,
+                    le,
+                    1.0 / pmf,
+                    params.kind,
+                    params.max_bounces,
+                    &mut rng,
+                    &mut out,
+                );
             }
         }
     }
@@ -146,7 +188,10 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
             return None;
         }
         let n = round.min(max_batches - batches);
-        let results: Vec<Vec<RawPhoton>> = (batches..batches + n).into_par_iter().map(|b| trace_batch(scene, params, b)).collect();
+        let results: Vec<Vec<RawPhoton>> = (batches..batches + n)
+            .into_par_iter()
+            .map(|b| trace_batch(scene, params, b))
+            .collect();
         for r in results {
             raw.extend(r);
         }
@@ -154,7 +199,11 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
         // Size the next round from the storage rate seen so far (deterministic).
         let per_batch = raw.len() as f64 / batches as f64;
         let missing = params.target.saturating_sub(raw.len()) as f64;
-        round = if per_batch > 0.0 { ((missing / per_batch).ceil() as u64).clamp(1, 512) } else { (round * 2).min(512) };
+        round = if per_batch > 0.0 {
+            ((missing / per_batch).ceil() as u64).clamp(1, 512)
+        } else {
+            (round * 2).min(512)
+        };
     }
     let emitted = batches * BATCH;
     let inv = 1.0 / emitted as f32;
@@ -168,5 +217,9 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
             Some(ph)
         })
         .collect();
-    Some(PhotonMap { kind: params.kind, tree: PhotonKdTree::build(photons), emitted })
+    Some(PhotonMap {
+        kind: params.kind,
+        tree: PhotonKdTree::build(photons),
+        emitted,
+    })
 }

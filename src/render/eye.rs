@@ -1,12 +1,17 @@
 //! The eye pass: one camera path per sample, split into terms. The path follows perfectly
-//! specular bounces; every other surface is the end of the path, where the estimators run.
+//! specular bounces; every other surface ends the path, and there the estimators of the
+//! `direct`, `caustic` and `indirect` terms run (routed to `specular` after a bounce).
 
 use super::aov::{Term, TermMask};
 use super::film::TermRadiance;
-use super::terms::{direct, emission, specular};
-use crate::geometry::Ray;
-use crate::materials::bsdf::LobeFlags;
+use super::irradiance_cache::IrradianceCache;
+use super::photons::PhotonMaps;
+use super::terms::{caustic, direct, emission, indirect, specular};
+use crate::geometry::{Ray, SurfaceInteraction};
+use crate::materials::bsdf::{Bsdf, LobeFlags};
+use crate::materials::Material;
 use crate::math::{is_finite3, Frame, Spectrum};
+use crate::photon::KnnScratch;
 use crate::sampling::Rng;
 use crate::scene::{Scene, SceneHit};
 
@@ -14,13 +19,71 @@ use crate::scene::{Scene, SceneHit};
 pub struct EyeSettings {
     pub terms: TermMask,
     pub max_specular_depth: u32,
+    pub final_gather_rays: u32,
+}
+
+/// Everything the eye pass reads.
+pub struct EyeCtx<'a> {
+    pub scene: &'a Scene,
+    pub maps: &'a PhotonMaps,
+    pub cache: Option<&'a IrradianceCache>,
+    pub settings: EyeSettings,
+}
+
+/// The BSDF at a hit, with opaque surfaces shaded on the side the ray came from (two-sided,
+/// as Blender shades); transmissive surfaces keep their orientation (inside vs outside).
+pub fn shading_bsdf(scene: &Scene, mat: &Material, si: &mut SurfaceInteraction) -> Bsdf {
+    let bsdf = mat.bsdf(
+        Frame::from_normal_tangent(si.ns, si.dpdu),
+        si.uv,
+        &scene.textures,
+    );
+    if bsdf.flags() & LobeFlags::TRANSMISSION == 0 && si.ng.dot(si.wo) < 0.0 {
+        si.ng = -si.ng;
+        si.ns = -si.ns;
+        return mat.bsdf(
+            Frame::from_normal_tangent(si.ns, si.dpdu),
+            si.uv,
+            &scene.textures,
+        );
+    }
+    bsdf
+}
+
+/// Indirect light reflected at a non-specular point.
+pub fn indirect_at(
+    ctx: &EyeCtx,
+    si: &SurfaceInteraction,
+    bsdf: &Bsdf,
+    rng: &mut Rng,
+    scratch: &mut KnnScratch,
+) -> Spectrum {
+    let rays = ctx.settings.final_gather_rays;
+    if ctx.maps.global.is_none() || rays == 0 {
+        return Spectrum::ZERO;
+    }
+    if bsdf.is_lambertian() {
+        let n = si.ng.dot(si.ns).signum() * si.ns;
+        let e = match ctx.cache.and_then(|c| c.lookup(si.p, n)) {
+            Some(e) => e,
+            None => {
+                indirect::gather_hemisphere(ctx.scene, ctx.maps, si, n, rays, rng, scratch)
+                    .irradiance
+            }
+        };
+        return bsdf.eval(si.wo, n) * e;
+    }
+    indirect::gather_bsdf(ctx.scene, ctx.maps, si, bsdf, rays, rng, scratch)
 }
 
 /// Radiance along `ray`, per term. Non-finite estimates are dropped (counted by the caller).
-pub fn trace(scene: &Scene, mut ray: Ray, s: &EyeSettings, rng: &mut Rng) -> TermRadiance {
+pub fn trace(ctx: &EyeCtx, mut ray: Ray, rng: &mut Rng, scratch: &mut KnnScratch) -> TermRadiance {
+    let scene = ctx.scene;
+    let s = &ctx.settings;
     let mut out = TermRadiance::default();
     let mut beta = Spectrum::ONE;
     let mut bounces = 0u32;
+    let wants = |term: Term, bounces: u32| s.terms.contains(specular::route(term, bounces));
     let add = |out: &mut TermRadiance, term: Term, bounces: u32, l: Spectrum| {
         let t = specular::route(term, bounces);
         if s.terms.contains(t) && is_finite3(l) {
@@ -57,30 +120,32 @@ pub fn trace(scene: &Scene, mut ray: Ray, s: &EyeSettings, rng: &mut Rng) -> Ter
                     bounces,
                     beta * emission::surface_emission(scene, &si),
                 );
-                // Opaque surfaces are two-sided: shade the side the ray came from.
-                let frame0 = Frame::from_normal_tangent(si.ns, si.dpdu);
-                let bsdf0 = mat.bsdf(frame0, si.uv, &scene.textures);
-                if bsdf0.flags() & LobeFlags::TRANSMISSION == 0 && si.ng.dot(si.wo) < 0.0 {
-                    si.ng = -si.ng;
-                    si.ns = -si.ns;
-                }
-                let bsdf = if si.ns == frame0.n {
-                    bsdf0
-                } else {
-                    mat.bsdf(
-                        Frame::from_normal_tangent(si.ns, si.dpdu),
-                        si.uv,
-                        &scene.textures,
-                    )
-                };
-                if bsdf.has_non_delta() && s.terms.contains(specular::route(Term::Direct, bounces))
-                {
-                    add(
-                        &mut out,
-                        Term::Direct,
-                        bounces,
-                        beta * direct::estimate(scene, &si, &bsdf, rng),
-                    );
+                let bsdf = shading_bsdf(scene, mat, &mut si);
+                if bsdf.has_non_delta() {
+                    if wants(Term::Direct, bounces) {
+                        add(
+                            &mut out,
+                            Term::Direct,
+                            bounces,
+                            beta * direct::estimate(scene, &si, &bsdf, rng),
+                        );
+                    }
+                    if wants(Term::Caustic, bounces) {
+                        add(
+                            &mut out,
+                            Term::Caustic,
+                            bounces,
+                            beta * caustic::estimate(ctx.maps, &si, &bsdf, scratch),
+                        );
+                    }
+                    if wants(Term::Indirect, bounces) {
+                        add(
+                            &mut out,
+                            Term::Indirect,
+                            bounces,
+                            beta * indirect_at(ctx, &si, &bsdf, rng, scratch),
+                        );
+                    }
                 }
                 if bsdf.flags() & LobeFlags::SPECULAR == 0 || bounces >= s.max_specular_depth {
                     break;

@@ -1,7 +1,10 @@
 //! The second pass: camera rays, the terms, and the film.
 pub mod aov;
+mod cache_fill;
 pub mod eye;
 pub mod film;
+pub mod irradiance_cache;
+pub mod photons;
 mod renderer;
 pub mod settings;
 pub mod terms;

@@ -4,11 +4,14 @@
 //! and pixels are independent (see `film`), so the output is bit-identical for any thread count.
 
 use super::aov::Term;
-use super::eye::{self, EyeSettings};
+use super::cache_fill;
+use super::eye::{self, EyeCtx, EyeSettings};
 use super::film::{Film, TermRadiance};
+use super::photons::{self, MapStats, PhotonMaps};
 use super::settings::RenderSettings;
 use crate::error::{Error, Result};
 use crate::geometry::Ray;
+use crate::photon::KnnScratch;
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use glam::Vec2;
@@ -40,8 +43,11 @@ pub struct RenderStats {
     /// Wall-clock seconds per pass.
     pub seconds: std::collections::BTreeMap<String, f64>,
     pub camera_rays: u64,
-    /// Photons stored per map (empty: no photon pass in this render).
+    /// Photons stored per map that was built.
     pub photons_stored: std::collections::BTreeMap<String, u64>,
+    /// Every map: built (photons stored and emitted, memory, time) or skipped, and why.
+    pub photon_maps: Vec<MapStats>,
+    pub irradiance_cache_records: u64,
     pub skipped: Vec<SkippedTerm>,
     /// Estimates that came out NaN or infinite and were dropped.
     pub non_finite_samples: u64,
@@ -95,18 +101,21 @@ impl<'a> Renderer<'a> {
         self
     }
 
-    fn skipped_terms(&self) -> Vec<SkippedTerm> {
+    fn skipped_terms(&self, maps: &PhotonMaps) -> Vec<SkippedTerm> {
         let mut out = Vec::new();
         for t in Term::ALL {
             let reason = if !self.settings.terms.contains(t) {
                 "disabled in the render settings".to_string()
             } else {
                 match t {
-                    Term::Indirect => {
-                        "no photon pass in this build: indirect light is not estimated".into()
+                    Term::Indirect if maps.global.is_none() => {
+                        "no global photon map (see photon_maps)".into()
                     }
-                    Term::Caustic => {
-                        "no photon pass in this build: caustics are not estimated".into()
+                    Term::Indirect if self.settings.photons.final_gather_rays == 0 => {
+                        "final gathering disabled (0 rays)".into()
+                    }
+                    Term::Caustic if maps.caustic.is_none() => {
+                        "no caustic photon map (see photon_maps)".into()
                     }
                     Term::Volume => "the scene has no participating media".into(),
                     _ => continue,
@@ -118,6 +127,18 @@ impl<'a> Renderer<'a> {
             });
         }
         out
+    }
+
+    fn is_cancelled(&self) -> bool {
+        self.cancel
+            .as_ref()
+            .is_some_and(|c| c.load(Ordering::Relaxed))
+    }
+
+    fn report(&self, fraction: f32, phase: &str) {
+        if let Some(p) = &self.progress {
+            p(fraction, phase);
+        }
     }
 
     pub fn render(self) -> Result<RenderOutput> {
@@ -132,28 +153,76 @@ impl<'a> Renderer<'a> {
             .num_threads(s.threads)
             .build()
             .map_err(|e| Error::Internal(format!("thread pool: {e}")))?;
+        pool.install(|| self.render_in_pool(pool.current_num_threads()))
+    }
+
+    fn render_in_pool(&self, threads: usize) -> Result<RenderOutput> {
+        let s = &self.settings;
         let (w, h) = (self.scene.width, self.scene.height);
-        let start = Instant::now();
+        let mut seconds = std::collections::BTreeMap::new();
+
+        // First pass: photons.
+        self.report(0.0, "photons");
+        let t0 = Instant::now();
+        let need_global = s.terms.contains(Term::Indirect) && s.photons.final_gather_rays > 0;
+        let need_caustic = s.terms.contains(Term::Caustic);
+        let cancel = self.cancel.as_deref();
+        let (maps, map_stats) = photons::build(
+            self.scene,
+            &s.photons,
+            s.seed,
+            need_global,
+            need_caustic,
+            cancel,
+        );
+        if self.is_cancelled() {
+            return Err(Error::Cancelled);
+        }
+        seconds.insert("photons".to_string(), t0.elapsed().as_secs_f64());
+
         let eye_settings = EyeSettings {
             terms: s.terms,
             max_specular_depth: s.max_specular_depth,
+            final_gather_rays: s.photons.final_gather_rays,
+        };
+        // Irradiance cache, filled in deterministic rounds.
+        let t1 = Instant::now();
+        let cache = if s.photons.irradiance_cache && need_global && maps.global.is_some() {
+            let pre = EyeCtx {
+                scene: self.scene,
+                maps: &maps,
+                cache: None,
+                settings: eye_settings,
+            };
+            Some(cache_fill::fill(
+                &pre,
+                s,
+                &|f| self.report(f, "irradiance cache"),
+                &|| self.is_cancelled(),
+            )?)
+        } else {
+            None
+        };
+        seconds.insert("irradiance_cache".to_string(), t1.elapsed().as_secs_f64());
+
+        // Second pass: camera rays.
+        let t2 = Instant::now();
+        let ctx = EyeCtx {
+            scene: self.scene,
+            maps: &maps,
+            cache: cache.as_ref(),
+            settings: eye_settings,
         };
         let rows_done = AtomicUsize::new(0);
         let non_finite = AtomicUsize::new(0);
-        let cancelled = || {
-            self.cancel
-                .as_ref()
-                .is_some_and(|c| c.load(Ordering::Relaxed))
-        };
         let nx = (s.spp as f32).sqrt().floor().max(1.0) as u32;
         let ny = s.spp.div_ceil(nx);
-
-        let rows: Vec<Option<Vec<TermRadiance>>> = pool.install(|| {
+        let rows: Vec<Option<Vec<TermRadiance>>> = {
             use rayon::prelude::*;
             (0..h)
                 .into_par_iter()
-                .map(|y| {
-                    if cancelled() {
+                .map_init(KnnScratch::new, |scratch, y| {
+                    if self.is_cancelled() {
                         return None;
                     }
                     let mut row = Vec::with_capacity(w);
@@ -176,7 +245,7 @@ impl<'a> Renderer<'a> {
                                 d: cr.d,
                                 t_max: cr.t_max,
                             };
-                            let l = eye::trace(self.scene, ray, &eye_settings, &mut rng);
+                            let l = eye::trace(&ctx, ray, &mut rng, scratch);
                             for t in Term::ALL {
                                 let v = l.0[t.index()];
                                 if v.is_finite() {
@@ -193,14 +262,12 @@ impl<'a> Renderer<'a> {
                         row.push(acc);
                     }
                     let done = rows_done.fetch_add(1, Ordering::Relaxed) + 1;
-                    if let Some(p) = &self.progress {
-                        p(done as f32 / h as f32, "render");
-                    }
+                    self.report(done as f32 / h as f32, "render");
                     Some(row)
                 })
                 .collect()
-        });
-        if cancelled() {
+        };
+        if self.is_cancelled() {
             return Err(Error::Cancelled);
         }
         let mut film = Film::new(w, h);
@@ -210,23 +277,31 @@ impl<'a> Renderer<'a> {
                 film.set_pixel(x, y, px);
             }
         }
-        let mut seconds = std::collections::BTreeMap::new();
-        seconds.insert("render".to_string(), start.elapsed().as_secs_f64());
+        seconds.insert("render".to_string(), t2.elapsed().as_secs_f64());
+        let photon_bytes: u64 = map_stats.iter().map(|m| m.memory_bytes).sum();
         let stats = RenderStats {
             version: env!("CARGO_PKG_VERSION"),
             seed: s.seed,
             width: w,
             height: h,
             spp: s.spp,
-            threads: pool.current_num_threads(),
+            threads,
             triangles: self.scene.triangle_count,
             lights: self.scene.lights.len(),
             seconds,
             camera_rays: (w * h) as u64 * s.spp as u64,
-            photons_stored: Default::default(),
-            skipped: self.skipped_terms(),
+            photons_stored: map_stats
+                .iter()
+                .filter(|m| m.built)
+                .map(|m| (m.map.to_string(), m.stored))
+                .collect(),
+            photon_maps: map_stats,
+            irradiance_cache_records: cache.as_ref().map_or(0, |c| c.len() as u64),
+            skipped: self.skipped_terms(&maps),
             non_finite_samples: non_finite.load(Ordering::Relaxed) as u64,
-            memory_bytes: (w * h * Term::COUNT * 12) as u64 + self.scene.triangle_count as u64 * 64,
+            memory_bytes: (w * h * Term::COUNT * 12) as u64
+                + self.scene.triangle_count as u64 * 64
+                + photon_bytes,
         };
         Ok(RenderOutput { film, stats })
     }

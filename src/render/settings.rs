@@ -15,7 +15,12 @@ pub enum Quality {
 }
 
 impl Quality {
-    pub const ALL: [Quality; 4] = [Quality::Draft, Quality::Medium, Quality::High, Quality::Final];
+    pub const ALL: [Quality; 4] = [
+        Quality::Draft,
+        Quality::Medium,
+        Quality::High,
+        Quality::Final,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -48,12 +53,21 @@ impl Quality {
             Quality::High => (500_000, 300_000, 64),
             Quality::Final => (2_000_000, 1_000_000, 128),
         };
-        PhotonSettings { global, caustic, final_gather_rays: fg_rays, ..PhotonSettings::default() }
+        PhotonSettings {
+            global,
+            caustic,
+            final_gather_rays: fg_rays,
+            ..PhotonSettings::default()
+        }
     }
 
     /// The full settings of the preset.
     pub fn settings(self) -> RenderSettings {
-        RenderSettings { spp: self.spp(), photons: self.photons(), ..RenderSettings::default() }
+        RenderSettings {
+            spp: self.spp(),
+            photons: self.photons(),
+            ..RenderSettings::default()
+        }
     }
 }
 

@@ -102,6 +102,11 @@ impl Camera {
         }
     }
 
+    /// Angle subtended by one pixel at the image centre (radians, approximately).
+    pub fn pixel_angle(&self) -> f32 {
+        2.0 * self.half.x / self.width
+    }
+
     pub fn position(&self) -> Vec3 {
         self.to_world.point(Vec3::ZERO)
     }

@@ -1,0 +1,119 @@
+//! Fills the irradiance cache before the camera pass, in deterministic rounds: pixel centres
+//! on a grid of stride 32, 16, ..., 1; in each round, the first Lambertian surface seen through
+//! each pixel (following perfect specular bounces) that the cache does not yet cover gets a
+//! record, computed in parallel and inserted in pixel order. The camera pass then only reads
+//! the cache, so the image is the same for any thread count.
+
+use super::eye::{shading_bsdf, EyeCtx};
+use super::irradiance_cache::{IrradianceCache, Record};
+use super::settings::RenderSettings;
+use super::terms::indirect::gather_hemisphere;
+use crate::error::{Error, Result};
+use crate::geometry::{Ray, SurfaceInteraction};
+use crate::materials::bsdf::LobeFlags;
+use crate::photon::KnnScratch;
+use crate::sampling::Rng;
+use crate::scene::SceneHit;
+use glam::{Vec2, Vec3};
+use rayon::prelude::*;
+
+/// Record radii, in pixel footprints at the record's distance, scaled by 1/a (Křivánek et al.
+/// 2009, §2.3: radii clamped in screen space).
+const R_MIN_PIXELS: f32 = 1.5;
+const R_MAX_PIXELS: f32 = 30.0;
+
+/// First Lambertian point seen through pixel (x, y), with its normal and the path length.
+fn first_lambertian(
+    ctx: &EyeCtx,
+    x: usize,
+    y: usize,
+    rng: &mut Rng,
+) -> Option<(SurfaceInteraction, Vec3, f32)> {
+    let scene = ctx.scene;
+    let cr = scene
+        .camera
+        .generate_ray(Vec2::new(x as f32 + 0.5, y as f32 + 0.5), Vec2::splat(0.5));
+    let mut ray = Ray {
+        o: cr.o,
+        d: cr.d,
+        t_max: cr.t_max,
+    };
+    let mut length = 0.0;
+    for _ in 0..=ctx.settings.max_specular_depth {
+        let SceneHit::Surface(mut si) = scene.intersect(&ray) else {
+            return None;
+        };
+        length += si.t * ray.d.length();
+        let mat = scene.materials.get(si.material as usize)?;
+        let bsdf = shading_bsdf(scene, mat, &mut si);
+        if bsdf.has_non_delta() {
+            if !bsdf.is_lambertian() {
+                return None;
+            }
+            let n = si.ng.dot(si.ns).signum() * si.ns;
+            return Some((si, n, length));
+        }
+        if bsdf.flags() & LobeFlags::SPECULAR == 0 {
+            return None;
+        }
+        let bs = bsdf.sample(si.wo, rng.f32(), rng.vec2())?;
+        ray = si.spawn_ray(bs.wi);
+    }
+    None
+}
+
+pub fn fill(
+    ctx: &EyeCtx,
+    s: &RenderSettings,
+    progress: &(dyn Fn(f32) + Sync),
+    cancelled: &(dyn Fn() -> bool + Sync),
+) -> Result<IrradianceCache> {
+    let scene = ctx.scene;
+    let (w, h) = (scene.width, scene.height);
+    let a = s.photons.cache_tolerance.max(1e-3);
+    let mut cache = IrradianceCache::new(a, 0.05 * scene.radius);
+    let r_cap = 0.25 * scene.radius / a;
+    let pixel_angle = scene.camera.pixel_angle();
+    let rays = s.photons.final_gather_rays.max(1);
+    let strides: Vec<usize> = [32usize, 16, 8, 4, 2, 1].into_iter().collect();
+    for (round, &stride) in strides.iter().enumerate() {
+        if cancelled() {
+            return Err(Error::Cancelled);
+        }
+        let coarser = if round == 0 {
+            usize::MAX
+        } else {
+            strides[round - 1]
+        };
+        let pixels: Vec<(usize, usize)> = (0..h)
+            .step_by(stride)
+            .flat_map(|y| (0..w).step_by(stride).map(move |x| (x, y)))
+            .filter(|&(x, y)| round == 0 || x % coarser != 0 || y % coarser != 0)
+            .collect();
+        let candidates: Vec<(usize, SurfaceInteraction, Vec3, f32)> = pixels
+            .par_iter()
+            .filter_map(|&(x, y)| {
+                let idx = y * w + x;
+                let mut rng = Rng::derive(s.seed, 0x1C, idx as u64);
+                let (si, n, len) = first_lambertian(ctx, x, y, &mut rng)?;
+                cache.lookup(si.p, n).is_none().then_some((idx, si, n, len))
+            })
+            .collect();
+        let records: Vec<Record> = candidates
+            .par_iter()
+            .map_init(KnnScratch::new, |scratch, (idx, si, n, len)| {
+                let mut rng = Rng::derive(s.seed, 0x1D, *idx as u64);
+                let g = gather_hemisphere(scene, ctx.maps, si, *n, rays, &mut rng, scratch);
+                let fp = (len * pixel_angle).max(1e-6);
+                let r_min = (R_MIN_PIXELS * fp / a).min(r_cap);
+                let r_max = (R_MAX_PIXELS * fp / a).min(r_cap).max(r_min);
+                Record::new(si.p, *n, &g, r_min, r_max)
+            })
+            .collect();
+        for r in records {
+            cache.insert(r);
+        }
+        progress((round + 1) as f32 / strides.len() as f32);
+    }
+    Ok(cache)
+}

@@ -1,0 +1,126 @@
+//! Ward's irradiance cache (Ward, Rubinstein, Clear 1988) with rotational and translational
+//! gradients (Ward & Heckbert 1992), used to evaluate final gathering sparsely on Lambertian
+//! surfaces and interpolate between records.
+//!
+//! A record at x_i with normal n_i and harmonic mean distance R_i contributes at x (normal n)
+//! with weight w_i = 1 / (|x - x_i| / R_i + sqrt(1 - n . n_i)); records with w_i > 1/a count,
+//! where a is the tolerance. E(x) = sum w_i (E_i + (n_i x n) . grad_r + (x - x_i) . grad_t) / sum w_i.
+//!
+//! The cache is filled in deterministic rounds (see `render::renderer`), then only read, so
+//! images do not depend on the thread count.
+
+use crate::math::Spectrum;
+use crate::render::terms::indirect::HemisphereGather;
+use glam::Vec3;
+use std::collections::HashMap;
+
+#[derive(Clone, Debug)]
+pub struct Record {
+    pub p: Vec3,
+    pub n: Vec3,
+    pub irradiance: Spectrum,
+    /// Harmonic mean distance, clamped.
+    pub r: f32,
+    pub grad_r: [Vec3; 3],
+    pub grad_t: [Vec3; 3],
+}
+
+impl Record {
+    pub fn new(p: Vec3, n: Vec3, g: &HemisphereGather, r_min: f32, r_max: f32) -> Record {
+        let r = g.harmonic_distance.clamp(r_min, r_max);
+        // Ward & Heckbert: limit the translational gradient where R was clamped upwards.
+        let scale = if g.harmonic_distance < r {
+            g.harmonic_distance / r
+        } else {
+            1.0
+        };
+        Record {
+            p,
+            n,
+            irradiance: g.irradiance,
+            r,
+            grad_r: g.grad_r,
+            grad_t: g.grad_t.map(|v| v * scale),
+        }
+    }
+}
+
+pub struct IrradianceCache {
+    pub tolerance: f32,
+    records: Vec<Record>,
+    cell: f32,
+    grid: HashMap<(i32, i32, i32), Vec<u32>>,
+}
+
+impl IrradianceCache {
+    /// `cell` should be about the largest radius of influence (a R_max).
+    pub fn new(tolerance: f32, cell: f32) -> Self {
+        IrradianceCache {
+            tolerance,
+            records: Vec::new(),
+            cell: cell.max(1e-12),
+            grid: HashMap::new(),
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.records.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.records.is_empty()
+    }
+
+    fn key(&self, p: Vec3) -> (i32, i32, i32) {
+        let q = (p / self.cell).floor();
+        (q.x as i32, q.y as i32, q.z as i32)
+    }
+
+    pub fn insert(&mut self, rec: Record) {
+        let idx = self.records.len() as u32;
+        let reach = rec.r * self.tolerance;
+        let lo = self.key(rec.p - Vec3::splat(reach));
+        let hi = self.key(rec.p + Vec3::splat(reach));
+        for x in lo.0..=hi.0 {
+            for y in lo.1..=hi.1 {
+                for z in lo.2..=hi.2 {
+                    self.grid.entry((x, y, z)).or_default().push(idx);
+                }
+            }
+        }
+        self.records.push(rec);
+    }
+
+    /// Interpolated irradiance at `p` with normal `n`, or None when no record is close enough.
+    pub fn lookup(&self, p: Vec3, n: Vec3) -> Option<Spectrum> {
+        let list = self.grid.get(&self.key(p))?;
+        let min_w = 1.0 / self.tolerance;
+        let mut sum = Spectrum::ZERO;
+        let mut wsum = 0.0f32;
+        for &i in list {
+            let rec = &self.records[i as usize];
+            let d = p - rec.p;
+            // A record in front of the point does not see the same surroundings.
+            if d.dot((n + rec.n) * 0.5) < -0.05 * rec.r {
+                continue;
+            }
+            let cos = n.dot(rec.n);
+            if cos <= 0.0 {
+                continue;
+            }
+            let err = d.length() / rec.r + (1.0 - cos).max(0.0).sqrt();
+            let w = if err > 0.0 { 1.0 / err } else { f32::INFINITY };
+            if w <= min_w {
+                continue;
+            }
+            let w = w.min(1e6);
+            let rot = rec.n.cross(n);
+            let mut e = rec.irradiance;
+            for c in 0..3 {
+                e[c] += rot.dot(rec.grad_r[c]) + d.dot(rec.grad_t[c]);
+            }
+            sum += e.max(Spectrum::ZERO) * w;
+            wsum += w;
+        }
+        (wsum > 0.0).then(|| sum / wsum)
+    }
+}

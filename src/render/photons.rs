@@ -1,0 +1,163 @@
+//! The photon pass as the renderer runs it: which maps the scene needs, their parameters,
+//! and why a map was skipped.
+
+use crate::lights::Target;
+use crate::photon::map::{MapKind, PhotonMap};
+use crate::photon::trace::{build_map, TraceParams};
+use crate::render::settings::PhotonSettings;
+use crate::scene::Scene;
+use serde::Serialize;
+use std::sync::atomic::AtomicBool;
+
+/// The maps of one render and the parameters of their radiance estimates.
+pub struct PhotonMaps {
+    pub global: Option<PhotonMap>,
+    pub caustic: Option<PhotonMap>,
+    pub gather: usize,
+    pub global_r2: f32,
+    pub caustic_r2: f32,
+}
+
+/// Statistics of one map, or the reason it was not built.
+#[derive(Clone, Debug, Serialize)]
+pub struct MapStats {
+    pub map: &'static str,
+    pub built: bool,
+    pub stored: u64,
+    pub emitted: u64,
+    pub memory_bytes: u64,
+    pub seconds: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub skipped_because: Option<String>,
+}
+
+/// Bounding spheres of the instances whose materials are specular (mirrors, glass).
+pub fn specular_targets(scene: &Scene) -> Vec<Target> {
+    let mut out = Vec::new();
+    for (ii, inst) in scene.accel.instances().iter().enumerate() {
+        let mesh = scene.accel.mesh(inst.mesh);
+        let specular = mesh.material_ids.iter().any(|&m| {
+            scene
+                .materials
+                .get(m as usize)
+                .is_some_and(|m| m.has_specular())
+        });
+        if !specular {
+            continue;
+        }
+        let mut b = crate::math::Bounds3::EMPTY;
+        for prim in 0..mesh.indices.len() as u32 {
+            if scene
+                .materials
+                .get(mesh.material_ids[prim as usize] as usize)
+                .is_some_and(|m| m.has_specular())
+            {
+                for v in scene.accel.triangle_world(ii as u32, prim) {
+                    b.extend(v);
+                }
+            }
+        }
+        let (center, radius) = b.bounding_sphere();
+        if radius > 0.0 {
+            out.push(Target {
+                center,
+                radius: radius * 1.001,
+            });
+        }
+    }
+    out
+}
+
+/// Builds the maps the settings and the scene call for. `need_global` is false when nothing
+/// reads the global map (indirect light disabled).
+pub fn build(
+    scene: &Scene,
+    s: &PhotonSettings,
+    seed: u64,
+    need_global: bool,
+    need_caustic: bool,
+    cancel: Option<&AtomicBool>,
+) -> (PhotonMaps, Vec<MapStats>) {
+    let max_r = s.max_radius.unwrap_or(0.1 * scene.radius);
+    let mut stats = Vec::new();
+    let no_lights = scene.lights.is_empty();
+    let mut run = |kind: MapKind,
+                   wanted: bool,
+                   target: usize,
+                   targets: &[Target],
+                   why_not: Option<String>|
+     -> Option<PhotonMap> {
+        let reason = if no_lights {
+            Some("the scene has no lights".to_string())
+        } else if !wanted {
+            why_not
+        } else if target == 0 {
+            Some("photon count set to 0".to_string())
+        } else {
+            None
+        };
+        if let Some(r) = reason {
+            stats.push(MapStats {
+                map: kind.name(),
+                built: false,
+                stored: 0,
+                emitted: 0,
+                memory_bytes: 0,
+                seconds: 0.0,
+                skipped_because: Some(r),
+            });
+            return None;
+        }
+        let t0 = std::time::Instant::now();
+        let params = TraceParams {
+            kind,
+            target,
+            max_emitted: (target as u64)
+                .saturating_mul(s.max_emitted_factor as u64)
+                .max(100_000),
+            max_bounces: s.max_bounces,
+            seed,
+            targets,
+            cancel,
+        };
+        let map = build_map(scene, &params)?;
+        stats.push(MapStats {
+            map: kind.name(),
+            built: true,
+            stored: map.len() as u64,
+            emitted: map.emitted,
+            memory_bytes: map.memory_bytes() as u64,
+            seconds: t0.elapsed().as_secs_f64(),
+            skipped_because: None,
+        });
+        Some(map)
+    };
+    let targets = specular_targets(scene);
+    let global = run(
+        MapKind::Global,
+        need_global,
+        s.global,
+        &[],
+        Some("indirect light is not rendered".into()),
+    );
+    let caustic_reason = if targets.is_empty() {
+        "the scene has no specular or transmissive surfaces"
+    } else {
+        "caustics are not rendered"
+    };
+    let caustic = run(
+        MapKind::Caustic,
+        need_caustic && !targets.is_empty(),
+        s.caustic,
+        &targets,
+        Some(caustic_reason.into()),
+    );
+    let maps = PhotonMaps {
+        global,
+        caustic,
+        gather: s.gather,
+        global_r2: max_r * max_r,
+        caustic_r2: max_r * max_r,
+    };
+    (maps, stats)
+}

@@ -1,0 +1,237 @@
+//! `indirect`: diffuse interreflection by final gathering (Jensen 2001, §9.3.4): rays leave
+//! the first non-specular surface, follow perfect specular bounces, and at the first
+//! non-specular surface they reach take the global photon map's radiance estimate. Light that
+//! reaches the gather point straight from an emitter (direct) or through specular surfaces
+//! only (caustic) belongs to the other terms and is not counted here.
+//!
+//! On Lambertian surfaces the irradiance is cached (`render::irradiance_cache`).
+
+use crate::geometry::{Ray, SurfaceInteraction};
+use crate::materials::bsdf::{Bsdf, LobeFlags};
+use crate::math::{Frame, Spectrum, PI};
+use crate::photon::map::EstimateFilter;
+use crate::photon::KnnScratch;
+use crate::render::photons::PhotonMaps;
+use crate::sampling::Rng;
+use crate::scene::{Scene, SceneHit};
+use glam::Vec3;
+
+/// Specular bounces a gather ray may make before reaching a non-specular surface.
+const GATHER_SPECULAR_DEPTH: u32 = 6;
+
+/// Radiance arriving at the gather point along `ray` from the global map, and the distance to
+/// the first surface (infinite when the ray escapes).
+pub fn gather_radiance(
+    scene: &Scene,
+    maps: &PhotonMaps,
+    mut ray: Ray,
+    rng: &mut Rng,
+    scratch: &mut KnnScratch,
+) -> (Spectrum, f32) {
+    let Some(global) = &maps.global else {
+        return (Spectrum::ZERO, f32::INFINITY);
+    };
+    let mut beta = Spectrum::ONE;
+    let mut acc = Spectrum::ZERO;
+    let mut first_t = f32::INFINITY;
+    for depth in 0..=GATHER_SPECULAR_DEPTH {
+        let SceneHit::Surface(mut si) = scene.intersect(&ray) else {
+            break;
+        };
+        if depth == 0 {
+            first_t = si.t * ray.d.length();
+        }
+        let Some(mat) = scene.materials.get(si.material as usize) else {
+            break;
+        };
+        let mut bsdf = mat.bsdf(
+            Frame::from_normal_tangent(si.ns, si.dpdu),
+            si.uv,
+            &scene.textures,
+        );
+        if bsdf.flags() & LobeFlags::TRANSMISSION == 0 && si.ng.dot(si.wo) < 0.0 {
+            si.ng = -si.ng;
+            si.ns = -si.ns;
+            bsdf = mat.bsdf(
+                Frame::from_normal_tangent(si.ns, si.dpdu),
+                si.uv,
+                &scene.textures,
+            );
+        }
+        if bsdf.has_non_delta() {
+            acc += beta
+                * global.radiance(
+                    si.p,
+                    si.ng,
+                    si.wo,
+                    &bsdf,
+                    maps.gather,
+                    maps.global_r2,
+                    EstimateFilter::Constant,
+                    scratch,
+                );
+        }
+        if bsdf.flags() & LobeFlags::SPECULAR == 0 {
+            break;
+        }
+        // The specular part of the surface: follow it by sampling (non-specular samples are
+        // already covered by the estimate above).
+        let Some(bs) = bsdf.sample(si.wo, rng.f32(), rng.vec2()) else {
+            break;
+        };
+        if !bs.is_delta() {
+            break;
+        }
+        beta *= bs.weight;
+        if beta.max_element() < 1e-4 {
+            break;
+        }
+        ray = si.spawn_ray(bs.wi);
+    }
+    (acc, first_t)
+}
+
+/// Final gathering by sampling the BSDF's non-specular lobes: the reflected indirect radiance.
+pub fn gather_bsdf(
+    scene: &Scene,
+    maps: &PhotonMaps,
+    si: &SurfaceInteraction,
+    bsdf: &Bsdf,
+    rays: u32,
+    rng: &mut Rng,
+    scratch: &mut KnnScratch,
+) -> Spectrum {
+    let mut sum = Spectrum::ZERO;
+    for _ in 0..rays {
+        let Some(bs) = bsdf.sample(si.wo, rng.f32(), rng.vec2()) else {
+            continue;
+        };
+        if bs.is_delta() {
+            continue;
+        }
+        let (l, _) = gather_radiance(scene, maps, si.spawn_ray(bs.wi), rng, scratch);
+        sum += bs.weight * l;
+    }
+    sum / rays.max(1) as f32
+}
+
+/// A stratified hemisphere gather with the data Ward and Heckbert's gradients need.
+pub struct HemisphereGather {
+    pub irradiance: Spectrum,
+    /// Harmonic mean distance to the surfaces seen.
+    pub harmonic_distance: f32,
+    /// Rotational and translational gradients, one vector per colour channel.
+    pub grad_r: [Vec3; 3],
+    pub grad_t: [Vec3; 3],
+}
+
+/// Strata of a gather with about `rays` rays: M in theta, N = pi M in phi (Ward 1988).
+pub fn strata(rays: u32) -> (usize, usize) {
+    let m = ((rays as f32 / PI).sqrt().round() as usize).max(2);
+    let n = ((rays as f32 / m as f32).round() as usize).max(4);
+    (m, n)
+}
+
+/// Irradiance at `si` by a stratified cosine-weighted gather over the hemisphere of `n`, with
+/// the rotational and translational gradients of Ward and Heckbert (1992), in the form given
+/// by Křivánek et al., "Practical Global Illumination with Irradiance Caching" (2009), §2.
+pub fn gather_hemisphere(
+    scene: &Scene,
+    maps: &PhotonMaps,
+    si: &SurfaceInteraction,
+    n: Vec3,
+    rays: u32,
+    rng: &mut Rng,
+    scratch: &mut KnnScratch,
+) -> HemisphereGather {
+    let (m, nn) = strata(rays);
+    let frame = Frame::from_normal(n);
+    let mut l = vec![Spectrum::ZERO; m * nn];
+    let mut r = vec![f32::INFINITY; m * nn];
+    let mut theta = vec![0.0f32; m * nn];
+    for j in 0..m {
+        for k in 0..nn {
+            let u = rng.vec2();
+            let sin2 = (j as f32 + u.x) / m as f32;
+            let sin_t = sin2.sqrt();
+            let cos_t = (1.0 - sin2).max(0.0).sqrt();
+            let phi = 2.0 * PI * (k as f32 + u.y) / nn as f32;
+            let local = Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t);
+            let (li, t) = gather_radiance(
+                scene,
+                maps,
+                si.spawn_ray(frame.to_world(local)),
+                rng,
+                scratch,
+            );
+            l[j * nn + k] = li;
+            r[j * nn + k] = t;
+            theta[j * nn + k] = sin_t.asin();
+        }
+    }
+    let norm = PI / (m * nn) as f32;
+    let irradiance: Spectrum = l.iter().copied().sum::<Spectrum>() * norm;
+    let inv_sum: f32 = r
+        .iter()
+        .map(|&t| {
+            if t.is_finite() && t > 0.0 {
+                1.0 / t
+            } else {
+                0.0
+            }
+        })
+        .sum();
+    let harmonic_distance = if inv_sum > 0.0 {
+        (m * nn) as f32 / inv_sum
+    } else {
+        f32::INFINITY
+    };
+
+    let dir = |phi: f32| frame.to_world(Vec3::new(phi.cos(), phi.sin(), 0.0));
+    let mut grad_r = [Vec3::ZERO; 3];
+    let mut grad_t = [Vec3::ZERO; 3];
+    for k in 0..nn {
+        let phi_c = 2.0 * PI * (k as f32 + 0.5) / nn as f32;
+        let phi_minus = 2.0 * PI * k as f32 / nn as f32;
+        let u_k = dir(phi_c);
+        let v_k = dir(phi_c + 0.5 * PI);
+        let v_minus = dir(phi_minus + 0.5 * PI);
+        let km = (k + nn - 1) % nn;
+        for j in 0..m {
+            let idx = j * nn + k;
+            // Rotational: -tan(theta) L along v_k.
+            let tan_t = theta[idx].tan();
+            for c in 0..3 {
+                grad_r[c] += v_k * (-tan_t * l[idx][c] * norm);
+            }
+            let sin_minus = (j as f32 / m as f32).sqrt();
+            let sin_plus = ((j + 1) as f32 / m as f32).sqrt();
+            // Translational, change across the phi boundary k-1 | k.
+            let rmin = r[idx].min(r[j * nn + km]);
+            if rmin.is_finite() && rmin > 0.0 {
+                let w = (sin_plus - sin_minus) / rmin;
+                for c in 0..3 {
+                    grad_t[c] += v_minus * (w * (l[idx][c] - l[j * nn + km][c]));
+                }
+            }
+            // Translational, change across the theta boundary j-1 | j.
+            if j > 0 {
+                let up = (j - 1) * nn + k;
+                let rmin = r[idx].min(r[up]);
+                if rmin.is_finite() && rmin > 0.0 {
+                    let cos2 = 1.0 - sin_minus * sin_minus;
+                    let w = 2.0 * PI / nn as f32 * sin_minus * cos2 / rmin;
+                    for c in 0..3 {
+                        grad_t[c] += u_k * (w * (l[idx][c] - l[up][c]));
+                    }
+                }
+            }
+        }
+    }
+    HemisphereGather {
+        irradiance,
+        harmonic_distance,
+        grad_r,
+        grad_t,
+    }
+}
