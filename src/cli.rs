@@ -70,7 +70,7 @@ pub struct RenderArgs {
     /// Largest photon search radius, in scene units (default: from the scene size).
     #[arg(long)]
     pub radius: Option<f32>,
-    /// Final-gathering rays per shading point (overrides the preset).
+    /// Final-gathering rays per irradiance-cache record, and per pixel elsewhere (overrides the preset).
     #[arg(long)]
     pub final_gather_rays: Option<u32>,
     /// Irradiance caching for final gathering: on or off.

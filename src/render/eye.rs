@@ -19,7 +19,10 @@ use crate::scene::{Scene, SceneHit};
 pub struct EyeSettings {
     pub terms: TermMask,
     pub max_specular_depth: u32,
+    /// Gather rays per record of the irradiance cache.
     pub final_gather_rays: u32,
+    /// Gather rays per camera sample where the cache does not apply.
+    pub gather_rays_per_sample: u32,
 }
 
 /// Everything the eye pass reads.
@@ -58,7 +61,7 @@ pub fn indirect_at(
     rng: &mut Rng,
     scratch: &mut KnnScratch,
 ) -> Spectrum {
-    let rays = ctx.settings.final_gather_rays;
+    let rays = ctx.settings.gather_rays_per_sample;
     if ctx.maps.global.is_none() || rays == 0 {
         return Spectrum::ZERO;
     }

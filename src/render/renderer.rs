@@ -184,6 +184,10 @@ impl<'a> Renderer<'a> {
             terms: s.terms,
             max_specular_depth: s.max_specular_depth,
             final_gather_rays: s.photons.final_gather_rays,
+            gather_rays_per_sample: match s.photons.final_gather_rays {
+                0 => 0,
+                n => n.div_ceil(s.spp).max(4),
+            },
         };
         // Irradiance cache, filled in deterministic rounds.
         let t1 = Instant::now();

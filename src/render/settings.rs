@@ -48,10 +48,10 @@ impl Quality {
     /// Photon-map parameters of the preset.
     pub fn photons(self) -> PhotonSettings {
         let (global, caustic, fg_rays) = match self {
-            Quality::Draft => (50_000, 20_000, 16),
-            Quality::Medium => (200_000, 100_000, 32),
-            Quality::High => (500_000, 300_000, 64),
-            Quality::Final => (2_000_000, 1_000_000, 128),
+            Quality::Draft => (50_000, 20_000, 64),
+            Quality::Medium => (200_000, 100_000, 256),
+            Quality::High => (500_000, 300_000, 512),
+            Quality::Final => (2_000_000, 1_000_000, 1024),
         };
         PhotonSettings {
             global,
@@ -82,7 +82,8 @@ pub struct PhotonSettings {
     pub gather: usize,
     /// Largest search radius in scene units; `None` derives it from the scene size.
     pub max_radius: Option<f32>,
-    /// Final-gathering rays per shading point.
+    /// Final-gathering rays per pixel: each irradiance-cache record gathers this many; a
+    /// point gathered without the cache uses this many divided among the pixel's samples.
     pub final_gather_rays: u32,
     /// Ward's irradiance cache for final gathering.
     pub irradiance_cache: bool,
@@ -102,10 +103,10 @@ impl Default for PhotonSettings {
             caustic: 100_000,
             gather: 100,
             max_radius: None,
-            final_gather_rays: 32,
+            final_gather_rays: 256,
             irradiance_cache: true,
             cache_tolerance: 0.15,
-            max_bounces: 32,
+            max_bounces: 64,
             max_emitted_factor: 20,
         }
     }
