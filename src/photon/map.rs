@@ -70,16 +70,28 @@ impl PhotonMap {
         scratch: &mut KnnScratch,
     ) -> Spectrum {
         let found = self.tree.knn(p, k, max_r2, scratch);
-        if found.len() < 2 {
+        if found.is_empty() {
             return Spectrum::ZERO;
         }
-        let r2 = found.iter().map(|nb| nb.dist2).fold(0.0f32, f32::max);
-        if !(r2 > 0.0) {
+        // With k photons found, the radius is the k-th photon's distance, and that photon lies
+        // on the boundary: (k - 1) photons over pi r^2 is the unbiased density (the k-NN
+        // estimator), so the farthest photon is left out. With fewer found, the search radius
+        // itself bounds the disk and every photon counts.
+        let (r2, skip) = if found.len() >= k && k > 1 {
+            let (i, far) = found.iter().enumerate().fold((0, 0.0f32), |acc, (i, nb)| if nb.dist2 > acc.1 { (i, nb.dist2) } else { acc });
+            (far, Some(i))
+        } else {
+            (max_r2, None)
+        };
+        if !(r2 > 0.0) || !r2.is_finite() {
             return Spectrum::ZERO;
         }
         let r = r2.sqrt();
         let mut sum = Spectrum::ZERO;
-        for nb in found {
+        for (i, nb) in found.iter().enumerate() {
+            if Some(i) == skip {
+                continue;
+            }
             let ph = self.tree.get(nb.index);
             let wi = ph.incoming();
             if wi.dot(n) <= 0.0 {

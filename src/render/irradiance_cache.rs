@@ -27,7 +27,12 @@ pub struct Record {
 
 impl Record {
     pub fn new(p: Vec3, n: Vec3, g: &HemisphereGather, r_min: f32, r_max: f32) -> Record {
-        let r = g.harmonic_distance.clamp(r_min, r_max);
+        // Gradient limit (Křivánek et al. 2006): no record reaches farther than the distance
+        // over which its translational gradient would change its irradiance by 100%.
+        let lum = crate::math::luminance(g.irradiance);
+        let grad = g.grad_t[0] * 0.2126 + g.grad_t[1] * 0.7152 + g.grad_t[2] * 0.0722;
+        let limit = if grad.length() > 0.0 { lum / grad.length() } else { f32::INFINITY };
+        let r = g.harmonic_distance.min(limit).clamp(r_min, r_max);
         // Ward & Heckbert: limit the translational gradient where R was clamped upwards.
         let scale = if g.harmonic_distance < r {
             g.harmonic_distance / r

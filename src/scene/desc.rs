@@ -178,7 +178,7 @@ pub enum SensorFit {
 /// | `material` | material of every triangle (index into `materials`) |
 /// | `material_indices` | optional per-triangle material, overrides `material` |
 /// | `transform` | object-to-world |
-#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct MeshDesc {
     #[serde(default)]
@@ -195,6 +195,21 @@ pub struct MeshDesc {
     pub material_indices: Option<Vec<u32>>,
     #[serde(default = "identity")]
     pub transform: Matrix,
+}
+
+impl Default for MeshDesc {
+    fn default() -> Self {
+        MeshDesc {
+            name: String::new(),
+            positions: Vec::new(),
+            indices: Vec::new(),
+            normals: None,
+            uvs: None,
+            material: 0,
+            material_indices: None,
+            transform: IDENTITY,
+        }
+    }
 }
 
 /// Another placement of a mesh: world = `transform` x mesh.transform.
