@@ -72,6 +72,30 @@ fn combined_is_the_exact_sum_and_terms_are_finite() {
     assert_eq!(out.stats.non_finite_samples, 0);
 }
 
+/// Model only what the scene requires: no specular surface, no caustic map; indirect light
+/// off, no global map; and the stats say why.
+#[test]
+fn maps_are_built_only_when_needed() {
+    let mut desc = load_scene("cornell_diffuse");
+    desc.film.width = 16;
+    desc.film.height = 16;
+    let out = render(&desc, 1, 0, 0);
+    let caustic = out.stats.photon_maps.iter().find(|m| m.map == "caustic").unwrap();
+    assert!(!caustic.built && caustic.skipped_because.as_deref().unwrap().contains("no specular"), "{caustic:?}");
+    assert!(out.stats.photon_maps.iter().any(|m| m.map == "global" && m.built && m.stored > 0));
+
+    let scene = photonmap::scene::Scene::build(&desc).unwrap();
+    let settings = photonmap::render::RenderSettings {
+        spp: 1,
+        terms: photonmap::render::aov::TermMask::ALL.without(Term::Indirect),
+        ..Default::default()
+    };
+    let out = photonmap::render::Renderer::new(&scene).settings(settings).render().unwrap();
+    let global = out.stats.photon_maps.iter().find(|m| m.map == "global").unwrap();
+    assert!(!global.built && global.skipped_because.is_some(), "{global:?}");
+    assert!(out.stats.skipped.iter().any(|s| s.term == "indirect"));
+}
+
 #[test]
 fn scene_translated_far_from_the_origin_renders_the_same() {
     // 1e5 units away: robust ray offsets keep self-intersection out (images agree within noise).
