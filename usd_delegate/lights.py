@@ -56,6 +56,12 @@ def radiance(prim, time, diag):
     return intensity * 2.0 ** exposure, color, normalize
 
 
+def area_power(L: float, area: float, normalize: bool) -> float:
+    """IR power of an emitter of world-space area A and radiance L (divided by A when
+    normalize is on): P = L pi A, so P = L pi with normalize (for any area, even zero)."""
+    return L * math.pi if normalize else L * math.pi * area
+
+
 def read_light(prim, world: np.ndarray, time, diag, up_axis: str, textures):
     """(kind, IR light dict or environment dict), or None for unsupported lights (warned)."""
     t = prim.GetTypeName()
@@ -77,18 +83,16 @@ def read_light(prim, world: np.ndarray, time, diag, up_axis: str, textures):
         area = w * h
         if _get(prim, "texture:file", None, time):
             diag.warn(prim, "textured rect lights are not supported; the light's colour is used")
-        L_ = L / area if normalize and area > 0 else L
         return "light", {"type": "rect", "name": name, "transform": ir_matrix(rigid), "width": w,
-                         "height": h, "power": L_ * math.pi * area, "color": color.tolist()}
+                         "height": h, "power": area_power(L, area, normalize), "color": color.tolist()}
     if t == "DiskLight":
         r = float(_get(prim, "radius", 0.5, time))
         rr = r * math.sqrt(abs(scale[0] * scale[1]))
         if abs(scale[0] - scale[1]) > 1e-4 * max(scale[0], scale[1]):
             diag.warn(prim, "non-uniformly scaled disk light: a disk of equal area is used")
         area = math.pi * rr * rr
-        L_ = L / area if normalize and area > 0 else L
         return "light", {"type": "disk", "name": name, "transform": ir_matrix(rigid), "radius": rr,
-                         "power": L_ * math.pi * area, "color": color.tolist()}
+                         "power": area_power(L, area, normalize), "color": color.tolist()}
     if t in ("SphereLight", "CylinderLight"):
         s = float(np.mean(scale))
         if np.ptp(scale) > 1e-4 * s:
@@ -100,9 +104,8 @@ def read_light(prim, world: np.ndarray, time, diag, up_axis: str, textures):
             ln = float(_get(prim, "length", 1.0, time)) * s
             r = math.sqrt(cr * ln / 2.0)  # 4 pi R^2 = 2 pi r l
             diag.warn(prim, f"cylinder light approximated by a sphere light of equal area (radius {r:.4g})")
-        area = 4.0 * math.pi * r * r
-        L_ = L / area if normalize and area > 0 else L
-        power = L_ * 4.0 * math.pi ** 2 * r * r
+        # P = L 4 pi^2 r^2 = L pi A with A = 4 pi r^2: the same rule as area lights.
+        power = area_power(L, 4.0 * math.pi * r * r, normalize)
         treat_as_point = bool(_get(prim, "treatAsPoint", False, time))
         radius = 0.0 if treat_as_point or r <= 0 else r
         if shaping and t == "SphereLight":
@@ -131,7 +134,7 @@ def read_light(prim, world: np.ndarray, time, diag, up_axis: str, textures):
     env = {"color": color.tolist(), "strength": L}
     up_fix = np.eye(4)
     if up_axis == "Y":  # environment +Z -> world +Y
-        up_fix = np.array([[1, 0, 0, 0], [0, 0, -1, 0], [0, 1, 0, 0], [0, 0, 0, 1]], dtype=np.float64)
+        up_fix = np.array([[1, 0, 0, 0], [0, 0, 1, 0], [0, -1, 0, 0], [0, 0, 0, 1]], dtype=np.float64)
     env["transform"] = ir_matrix(rigid @ up_fix)
     tex = _get(prim, "texture:file", None, time)
     if tex is not None and (getattr(tex, "path", "") or str(tex)):

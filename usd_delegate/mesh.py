@@ -109,7 +109,10 @@ def triangulate(points: np.ndarray, counts: np.ndarray, fvi: np.ndarray):
             faces.append(np.full(len(local), sel[f]))
     if not corners:
         return np.zeros((0, 3), np.int64), np.zeros(0, np.int64)
-    return np.concatenate(corners).astype(np.int64), np.concatenate(faces).astype(np.int64)
+    corners = np.concatenate(corners).astype(np.int64)
+    faces = np.concatenate(faces).astype(np.int64)
+    order = np.argsort(faces, kind="stable")  # triangles in face order
+    return corners[order], faces[order]
 
 
 def _primvar(mesh, name, time, diag, prim):
