@@ -50,8 +50,12 @@ def open_stage(path: str):
     try:
         stage = Usd.Stage.Open(path)
     except Tf.ErrorException as e:
-        first = str(e).strip().splitlines()
-        detail = next((ln.strip() for ln in first if ln.strip() and "Error" not in ln[:12]), first[-1] if first else "")
+        detail = ""
+        for ln in str(e).splitlines():
+            if " : '" in ln:
+                detail = ln.split(" : '", 1)[1].rstrip("'").strip()
+                detail = detail.replace("pxrInternal_v0_", "").split("__pxrReserved__::")[-1]
+                break
         raise UsdImportError(f"{path}: cannot open the stage: {detail}") from None
     if stage is None:
         raise UsdImportError(f"{path}: cannot open the stage")
