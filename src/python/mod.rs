@@ -145,7 +145,11 @@ impl PyScene {
                     pointer,
                     object,
                     message,
-                } => Error::scene(pointer, &object, format!("{message} (in {})", path.display())),
+                } => Error::scene(
+                    pointer,
+                    &object,
+                    format!("{message} (in {})", path.display()),
+                ),
                 other => other,
             })
             .map_err(to_py)?;
@@ -164,12 +168,11 @@ impl PyScene {
     /// `normals`, `uvs`, `material_indices`) to `buffers`, one tuple per mesh, in order.
     #[staticmethod]
     fn from_parts(py: Python<'_>, ir_json: &str, buffers: Vec<MeshBuffers<'_>>) -> PyResult<Self> {
-        let mut desc: SceneDesc = serde_json::from_str(ir_json)
-            .map_err(|e| {
-                let ptr = pointer::pointer_at(ir_json, e.line(), e.column());
-                let object = pointer::object_name(ir_json, &ptr);
-                to_py(Error::scene(ptr, &object, e.to_string()))
-            })?;
+        let mut desc: SceneDesc = serde_json::from_str(ir_json).map_err(|e| {
+            let ptr = pointer::pointer_at(ir_json, e.line(), e.column());
+            let object = pointer::object_name(ir_json, &ptr);
+            to_py(Error::scene(ptr, &object, e.to_string()))
+        })?;
         if buffers.len() != desc.meshes.len() {
             return Err(to_py(Error::scene(
                 "/meshes",
@@ -201,7 +204,8 @@ impl PyScene {
                 m.uvs = Some(v.chunks_exact(2).map(|c| [c[0], c[1]]).collect());
             }
             if let Some(t) = mat {
-                check_len(t.as_bytes(), 4, &format!("{p}/material_indices"), &m.name).map_err(to_py)?;
+                check_len(t.as_bytes(), 4, &format!("{p}/material_indices"), &m.name)
+                    .map_err(to_py)?;
                 m.material_indices = Some(u32s(t.as_bytes()).collect());
             }
         }
@@ -429,14 +433,7 @@ fn render<'py>(
     let flag = cancel
         .map(|c| c.flag.clone())
         .unwrap_or_else(|| Arc::new(AtomicBool::new(false)));
-    let out = render_blocking(
-        py,
-        &scene.desc,
-        a.settings(),
-        None,
-        progress.as_ref(),
-        flag,
-    )?;
+    let out = render_blocking(py, &scene.desc, a.settings(), None, progress.as_ref(), flag)?;
     let d = PyDict::new(py);
     d.set_item("width", out.film.width)?;
     d.set_item("height", out.film.height)?;
@@ -446,8 +443,8 @@ fn render<'py>(
     }
     d.set_item("terms", terms)?;
     d.set_item("combined", image_bytes(py, &out.film.combined()))?;
-    let stats = serde_json::to_string(&out.stats)
-        .map_err(|e| PhotonmapError::new_err(e.to_string()))?;
+    let stats =
+        serde_json::to_string(&out.stats).map_err(|e| PhotonmapError::new_err(e.to_string()))?;
     d.set_item("stats", stats)?;
     Ok(d)
 }
@@ -459,7 +456,11 @@ fn render<'py>(
 /// raised as they are.
 #[pyfunction]
 #[pyo3(signature = (argv, usd_loader=None))]
-fn run_cli(py: Python<'_>, argv: Vec<String>, usd_loader: Option<Bound<'_, PyAny>>) -> PyResult<i32> {
+fn run_cli(
+    py: Python<'_>,
+    argv: Vec<String>,
+    usd_loader: Option<Bound<'_, PyAny>>,
+) -> PyResult<i32> {
     let cli = match Cli::try_parse_from(std::iter::once("photonmap".to_string()).chain(argv)) {
         Ok(c) => c,
         Err(e) => {

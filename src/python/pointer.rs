@@ -129,8 +129,12 @@ mod tests {
         assert_eq!(at(t), "/meshes/1/indices/0/2");
         let t = r#"{"camera": {"fov": 0.5, "bogus": 1}}"#;
         assert_eq!(at(t), "/camera/bogus");
-        let t = r#"{"camera": {}, "lights": [{"type": "point", "position": [0,0,0], "power": "x"}]}"#;
+        let t =
+            r#"{"camera": {}, "lights": [{"type": "point", "position": [0,0,0], "power": "x"}]}"#;
         assert_eq!(at(t), "/lights/0/power");
-        assert_eq!(object_name(r#"{"meshes": [{"name": "m"}]}"#, "/meshes/0/indices"), "m");
+        assert_eq!(
+            object_name(r#"{"meshes": [{"name": "m"}]}"#, "/meshes/0/indices"),
+            "m"
+        );
     }
 }
