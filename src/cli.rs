@@ -358,7 +358,12 @@ impl RenderArgs {
 
     /// Checks the values clap cannot: positive counts and radii.
     pub fn check(&self) -> Result<()> {
-        let bad = |setting: &str, message: &str| Err(Error::InvalidSetting { setting: setting.into(), message: message.into() });
+        let bad = |setting: &str, message: &str| {
+            Err(Error::InvalidSetting {
+                setting: setting.into(),
+                message: message.into(),
+            })
+        };
         if self.spp == Some(0) {
             return bad("--spp", "must be at least 1");
         }
@@ -485,8 +490,7 @@ pub fn write_outputs_with(
         io::png::write_png(p, &out.film.combined(), 1.0)?;
     }
     if let Some(p) = &args.stats {
-        let mut v =
-            serde_json::to_value(&out.stats).map_err(|e| Error::Internal(e.to_string()))?;
+        let mut v = serde_json::to_value(&out.stats).map_err(|e| Error::Internal(e.to_string()))?;
         if let (Some(imp), Some(obj)) = (import_stats, v.as_object_mut()) {
             obj.insert("import".into(), imp.clone());
         }
@@ -504,11 +508,20 @@ mod tests {
     fn frames_follow_usdrecord() {
         assert_eq!(parse_frames("7").unwrap(), vec![7.0]);
         assert_eq!(parse_frames("1,5,9").unwrap(), vec![1.0, 5.0, 9.0]);
-        assert_eq!(parse_frames("1:10x2").unwrap(), vec![1.0, 3.0, 5.0, 7.0, 9.0]);
+        assert_eq!(
+            parse_frames("1:10x2").unwrap(),
+            vec![1.0, 3.0, 5.0, 7.0, 9.0]
+        );
         assert_eq!(parse_frames("1:3").unwrap(), vec![1.0, 2.0, 3.0]);
         assert!(parse_frames("3:1").is_err() && parse_frames("a").is_err());
-        assert_eq!(frame_path(Path::new("out.#.exr"), 7.0), Path::new("out.0007.exr"));
-        assert_eq!(frame_path(Path::new("o_##.exr"), 3.0), Path::new("o_03.exr"));
+        assert_eq!(
+            frame_path(Path::new("out.#.exr"), 7.0),
+            Path::new("out.0007.exr")
+        );
+        assert_eq!(
+            frame_path(Path::new("o_##.exr"), 3.0),
+            Path::new("o_03.exr")
+        );
         assert_eq!(frame_path(Path::new("o.exr"), 3.0), Path::new("o.exr"));
     }
 
