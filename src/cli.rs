@@ -7,7 +7,8 @@ use crate::render::{film::Filter, Quality, RenderOutput, RenderSettings, Rendere
 use crate::scene::{Scene, SceneDesc};
 use clap::{Args, Parser, Subcommand};
 use std::collections::BTreeMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 #[derive(Parser, Debug)]
@@ -29,7 +30,8 @@ pub enum Command {
 
 #[derive(Args, Debug, Clone)]
 pub struct RenderArgs {
-    /// Scene file (.json scene IR); none renders the embedded default scene.
+    /// Scene file: .json scene IR, or a USD stage (.usd/.usda/.usdc/.usdz, read by the Python
+    /// package's `photonmap` command); none renders the embedded default scene.
     pub scene: Option<PathBuf>,
     /// Output multilayer EXR.
     #[arg(short = 'o', long = "output", value_name = "OUT.exr")]
@@ -123,7 +125,175 @@ fn parse_filter(s: &str) -> std::result::Result<Filter, String> {
     Filter::parse(s).ok_or_else(|| format!("unknown filter `{s}` (expected box, tent or gaussian)"))
 }
 
+/// What a front end's scene reader (the Python package's USD importer) is asked to read.
+#[derive(Debug, Clone)]
+pub struct SceneRequest<'a> {
+    pub path: &'a Path,
+    /// USD time code; `None` = the stage's default time.
+    pub frame: Option<f64>,
+    pub camera: Option<&'a str>,
+    /// Geometry purposes to include besides `default`.
+    pub purposes: Vec<String>,
+    pub strict: bool,
+}
+
+/// A scene read by a front end: the IR, plus its import statistics for the stats JSON.
+pub struct LoadedScene {
+    pub desc: SceneDesc,
+    pub import_stats: Option<serde_json::Value>,
+}
+
+/// Reads scene formats the core does not read itself (USD stages).
+pub type SceneLoader<'a> = dyn FnMut(&SceneRequest) -> Result<LoadedScene> + 'a;
+
+/// True for the extensions of USD stages.
+pub fn is_usd(path: &Path) -> bool {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    matches!(ext.as_str(), "usd" | "usda" | "usdc" | "usdz")
+}
+
+/// Parses a usdrecord frame list: `7`, `1,5,9`, `1:10` or `1:10x2` (and lists of those).
+pub fn parse_frames(spec: &str) -> Result<Vec<f64>> {
+    let bad = |m: String| Error::InvalidSetting {
+        setting: "--frames".into(),
+        message: m,
+    };
+    let num = |t: &str| -> Result<f64> {
+        t.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| bad(format!("`{t}` is not a frame number")))
+    };
+    let mut out = Vec::new();
+    for part in spec.split(',') {
+        if let Some((a, rest)) = part.split_once(':') {
+            let (b, step) = match rest.split_once('x') {
+                Some((b, st)) => (num(b)?, num(st)?),
+                None => (num(rest)?, 1.0),
+            };
+            let a = num(a)?;
+            if step <= 0.0 || b < a {
+                return Err(bad(format!(
+                    "`{part}`: expected start:end with end >= start and a positive step"
+                )));
+            }
+            let n = ((b - a) / step + 1e-9).floor() as usize;
+            if n > 100_000 {
+                return Err(bad(format!("`{part}` has more than 100000 frames")));
+            }
+            out.extend((0..=n).map(|i| a + i as f64 * step));
+        } else {
+            out.push(num(part)?);
+        }
+    }
+    if out.is_empty() {
+        return Err(bad("no frames given".into()));
+    }
+    Ok(out)
+}
+
+/// Replaces each run of `#` in a file name by the frame number, zero-padded to the run's
+/// length (a single `#` pads to 4 digits). Fractional frames keep their fraction (`0001.5`).
+pub fn frame_path(path: &Path, frame: f64) -> PathBuf {
+    let text = path.to_string_lossy();
+    if !text.contains('#') {
+        return path.to_path_buf();
+    }
+    let whole = frame.trunc();
+    let frac = frame - whole;
+    let mut out = String::new();
+    let mut chars = text.chars().peekable();
+    while let Some(c) = chars.next() {
+        if c != '#' {
+            out.push(c);
+            continue;
+        }
+        let mut n = 1;
+        while chars.peek() == Some(&'#') {
+            chars.next();
+            n += 1;
+        }
+        let width = if n == 1 { 4 } else { n };
+        let sign = if frame < 0.0 { "-" } else { "" };
+        out.push_str(&format!("{sign}{:0width$}", whole.abs() as i64));
+        if frac != 0.0 {
+            let f = format!("{:.3}", frac.abs());
+            out.push_str(f.trim_start_matches('0').trim_end_matches('0'));
+        }
+    }
+    PathBuf::from(out)
+}
+
 impl RenderArgs {
+    /// The arguments with every default, as `render -o OUT` would give them (for the Python API).
+    pub fn defaults() -> RenderArgs {
+        match Cli::try_parse_from(["photonmap", "render", "-o", "out.exr"]) {
+            Ok(Cli {
+                command: Command::Render(a),
+            }) => a,
+            Err(e) => unreachable!("the default arguments parse: {e}"),
+        }
+    }
+
+    /// The frames to render: the parsed `--frames`, or one render at the default time.
+    pub fn frame_list(&self) -> Result<Vec<Option<f64>>> {
+        match &self.frames {
+            None => Ok(vec![None]),
+            Some(spec) => Ok(parse_frames(spec)?.into_iter().map(Some).collect()),
+        }
+    }
+
+    /// These arguments with `#` in the output names replaced by `frame`.
+    pub fn for_frame(&self, frame: Option<f64>) -> RenderArgs {
+        let mut a = self.clone();
+        if let Some(f) = frame {
+            a.output = frame_path(&a.output, f);
+            a.png = a.png.map(|p| frame_path(&p, f));
+            a.stats = a.stats.map(|p| frame_path(&p, f));
+        }
+        a
+    }
+
+    /// Loads the scene through `loader` when the file is a USD stage (and a loader is given),
+    /// otherwise as `load_scene` does; then applies the size overrides.
+    pub fn load_scene_with(
+        &self,
+        frame: Option<f64>,
+        loader: Option<&mut SceneLoader>,
+    ) -> Result<LoadedScene> {
+        match (&self.scene, loader) {
+            (Some(p), Some(load)) if is_usd(p) => {
+                if !p.exists() {
+                    return Err(Error::io(p, "no such file"));
+                }
+                let req = SceneRequest {
+                    path: p,
+                    frame,
+                    camera: self.camera.as_deref(),
+                    purposes: self
+                        .purposes
+                        .split(',')
+                        .map(|s| s.trim().to_string())
+                        .filter(|s| !s.is_empty())
+                        .collect(),
+                    strict: self.strict,
+                };
+                let mut loaded = load(&req)?;
+                self.apply_size(&mut loaded.desc)?;
+                Ok(loaded)
+            }
+            _ => Ok(LoadedScene {
+                desc: self.load_scene()?,
+                import_stats: None,
+            }),
+        }
+    }
+
     /// Loads the scene named on the command line (or the default) and applies size overrides.
     pub fn load_scene(&self) -> Result<SceneDesc> {
         let mut desc = match &self.scene {
@@ -134,7 +304,7 @@ impl RenderArgs {
                     .and_then(|e| e.to_str())
                     .unwrap_or("")
                     .to_ascii_lowercase();
-                if matches!(ext.as_str(), "usd" | "usda" | "usdc" | "usdz") {
+                if is_usd(p) {
                     return Err(Error::io(
                         p,
                         "USD stages are read by the `photonmap` command of the Python package (pip install .)",
@@ -223,22 +393,86 @@ pub fn run_render(
     progress: Option<Arc<crate::render::ProgressFn>>,
 ) -> Result<RenderOutput> {
     args.check()?;
-    let t0 = std::time::Instant::now();
     let desc = args.load_scene()?;
-    let scene = Scene::build(&desc)?;
-    let build_s = t0.elapsed().as_secs_f64();
-    let mut r = Renderer::new(&scene).settings(args.settings());
-    if let Some(p) = progress {
-        r = r.progress(p);
-    }
-    let mut out = r.render()?;
-    out.stats.seconds.insert("scene_build".into(), build_s);
+    let out = render_desc(&desc, args.settings(), progress, None)?;
     write_outputs(args, &out)?;
     Ok(out)
 }
 
+/// Builds the render scene from the IR and renders it; the build time goes into the stats.
+pub fn render_desc(
+    desc: &SceneDesc,
+    settings: RenderSettings,
+    progress: Option<Arc<crate::render::ProgressFn>>,
+    cancel: Option<Arc<AtomicBool>>,
+) -> Result<RenderOutput> {
+    let t0 = std::time::Instant::now();
+    let scene = Scene::build(desc)?;
+    let build_s = t0.elapsed().as_secs_f64();
+    let mut r = Renderer::new(&scene).settings(settings);
+    if let Some(p) = progress {
+        r = r.progress(p);
+    }
+    if let Some(c) = cancel {
+        r = r.cancel_flag(c);
+    }
+    let mut out = r.render()?;
+    out.stats.seconds.insert("scene_build".into(), build_s);
+    Ok(out)
+}
+
+/// The progress bar on stderr (hidden with `--quiet`) and the callback that drives it.
+pub fn progress_bar(quiet: bool) -> (indicatif::ProgressBar, Arc<crate::render::ProgressFn>) {
+    use indicatif::{ProgressBar, ProgressStyle};
+    let bar = if quiet {
+        ProgressBar::hidden()
+    } else {
+        let b = ProgressBar::new(1000);
+        b.set_style(
+            ProgressStyle::with_template(
+                "{msg:>8} [{bar:40}] {percent:>3}% {elapsed_precise} eta {eta}",
+            )
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+        );
+        b
+    };
+    let pb = bar.clone();
+    let f: Arc<crate::render::ProgressFn> = Arc::new(move |f: f32, phase: &str| {
+        pb.set_message(phase.to_string());
+        pb.set_position((f * 1000.0) as u64);
+    });
+    (bar, f)
+}
+
+/// The lines printed after a render: what was written, and which terms are zero and why.
+pub fn summary(args: &RenderArgs, out: &RenderOutput) -> String {
+    let secs: f64 = out.stats.seconds.values().sum();
+    let mut s = format!(
+        "wrote {} ({}x{}, {} spp, {:.2} s)",
+        args.output.display(),
+        out.stats.width,
+        out.stats.height,
+        out.stats.spp,
+        secs
+    );
+    for t in &out.stats.skipped {
+        s.push_str(&format!("\n  {} is zero: {}", t.term, t.reason));
+    }
+    s
+}
+
 /// EXR (with metadata), optional PNG and stats JSON.
 pub fn write_outputs(args: &RenderArgs, out: &RenderOutput) -> Result<()> {
+    write_outputs_with(args, out, None)
+}
+
+/// As `write_outputs`, with a front end's import statistics under `import` in the stats JSON.
+pub fn write_outputs_with(
+    args: &RenderArgs,
+    out: &RenderOutput,
+    import_stats: Option<&serde_json::Value>,
+) -> Result<()> {
     let mut meta = BTreeMap::new();
     meta.insert("version".into(), out.stats.version.to_string());
     meta.insert("seed".into(), out.stats.seed.to_string());
@@ -256,9 +490,45 @@ pub fn write_outputs(args: &RenderArgs, out: &RenderOutput) -> Result<()> {
         io::png::write_png(p, &out.film.combined(), 1.0)?;
     }
     if let Some(p) = &args.stats {
-        let text =
-            serde_json::to_string_pretty(&out.stats).map_err(|e| Error::Internal(e.to_string()))?;
+        let mut v = serde_json::to_value(&out.stats).map_err(|e| Error::Internal(e.to_string()))?;
+        if let (Some(imp), Some(obj)) = (import_stats, v.as_object_mut()) {
+            obj.insert("import".into(), imp.clone());
+        }
+        let text = serde_json::to_string_pretty(&v).map_err(|e| Error::Internal(e.to_string()))?;
         std::fs::write(p, text).map_err(|e| Error::io(p, e))?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frames_follow_usdrecord() {
+        assert_eq!(parse_frames("7").unwrap(), vec![7.0]);
+        assert_eq!(parse_frames("1,5,9").unwrap(), vec![1.0, 5.0, 9.0]);
+        assert_eq!(
+            parse_frames("1:10x2").unwrap(),
+            vec![1.0, 3.0, 5.0, 7.0, 9.0]
+        );
+        assert_eq!(parse_frames("1:3").unwrap(), vec![1.0, 2.0, 3.0]);
+        assert!(parse_frames("3:1").is_err() && parse_frames("a").is_err());
+        assert_eq!(
+            frame_path(Path::new("out.#.exr"), 7.0),
+            Path::new("out.0007.exr")
+        );
+        assert_eq!(
+            frame_path(Path::new("o_##.exr"), 3.0),
+            Path::new("o_03.exr")
+        );
+        assert_eq!(frame_path(Path::new("o.exr"), 3.0), Path::new("o.exr"));
+    }
+
+    #[test]
+    fn defaults_match_the_flags() {
+        let a = RenderArgs::defaults();
+        assert_eq!(a.quality, Quality::Medium);
+        assert_eq!(a.settings().spp, Quality::Medium.spp());
+    }
 }

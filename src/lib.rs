@@ -19,3 +19,8 @@ pub mod sampling;
 pub mod scene;
 
 pub use error::{Error, Result};
+#[cfg(feature = "python")]
+mod python;
+#[cfg(test)]
+#[path = "python/pointer.rs"]
+mod python_pointer;

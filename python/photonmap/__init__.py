@@ -1,0 +1,267 @@
+"""photonmap: a two-pass photon-mapping renderer (Jensen 2001), Python API.
+
+Build a scene from numpy arrays and plain dicts (the dicts mirror the JSON scene IR documented
+in the core's ``src/scene/desc.rs``), render it, and get one float32 image per term::
+
+    import numpy as np, photonmap
+    scene = photonmap.Scene.from_dict({
+        "camera": {"fov": 0.7, "transform": [[1,0,0,0],[0,1,0,0],[0,0,1,4],[0,0,0,1]]},
+        "film": {"width": 64, "height": 64},
+        "materials": [{"type": "diffuse", "color": [0.8, 0.8, 0.8]}],
+        "meshes": [{"positions": np.array([[-1,-1,0],[1,-1,0],[1,1,0]]), "indices": [[0,1,2]]}],
+        "lights": [{"type": "point", "position": [0, 0, 2], "power": 100}],
+    })
+    out = photonmap.render(scene, quality="draft", seed=1)
+    out["combined"].shape      # (64, 64, 3) float32; out["direct"], ... out["stats"]
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import threading
+from typing import Any, Callable, Mapping
+
+import numpy as np
+
+from . import _core
+from ._core import CancelToken, PhotonmapError, RenderCancelled, SceneError
+
+__version__ = _core.__version__
+
+#: The terms of the rendering equation, in output order (from the core's AOV list).
+TERMS: tuple[str, ...] = tuple(_core.TERMS)
+#: The same terms, capitalised as render-pass names (Blender).
+PASS_NAMES: tuple[str, ...] = tuple(_core.PASS_NAMES)
+#: Quality presets.
+QUALITIES: tuple[str, ...] = tuple(_core.QUALITIES)
+
+__all__ = [
+    "TERMS",
+    "PASS_NAMES",
+    "QUALITIES",
+    "Scene",
+    "Renderer",
+    "CancelToken",
+    "render",
+    "load_scene",
+    "default_scene",
+    "PhotonmapError",
+    "SceneError",
+    "RenderCancelled",
+]
+
+_MESH_ARRAYS = ("positions", "indices", "normals", "uvs", "material_indices")
+
+
+def _as_array(value: Any, dtype, width: int, pointer: str, name: str) -> np.ndarray:
+    """Any array-like (list, numpy array of any float/int type, buffer) as contiguous
+    ``dtype`` of shape (n, width), or SceneError naming the field."""
+    try:
+        a = np.asarray(value)
+    except Exception as e:  # ragged lists and the like
+        raise SceneError(f"invalid scene at {pointer}{_obj(name)}: not an array ({e})") from None
+    if a.size == 0:
+        a = a.reshape(0, width) if width > 1 else a.reshape(0)
+    if width > 1:
+        if a.ndim == 1 and a.size % width == 0:
+            a = a.reshape(-1, width)
+        if a.ndim != 2 or a.shape[1] != width:
+            raise SceneError(
+                f"invalid scene at {pointer}{_obj(name)}: expected shape (n, {width}), got {a.shape}"
+            )
+    elif a.ndim != 1:
+        raise SceneError(f"invalid scene at {pointer}{_obj(name)}: expected shape (n,), got {a.shape}")
+    if dtype == np.uint32:
+        if a.dtype.kind == "f":
+            if not np.all(np.isfinite(a)) or np.any(a != np.round(a)):
+                raise SceneError(f"invalid scene at {pointer}{_obj(name)}: indices must be integers")
+        elif a.dtype.kind not in "iub":
+            raise SceneError(f"invalid scene at {pointer}{_obj(name)}: expected integers, got {a.dtype}")
+        if a.size and (a.min() < 0 or a.max() > 0xFFFFFFFF):
+            bad = int(np.argmax((a < 0) | (a > 0xFFFFFFFF)))
+            flat = np.unravel_index(bad, a.shape)
+            where = "/".join(str(int(i)) for i in flat)
+            raise SceneError(
+                f"invalid scene at {pointer}/{where}{_obj(name)}: index {a.flat[bad]} out of range"
+            )
+    elif a.dtype.kind not in "fiub":
+        raise SceneError(f"invalid scene at {pointer}{_obj(name)}: expected numbers, got {a.dtype}")
+    return np.ascontiguousarray(a, dtype=np.dtype(dtype).newbyteorder("<"))
+
+
+def _obj(name: str) -> str:
+    return f" (`{name}`)" if name else ""
+
+
+def _jsonable(value: Any) -> Any:
+    """Dict/list values with numpy scalars and arrays turned into plain Python."""
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, Mapping):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    return value
+
+
+class Scene:
+    """Constructors of the core's validated scene (``photonmap._core.Scene``)."""
+
+    @staticmethod
+    def from_dict(ir: Mapping[str, Any]) -> "_core.Scene":
+        """A scene from a dict mirroring the JSON IR; mesh arrays may be numpy arrays of any
+        float/int type (or lists), passed to the core as raw little-endian buffers."""
+        if not isinstance(ir, Mapping):
+            raise SceneError(f"invalid scene at /: expected a dict, got {type(ir).__name__}")
+        rest = {k: v for k, v in ir.items() if k != "meshes"}
+        meshes_in = ir.get("meshes", []) or []
+        meshes, buffers = [], []
+        for i, m in enumerate(meshes_in):
+            if not isinstance(m, Mapping):
+                raise SceneError(f"invalid scene at /meshes/{i}: expected a dict")
+            name = str(m.get("name", ""))
+            p = f"/meshes/{i}"
+            for req in ("positions", "indices"):
+                if req not in m:
+                    raise SceneError(f"invalid scene at {p}/{req}{_obj(name)}: missing field `{req}`")
+            pos = _as_array(m["positions"], np.float32, 3, f"{p}/positions", name)
+            idx = _as_array(m["indices"], np.uint32, 3, f"{p}/indices", name)
+            opt = {}
+            for key, dt, w in (("normals", np.float32, 3), ("uvs", np.float32, 2),
+                               ("material_indices", np.uint32, 1)):
+                v = m.get(key)
+                opt[key] = None if v is None else _as_array(v, dt, w, f"{p}/{key}", name).tobytes()
+            meta = {k: _jsonable(v) for k, v in m.items() if k not in _MESH_ARRAYS}
+            meta["positions"], meta["indices"] = [], []
+            meshes.append(meta)
+            buffers.append((pos.tobytes(), idx.tobytes(), opt["normals"], opt["uvs"],
+                            opt["material_indices"]))
+        doc = _jsonable(rest)
+        doc["meshes"] = meshes
+        try:
+            text = json.dumps(doc, indent=1, allow_nan=True)
+        except (TypeError, ValueError) as e:
+            raise SceneError(f"invalid scene at /: {e}") from None
+        return _core.Scene.from_parts(text, buffers)
+
+    @staticmethod
+    def from_json(text: str) -> "_core.Scene":
+        return _core.Scene.from_json(text)
+
+    @staticmethod
+    def from_file(path: str | os.PathLike) -> "_core.Scene":
+        return _core.Scene.from_file(os.fspath(path))
+
+    @staticmethod
+    def default() -> "_core.Scene":
+        return _core.Scene.default()
+
+
+def default_scene() -> "_core.Scene":
+    """The embedded default scene."""
+    return _core.Scene.default()
+
+
+def load_scene(path: str | os.PathLike, **usd_options) -> "_core.Scene":
+    """A scene from a .json IR file or a USD stage (options as ``usd_delegate.load_stage``)."""
+    path = os.fspath(path)
+    if path.lower().endswith((".usd", ".usda", ".usdc", ".usdz")):
+        import usd_delegate
+
+        result = usd_delegate.load_stage(path, **usd_options)
+        return Scene.from_dict(result.ir)
+    return _core.Scene.from_file(path)
+
+
+def _to_scene(scene: Any) -> "_core.Scene":
+    if isinstance(scene, _core.Scene):
+        return scene
+    if isinstance(scene, Mapping):
+        return Scene.from_dict(scene)
+    if isinstance(scene, (str, os.PathLike)):
+        s = os.fspath(scene)
+        if s.lstrip().startswith("{"):
+            return _core.Scene.from_json(s)
+        return load_scene(s)
+    raise TypeError(f"expected a Scene, dict, JSON text or path, got {type(scene).__name__}")
+
+
+def render(
+    scene: Any,
+    *,
+    quality: str = "medium",
+    spp: int | None = None,
+    seed: int = 0,
+    threads: int = 0,
+    photons: int | None = None,
+    caustic_photons: int | None = None,
+    gather: int | None = None,
+    radius: float | None = None,
+    final_gather_rays: int | None = None,
+    irradiance_cache: bool | None = None,
+    cache_tolerance: float | None = None,
+    progress: Callable[[float, str], Any] | None = None,
+    cancel: CancelToken | None = None,
+) -> dict:
+    """Renders ``scene`` (a Scene, an IR dict, JSON text, or a .json/.usd path).
+
+    Returns ``{"combined": (H,W,3) float32, <term>: (H,W,3) float32 for each of TERMS,
+    "stats": dict}``; ``combined`` is the sum of the terms. Settings mean what the CLI flags of
+    the same names mean. The GIL is released while rendering; ``progress(fraction, phase)`` is
+    called from the calling thread; Ctrl-C or ``cancel.cancel()`` raise within ~50 ms
+    (KeyboardInterrupt, RenderCancelled).
+    """
+    s = _to_scene(scene)
+    raw = _core.render(
+        s, quality=quality, spp=spp, seed=seed, threads=threads, photons=photons,
+        caustic_photons=caustic_photons, gather=gather, radius=radius,
+        final_gather_rays=final_gather_rays, irradiance_cache=irradiance_cache,
+        cache_tolerance=cache_tolerance, progress=progress, cancel=cancel,
+    )
+    h, w = raw["height"], raw["width"]
+
+    def img(b: bytes) -> np.ndarray:
+        return np.frombuffer(b, dtype="<f4").reshape(h, w, 3).astype(np.float32, copy=True)
+
+    out: dict[str, Any] = {"combined": img(raw["combined"])}
+    for t in TERMS:
+        out[t] = img(raw["terms"][t])
+    out["stats"] = json.loads(raw["stats"])
+    return out
+
+
+class Renderer:
+    """A render that can be cancelled from another thread::
+
+        r = photonmap.Renderer(scene, quality="high")
+        threading.Timer(2.0, r.cancel).start()
+        out = r.render()        # raises RenderCancelled if cancelled
+    """
+
+    def __init__(self, scene: Any, **settings: Any) -> None:
+        self.scene = _to_scene(scene)
+        self.settings = settings
+        self.token = CancelToken()
+
+    def render(self, progress: Callable[[float, str], Any] | None = None) -> dict:
+        self.token.reset()
+        return render(self.scene, progress=progress, cancel=self.token, **self.settings)
+
+    def cancel(self) -> None:
+        self.token.cancel()
+
+    def render_async(self, progress=None) -> "threading.Thread":
+        """Starts the render on a thread; the result (or exception) lands in ``self.result``."""
+
+        def run():
+            try:
+                self.result = self.render(progress)
+            except BaseException as e:  # handed to the caller
+                self.result = e
+
+        t = threading.Thread(target=run, daemon=True)
+        t.start()
+        return t

@@ -1,0 +1,588 @@
+//! The Python module `photonmap._core` (feature `python`).
+//!
+//! - `Scene`: a validated scene IR, from JSON text, a JSON file, the embedded default, or JSON plus
+//!   raw little-endian mesh buffers (`from_parts`, fed by numpy on the Python side).
+//! - `render(scene, ...)`: renders with the GIL released, on a separate thread; the calling
+//!   thread polls every 50 ms for Ctrl-C (`check_signals`), the cancel token and progress, and
+//!   calls the Python progress callback itself (never from the rayon workers).
+//! - `run_cli(argv, usd_loader)`: the `photonmap` command: the core's one clap definition parses
+//!   `argv`; USD stages are read by the Python `usd_loader`.
+//!
+//! No panic crosses this boundary: the render runs under `catch_unwind` and a panic becomes
+//! `photonmap.PhotonmapError`.
+
+mod pointer;
+
+use crate::cli::{self, Cli, Command, LoadedScene, RenderArgs, SceneRequest};
+use crate::error::Error;
+use crate::io::scene_json;
+use crate::render::aov::Term;
+use crate::render::{ProgressFn, Quality, RenderOutput, RenderSettings};
+use crate::scene::desc::SceneDesc;
+use clap::Parser;
+use pyo3::create_exception;
+use pyo3::exceptions::{PyKeyboardInterrupt, PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict};
+use std::any::Any;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Condvar, Mutex};
+use std::time::Duration;
+
+create_exception!(
+    photonmap,
+    PhotonmapError,
+    PyRuntimeError,
+    "An error of the renderer (not of the scene): I/O, internal errors."
+);
+create_exception!(
+    photonmap,
+    SceneError,
+    PyValueError,
+    "The scene is invalid; the message names the field (a JSON pointer) and the object."
+);
+create_exception!(
+    photonmap,
+    RenderCancelled,
+    PhotonmapError,
+    "The render was cancelled (cancel token or Ctrl-C)."
+);
+
+fn to_py(e: Error) -> PyErr {
+    match e {
+        Error::InvalidScene { .. } | Error::Json { .. } => SceneError::new_err(e.to_string()),
+        Error::InvalidSetting { .. } => PyValueError::new_err(e.to_string()),
+        Error::Cancelled => RenderCancelled::new_err(e.to_string()),
+        _ => PhotonmapError::new_err(e.to_string()),
+    }
+}
+
+fn panic_message(p: &(dyn Any + Send)) -> String {
+    if let Some(s) = p.downcast_ref::<&str>() {
+        (*s).to_string()
+    } else if let Some(s) = p.downcast_ref::<String>() {
+        s.clone()
+    } else {
+        "unknown panic".to_string()
+    }
+}
+
+/// Parses and validates JSON scene text; parse errors are given the JSON pointer of the field.
+fn parse_scene(text: &str) -> Result<SceneDesc, Error> {
+    scene_json::from_str(text).map_err(|e| match e {
+        Error::Json {
+            line,
+            column,
+            message,
+        } => {
+            let ptr = pointer::pointer_at(text, line, column);
+            let object = pointer::object_name(text, &ptr);
+            Error::scene(ptr, &object, message)
+        }
+        other => other,
+    })
+}
+
+/// A validated scene IR.
+#[pyclass(module = "photonmap._core", name = "Scene", frozen)]
+pub struct PyScene {
+    desc: SceneDesc,
+}
+
+/// One mesh's buffers: positions (f32 x3), indices (u32 x3), normals (f32 x3), uvs (f32 x2),
+/// per-triangle material ids (u32), all little-endian.
+type MeshBuffers<'py> = (
+    Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+    Option<Bound<'py, PyBytes>>,
+    Option<Bound<'py, PyBytes>>,
+    Option<Bound<'py, PyBytes>>,
+);
+
+fn f32s(b: &[u8]) -> impl Iterator<Item = f32> + '_ {
+    b.chunks_exact(4)
+        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+}
+fn u32s(b: &[u8]) -> impl Iterator<Item = u32> + '_ {
+    b.chunks_exact(4)
+        .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+}
+fn check_len(b: &[u8], stride: usize, ptr: &str, name: &str) -> Result<(), Error> {
+    if b.len() % stride == 0 {
+        Ok(())
+    } else {
+        Err(Error::scene(
+            ptr,
+            name,
+            format!(
+                "buffer of {} bytes is not a whole number of {stride}-byte items",
+                b.len()
+            ),
+        ))
+    }
+}
+
+#[pymethods]
+impl PyScene {
+    /// Parses and validates scene IR JSON text.
+    #[staticmethod]
+    fn from_json(py: Python<'_>, text: &str) -> PyResult<Self> {
+        let desc = py.detach(|| parse_scene(text)).map_err(to_py)?;
+        Ok(PyScene { desc })
+    }
+
+    /// Reads a `.json` scene IR file.
+    #[staticmethod]
+    fn from_file(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
+        let text = std::fs::read_to_string(&path)
+            .map_err(|e| PhotonmapError::new_err(format!("{}: {e}", path.display())))?;
+        let desc = py
+            .detach(|| parse_scene(&text))
+            .map_err(|e| match e {
+                Error::InvalidScene {
+                    pointer,
+                    object,
+                    message,
+                } => Error::scene(
+                    pointer,
+                    &object,
+                    format!("{message} (in {})", path.display()),
+                ),
+                other => other,
+            })
+            .map_err(to_py)?;
+        Ok(PyScene { desc })
+    }
+
+    /// The embedded default scene (a Cornell box with a glass and a mirror sphere).
+    #[staticmethod]
+    fn default() -> Self {
+        PyScene {
+            desc: crate::scene::default_scene(),
+        }
+    }
+
+    /// Scene IR JSON whose `meshes` entries leave `positions`/`indices` (and optionally
+    /// `normals`, `uvs`, `material_indices`) to `buffers`, one tuple per mesh, in order.
+    #[staticmethod]
+    fn from_parts(py: Python<'_>, ir_json: &str, buffers: Vec<MeshBuffers<'_>>) -> PyResult<Self> {
+        let mut desc: SceneDesc = serde_json::from_str(ir_json).map_err(|e| {
+            let ptr = pointer::pointer_at(ir_json, e.line(), e.column());
+            let object = pointer::object_name(ir_json, &ptr);
+            to_py(Error::scene(ptr, &object, e.to_string()))
+        })?;
+        if buffers.len() != desc.meshes.len() {
+            return Err(to_py(Error::scene(
+                "/meshes",
+                "",
+                format!(
+                    "{} meshes but {} buffer sets",
+                    desc.meshes.len(),
+                    buffers.len()
+                ),
+            )));
+        }
+        for (i, (m, (pos, idx, nrm, uv, mat))) in desc.meshes.iter_mut().zip(&buffers).enumerate() {
+            let p = format!("/meshes/{i}");
+            let (pos, idx) = (pos.as_bytes(), idx.as_bytes());
+            check_len(pos, 12, &format!("{p}/positions"), &m.name).map_err(to_py)?;
+            check_len(idx, 12, &format!("{p}/indices"), &m.name).map_err(to_py)?;
+            let v: Vec<f32> = f32s(pos).collect();
+            m.positions = v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+            let v: Vec<u32> = u32s(idx).collect();
+            m.indices = v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+            if let Some(n) = nrm {
+                check_len(n.as_bytes(), 12, &format!("{p}/normals"), &m.name).map_err(to_py)?;
+                let v: Vec<f32> = f32s(n.as_bytes()).collect();
+                m.normals = Some(v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect());
+            }
+            if let Some(t) = uv {
+                check_len(t.as_bytes(), 8, &format!("{p}/uvs"), &m.name).map_err(to_py)?;
+                let v: Vec<f32> = f32s(t.as_bytes()).collect();
+                m.uvs = Some(v.chunks_exact(2).map(|c| [c[0], c[1]]).collect());
+            }
+            if let Some(t) = mat {
+                check_len(t.as_bytes(), 4, &format!("{p}/material_indices"), &m.name)
+                    .map_err(to_py)?;
+                m.material_indices = Some(u32s(t.as_bytes()).collect());
+            }
+        }
+        py.detach(|| crate::scene::validate(&desc)).map_err(to_py)?;
+        Ok(PyScene { desc })
+    }
+
+    /// The scene IR as JSON text.
+    fn to_json(&self) -> String {
+        scene_json::to_string(&self.desc)
+    }
+
+    #[getter]
+    fn width(&self) -> u32 {
+        self.desc.film.width
+    }
+
+    #[getter]
+    fn height(&self) -> u32 {
+        self.desc.film.height
+    }
+
+    /// Numbers of meshes, instances, triangles, materials, lights and textures.
+    fn counts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        let tris: usize = self.desc.meshes.iter().map(|m| m.indices.len()).sum();
+        d.set_item("meshes", self.desc.meshes.len())?;
+        d.set_item("instances", self.desc.instances.len())?;
+        d.set_item("triangles", tris)?;
+        d.set_item("materials", self.desc.materials.len())?;
+        d.set_item("lights", self.desc.lights.len())?;
+        d.set_item("textures", self.desc.textures.len())?;
+        Ok(d)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "<photonmap.Scene {}x{}, {} meshes, {} lights>",
+            self.desc.film.width,
+            self.desc.film.height,
+            self.desc.meshes.len(),
+            self.desc.lights.len()
+        )
+    }
+}
+
+/// A flag that cancels the renders it is given to, from any thread.
+#[pyclass(module = "photonmap._core", frozen)]
+pub struct CancelToken {
+    flag: Arc<AtomicBool>,
+}
+
+#[pymethods]
+impl CancelToken {
+    #[new]
+    fn new() -> Self {
+        CancelToken {
+            flag: Arc::new(AtomicBool::new(false)),
+        }
+    }
+    /// Asks every render using this token to stop; they raise `RenderCancelled` within ~50 ms.
+    fn cancel(&self) {
+        self.flag.store(true, Ordering::Relaxed);
+    }
+    fn reset(&self) {
+        self.flag.store(false, Ordering::Relaxed);
+    }
+    #[getter]
+    fn cancelled(&self) -> bool {
+        self.flag.load(Ordering::Relaxed)
+    }
+}
+
+type Outcome = std::thread::Result<Result<RenderOutput, Error>>;
+
+/// Renders on a separate thread with the GIL released. Every 50 ms the calling thread takes the
+/// GIL back to check for Ctrl-C and to report progress to `callback`; `direct` progress (the
+/// CLI's bar) is called from the workers.
+fn render_blocking(
+    py: Python<'_>,
+    desc: &SceneDesc,
+    settings: RenderSettings,
+    direct: Option<Arc<ProgressFn>>,
+    callback: Option<&Bound<'_, PyAny>>,
+    cancel: Arc<AtomicBool>,
+) -> PyResult<RenderOutput> {
+    let latest: Arc<Mutex<Option<(f32, String)>>> = Arc::default();
+    let sink = latest.clone();
+    let progress: Arc<ProgressFn> = Arc::new(move |f: f32, phase: &str| {
+        if let Some(d) = &direct {
+            d(f, phase);
+        }
+        if let Ok(mut g) = sink.lock() {
+            *g = Some((f, phase.to_string()));
+        }
+    });
+    let done: (Mutex<Option<Outcome>>, Condvar) = (Mutex::new(None), Condvar::new());
+    let report = |cb: &Bound<'_, PyAny>| -> PyResult<()> {
+        let last = latest.lock().ok().and_then(|mut g| g.take());
+        match last {
+            Some((f, phase)) => cb.call1((f, phase)).map(|_| ()),
+            None => Ok(()),
+        }
+    };
+    std::thread::scope(|s| {
+        let flag = cancel.clone();
+        let done_ref = &done;
+        s.spawn(move || {
+            let r = catch_unwind(AssertUnwindSafe(|| {
+                cli::render_desc(desc, settings, Some(progress), Some(flag))
+            }));
+            if let Ok(mut g) = done_ref.0.lock() {
+                *g = Some(r);
+            }
+            done_ref.1.notify_all();
+        });
+        let mut pending: Option<PyErr> = None;
+        let outcome: Outcome = loop {
+            let got = py.detach(|| {
+                let g = done.0.lock().ok()?;
+                let (mut g, _) = done
+                    .1
+                    .wait_timeout_while(g, Duration::from_millis(50), |v| v.is_none())
+                    .ok()?;
+                g.take()
+            });
+            if let Some(o) = got {
+                break o;
+            }
+            if pending.is_none() {
+                if let Err(e) = py.check_signals() {
+                    cancel.store(true, Ordering::Relaxed);
+                    pending = Some(e);
+                } else if let Some(cb) = callback {
+                    if let Err(e) = report(cb) {
+                        cancel.store(true, Ordering::Relaxed);
+                        pending = Some(e);
+                    }
+                }
+            }
+        };
+        if let Some(e) = pending {
+            return Err(e);
+        }
+        match outcome {
+            Ok(Ok(out)) => {
+                if let Some(cb) = callback {
+                    report(cb)?;
+                }
+                Ok(out)
+            }
+            Ok(Err(e)) => Err(to_py(e)),
+            Err(p) => Err(PhotonmapError::new_err(format!(
+                "internal error: the renderer panicked: {}",
+                panic_message(p.as_ref())
+            ))),
+        }
+    })
+}
+
+fn image_bytes<'py>(py: Python<'py>, img: &crate::render::film::Image) -> Bound<'py, PyBytes> {
+    let mut v = Vec::with_capacity(img.data.len() * 12);
+    for p in &img.data {
+        for c in p {
+            v.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    PyBytes::new(py, &v)
+}
+
+/// Renders `scene`. Returns `{"width", "height", "terms": {name: bytes}, "combined": bytes,
+/// "stats": json}`, images as float32 RGB rows top to bottom; settings as the CLI flags.
+#[pyfunction]
+#[pyo3(signature = (scene, *, quality="medium", spp=None, seed=0, threads=0, photons=None,
+    caustic_photons=None, gather=None, radius=None, final_gather_rays=None,
+    irradiance_cache=None, cache_tolerance=None, max_specular_depth=None, filter=None,
+    progress=None, cancel=None))]
+#[allow(clippy::too_many_arguments)]
+fn render<'py>(
+    py: Python<'py>,
+    scene: &PyScene,
+    quality: &str,
+    spp: Option<u32>,
+    seed: u64,
+    threads: usize,
+    photons: Option<usize>,
+    caustic_photons: Option<usize>,
+    gather: Option<usize>,
+    radius: Option<f32>,
+    final_gather_rays: Option<u32>,
+    irradiance_cache: Option<bool>,
+    cache_tolerance: Option<f32>,
+    max_specular_depth: Option<u32>,
+    filter: Option<&str>,
+    progress: Option<Bound<'py, PyAny>>,
+    cancel: Option<&CancelToken>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let mut a = RenderArgs::defaults();
+    a.quality = Quality::parse(quality).ok_or_else(|| {
+        PyValueError::new_err(format!(
+            "unknown quality `{quality}` (expected draft, medium, high or final)"
+        ))
+    })?;
+    a.spp = spp;
+    a.seed = seed;
+    a.threads = threads;
+    a.photons = photons;
+    a.caustic_photons = caustic_photons;
+    a.gather = gather;
+    a.radius = radius;
+    a.final_gather_rays = final_gather_rays;
+    a.irradiance_cache = irradiance_cache;
+    a.cache_tolerance = cache_tolerance;
+    if let Some(d) = max_specular_depth {
+        a.max_specular_depth = d;
+    }
+    if let Some(f) = filter {
+        a.filter = crate::render::film::Filter::parse(f).ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "unknown filter `{f}` (expected box, tent or gaussian)"
+            ))
+        })?;
+    }
+    a.check().map_err(to_py)?;
+    let flag = cancel
+        .map(|c| c.flag.clone())
+        .unwrap_or_else(|| Arc::new(AtomicBool::new(false)));
+    let out = render_blocking(py, &scene.desc, a.settings(), None, progress.as_ref(), flag)?;
+    let d = PyDict::new(py);
+    d.set_item("width", out.film.width)?;
+    d.set_item("height", out.film.height)?;
+    let terms = PyDict::new(py);
+    for t in Term::ALL {
+        terms.set_item(t.name(), image_bytes(py, out.film.term(t)))?;
+    }
+    d.set_item("terms", terms)?;
+    d.set_item("combined", image_bytes(py, &out.film.combined()))?;
+    let stats =
+        serde_json::to_string(&out.stats).map_err(|e| PhotonmapError::new_err(e.to_string()))?;
+    d.set_item("stats", stats)?;
+    Ok(d)
+}
+
+/// The `photonmap` command: parses `argv` (without the program name) with the core's clap
+/// definition, reads USD stages through `usd_loader(path, frame, camera, purposes, strict)`
+/// (which returns `(ir_json, import_stats_json)`), renders each frame with the progress bar on
+/// stderr, and writes the EXR, PNG and stats. Returns the exit status; errors of the loader are
+/// raised as they are.
+#[pyfunction]
+#[pyo3(signature = (argv, usd_loader=None))]
+fn run_cli(
+    py: Python<'_>,
+    argv: Vec<String>,
+    usd_loader: Option<Bound<'_, PyAny>>,
+) -> PyResult<i32> {
+    let cli = match Cli::try_parse_from(std::iter::once("photonmap".to_string()).chain(argv)) {
+        Ok(c) => c,
+        Err(e) => {
+            let _ = e.print();
+            return Ok(e.exit_code());
+        }
+    };
+    let Command::Render(args) = cli.command;
+    let fail = |e: Error| {
+        eprintln!("photonmap: error: {e}");
+        Ok(if matches!(e, Error::InvalidSetting { .. }) {
+            2
+        } else {
+            1
+        })
+    };
+    if let Err(e) = args.check() {
+        return fail(e);
+    }
+    let frames = match args.frame_list() {
+        Ok(f) => f,
+        Err(e) => return fail(e),
+    };
+    let mut py_err: Option<PyErr> = None;
+    let mut load = |req: &SceneRequest| -> Result<LoadedScene, Error> {
+        let Some(loader) = &usd_loader else {
+            return Err(Error::io(req.path, "no USD reader available"));
+        };
+        let r = loader
+            .call1((
+                req.path.to_path_buf(),
+                req.frame,
+                req.camera,
+                req.purposes.clone(),
+                req.strict,
+            ))
+            .and_then(|v| v.extract::<(String, Option<String>)>());
+        match r {
+            Ok((ir, stats)) => {
+                let desc = parse_scene(&ir)?;
+                let import_stats = stats.and_then(|s| serde_json::from_str(&s).ok());
+                Ok(LoadedScene { desc, import_stats })
+            }
+            Err(e) => {
+                let msg = e.to_string();
+                py_err = Some(e);
+                Err(Error::io(req.path, msg))
+            }
+        }
+    };
+    for frame in frames {
+        let a = args.for_frame(frame);
+        let loaded = match a.load_scene_with(frame, Some(&mut load)) {
+            Ok(l) => l,
+            Err(e) => match py_err.take() {
+                Some(pe) => return Err(pe),
+                None => return fail(e),
+            },
+        };
+        let (bar, bar_fn) = cli::progress_bar(a.quiet);
+        let cancel = Arc::new(AtomicBool::new(false));
+        let out = render_blocking(py, &loaded.desc, a.settings(), Some(bar_fn), None, cancel);
+        let out = match out {
+            Ok(o) => o,
+            Err(e) => {
+                bar.abandon();
+                if e.is_instance_of::<PyKeyboardInterrupt>(py) {
+                    return Err(e);
+                }
+                eprintln!("photonmap: error: {}", e.value(py));
+                return Ok(1);
+            }
+        };
+        bar.finish_and_clear();
+        if let Err(e) = cli::write_outputs_with(&a, &out, loaded.import_stats.as_ref()) {
+            return fail(e);
+        }
+        if !a.quiet {
+            eprintln!("{}", cli::summary(&a, &out));
+        }
+    }
+    Ok(0)
+}
+
+/// Panics inside the guarded boundary, to test that a panic becomes an exception.
+#[pyfunction]
+fn _panic_for_test(py: Python<'_>) -> PyResult<()> {
+    let r = py.detach(|| catch_unwind(|| panic!("test panic")));
+    match r {
+        Ok(()) => Ok(()),
+        Err(p) => Err(PhotonmapError::new_err(format!(
+            "internal error: the renderer panicked: {}",
+            panic_message(p.as_ref())
+        ))),
+    }
+}
+
+#[pymodule]
+#[pyo3(name = "_core")]
+fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add(
+        "TERMS",
+        Term::ALL.iter().map(|t| t.name()).collect::<Vec<_>>(),
+    )?;
+    m.add(
+        "PASS_NAMES",
+        Term::ALL.iter().map(|t| t.pass_name()).collect::<Vec<_>>(),
+    )?;
+    m.add(
+        "QUALITIES",
+        Quality::ALL.iter().map(|q| q.name()).collect::<Vec<_>>(),
+    )?;
+    m.add("DEFAULT_SCENE_JSON", crate::scene::DEFAULT_SCENE_JSON)?;
+    m.add("PhotonmapError", py.get_type::<PhotonmapError>())?;
+    m.add("SceneError", py.get_type::<SceneError>())?;
+    m.add("RenderCancelled", py.get_type::<RenderCancelled>())?;
+    m.add_class::<PyScene>()?;
+    m.add_class::<CancelToken>()?;
+    m.add_function(wrap_pyfunction!(render, m)?)?;
+    m.add_function(wrap_pyfunction!(run_cli, m)?)?;
+    m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
+    Ok(())
+}

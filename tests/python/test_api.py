@@ -1,0 +1,146 @@
+"""Python API: numpy scenes, terms, progress, cancel, errors."""
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import photonmap
+
+CAM = {"fov": 0.7, "transform": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 4], [0, 0, 0, 1]]}
+
+
+def numpy_scene(n=32, dtype=np.float64, idx_dtype=np.int64):
+    pos = np.array([[-2, -2, 0], [2, -2, 0], [2, 2, 0], [-2, 2, 0]], dtype=dtype)
+    return {
+        "camera": CAM, "film": {"width": n, "height": n},
+        "materials": [{"type": "diffuse", "color": [0.8, 0.8, 0.8]}],
+        "meshes": [{"name": "floor", "positions": pos,
+                    "indices": np.array([[0, 1, 2], [0, 2, 3]], dtype=idx_dtype),
+                    "normals": np.tile(np.array([0, 0, 1], np.float32), (4, 1)),
+                    "uvs": np.array([[0, 0], [1, 0], [1, 1], [0, 1]], np.float16),
+                    "material_indices": np.zeros(2, np.uint8)}],
+        "lights": [{"type": "point", "name": "lamp", "position": [0, 0, 2], "power": np.float64(200)}],
+    }
+
+
+def test_terms_and_pass_names_come_from_the_core():
+    assert photonmap.TERMS == ("direct", "indirect", "caustic", "specular", "volume", "emission")
+    assert photonmap.PASS_NAMES == tuple(t.capitalize() for t in photonmap.TERMS)
+
+
+@pytest.mark.parametrize("dtype,idx", [(np.float64, np.int64), (np.float32, np.uint32), (np.float16, np.int16)])
+def test_numpy_scene_renders_and_terms_sum(dtype, idx):
+    out = photonmap.render(numpy_scene(dtype=dtype, idx_dtype=idx), spp=2, seed=3)
+    c = out["combined"]
+    assert c.shape == (32, 32, 3) and c.dtype == np.float32
+    assert c.mean() > 0.01
+    total = np.zeros_like(c)
+    for t in photonmap.TERMS:
+        assert out[t].shape == c.shape and out[t].dtype == np.float32
+        total += out[t]
+    assert np.array_equal(total, c)
+    assert out["stats"]["spp"] == 2 and out["stats"]["seed"] == 3
+
+
+def test_same_seed_same_image_any_threads():
+    a = photonmap.render(numpy_scene(), spp=2, seed=5, threads=1)["combined"]
+    b = photonmap.render(numpy_scene(), spp=2, seed=5, threads=2)["combined"]
+    assert np.array_equal(a, b)
+
+
+def test_progress_callback_runs_on_calling_thread():
+    calls, threads = [], set()
+
+    def cb(f, phase):
+        calls.append((f, phase))
+        threads.add(threading.get_ident())
+
+    photonmap.render(numpy_scene(64), spp=4, progress=cb)
+    assert calls and calls[-1][0] == pytest.approx(1.0)
+    assert threads == {threading.get_ident()}
+    assert all(isinstance(p, str) for _, p in calls)
+
+
+def test_cancel_token_returns_quickly():
+    r = photonmap.Renderer(numpy_scene(200), spp=2048)
+    t0 = time.time()
+    threading.Timer(0.3, r.cancel).start()
+    with pytest.raises(photonmap.RenderCancelled):
+        r.render()
+    assert time.time() - t0 < 1.3
+
+
+def test_progress_exception_cancels_and_propagates():
+    t0 = []
+
+    def cb(f, p):
+        t0.append(time.time())
+        raise RuntimeError("stop here")
+
+    with pytest.raises(RuntimeError, match="stop here"):
+        photonmap.render(numpy_scene(200), spp=2048, progress=cb)
+    assert time.time() - t0[0] < 1.0
+
+
+def test_keyboard_interrupt_cancels():
+    import _thread
+
+    threading.Timer(0.3, _thread.interrupt_main).start()
+    t0 = time.time()
+    with pytest.raises(KeyboardInterrupt):
+        photonmap.render(numpy_scene(200), spp=2048)
+    assert time.time() - t0 < 1.3
+
+
+def test_invalid_dict_is_a_scene_error_naming_the_field():
+    s = numpy_scene()
+    s["meshes"][0]["indices"] = np.array([[0, 1, 9]])
+    with pytest.raises(photonmap.SceneError, match=r"/meshes/0/indices/0/2.*floor"):
+        photonmap.Scene.from_dict(s)
+    s = numpy_scene()
+    s["lights"][0]["power"] = -1
+    with pytest.raises(ValueError, match=r"/lights/0/power.*lamp"):
+        photonmap.Scene.from_dict(s)
+    s = numpy_scene()
+    s["camera"] = dict(CAM, bogus=1)
+    with pytest.raises(photonmap.SceneError, match=r"/camera/bogus"):
+        photonmap.Scene.from_dict(s)
+    s = numpy_scene()
+    s["lights"][0]["power"] = "bright"
+    with pytest.raises(photonmap.SceneError, match=r"/lights/0 .*lamp.*bright"):
+        photonmap.Scene.from_dict(s)
+    s = numpy_scene()
+    s["meshes"][0]["positions"] = np.zeros((4, 2))
+    with pytest.raises(photonmap.SceneError, match=r"/meshes/0/positions"):
+        photonmap.Scene.from_dict(s)
+    s = numpy_scene()
+    s["meshes"][0]["positions"] = np.array([[np.nan, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]])
+    with pytest.raises(photonmap.SceneError, match=r"/meshes/0/positions/0/0"):
+        photonmap.Scene.from_dict(s)
+    s = numpy_scene()
+    s["meshes"][0]["indices"] = np.array([[0, 1, -2]])
+    with pytest.raises(photonmap.SceneError, match=r"/meshes/0/indices/0/2"):
+        photonmap.Scene.from_dict(s)
+
+
+def test_panic_becomes_an_exception():
+    with pytest.raises(photonmap.PhotonmapError, match="panicked"):
+        photonmap._core._panic_for_test()
+
+
+def test_json_round_trip_and_bad_settings():
+    s = photonmap.Scene.from_dict(numpy_scene())
+    again = photonmap.Scene.from_json(s.to_json())
+    assert again.to_json() == s.to_json()
+    with pytest.raises(ValueError, match="quality"):
+        photonmap.render(s, quality="ultra")
+    with pytest.raises(ValueError, match="--spp"):
+        photonmap.render(s, spp=0)
+
+
+def test_default_scene_and_settings_like_cli():
+    out = photonmap.render(photonmap.default_scene(), quality="draft", spp=1, seed=0,
+                           photons=1000, gather=10, radius=0.1, final_gather_rays=4,
+                           irradiance_cache=False, cache_tolerance=0.3)
+    assert out["combined"].shape == (512, 512, 3)

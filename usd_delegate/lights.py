@@ -1,0 +1,149 @@
+"""UsdLux lights -> IR lights (photonmap units: W for point/spot/area lights, W/m^2 for distant
+lights, radiance for the environment).
+
+Radiance L = intensity * 2^exposure * color (* blackbody(colorTemperature) when
+enableColorTemperature, normalised to luminance 1); with ``normalize`` it is divided by the
+light's world-space area. An IR area light of area A and radiance L has power P = L*pi*A; a
+sphere light of radius r has P = L*4*pi^2*r^2. Distant lights: irradiance = intensity *
+2^exposure. Inputs are read with or without the ``inputs:`` prefix (old files).
+
+| UsdLux | IR |
+|---|---|
+| RectLight (width x height, emits along -Z) | `rect` |
+| DiskLight | `disk` |
+| SphereLight | `sphere` (`point` with treatAsPoint); with ShapingAPI cone: `spot` |
+| CylinderLight | `sphere` of equal area (approximation, warned) |
+| DistantLight (angle, degrees) | `distant` (angle in radians) |
+| DomeLight (color, inputs:texture:file lat-long) | `environment` |
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from pxr import UsdLux
+
+from .textures import resolve_asset
+from .xform import ir_matrix, split_scale
+
+
+def _get(prim, name, default, time):
+    for attr_name in (f"inputs:{name}", name):
+        a = prim.GetAttribute(attr_name)
+        if a and a.HasAuthoredValue():
+            v = a.Get(time)
+            if v is not None:
+                return v
+    return default
+
+
+def radiance(prim, time, diag):
+    """(scalar radiance, rgb tint, normalize) before any area normalisation."""
+    intensity = float(_get(prim, "intensity", 1.0, time))
+    exposure = float(_get(prim, "exposure", 0.0, time))
+    color = np.array(_get(prim, "color", (1.0, 1.0, 1.0), time), dtype=np.float64)
+    if not (math.isfinite(intensity) and math.isfinite(exposure) and np.all(np.isfinite(color))):
+        raise diag.error(prim, "light intensity, exposure or color is not finite")
+    if intensity < 0 or np.any(color < 0):
+        raise diag.error(prim, "negative light intensity or color")
+    if bool(_get(prim, "enableColorTemperature", False, time)):
+        t = float(_get(prim, "colorTemperature", 6500.0, time))
+        rgb = np.array(UsdLux.BlackbodyTemperatureAsRgb(t), dtype=np.float64)
+        color = color * rgb
+        diag.note(prim, f"colour temperature {t:g} K applied (tint {np.round(rgb, 3).tolist()})")
+    normalize = bool(_get(prim, "normalize", False, time))
+    return intensity * 2.0 ** exposure, color, normalize
+
+
+def area_power(L: float, area: float, normalize: bool) -> float:
+    """IR power of an emitter of world-space area A and radiance L (divided by A when
+    normalize is on): P = L pi A, so P = L pi with normalize (for any area, even zero)."""
+    return L * math.pi if normalize else L * math.pi * area
+
+
+def read_light(prim, world: np.ndarray, time, diag, up_axis: str, textures):
+    """(kind, IR light dict or environment dict), or None for unsupported lights (warned)."""
+    t = prim.GetTypeName()
+    name = str(prim.GetPath())
+    rigid, scale = split_scale(world)
+    pos = [float(v) for v in world[:3, 3]]
+    forward = -rigid[:3, 2]
+    if t in ("RectLight", "DiskLight", "SphereLight", "CylinderLight", "DistantLight", "DomeLight", "DomeLight_1"):
+        L, color, normalize = radiance(prim, time, diag)
+    else:
+        diag.warn(prim, f"unsupported light type `{t}`; skipped")
+        return None
+    shaping = prim.HasAPI(UsdLux.ShapingAPI) or prim.GetAttribute("inputs:shaping:cone:angle").HasAuthoredValue()
+    if shaping and t not in ("SphereLight",):
+        diag.warn(prim, "ShapingAPI is supported on sphere lights only; ignored")
+    if t == "RectLight":
+        w = float(_get(prim, "width", 1.0, time)) * scale[0]
+        h = float(_get(prim, "height", 1.0, time)) * scale[1]
+        area = w * h
+        if _get(prim, "texture:file", None, time):
+            diag.warn(prim, "textured rect lights are not supported; the light's colour is used")
+        return "light", {"type": "rect", "name": name, "transform": ir_matrix(rigid), "width": w,
+                         "height": h, "power": area_power(L, area, normalize), "color": color.tolist()}
+    if t == "DiskLight":
+        r = float(_get(prim, "radius", 0.5, time))
+        rr = r * math.sqrt(abs(scale[0] * scale[1]))
+        if abs(scale[0] - scale[1]) > 1e-4 * max(scale[0], scale[1]):
+            diag.warn(prim, "non-uniformly scaled disk light: a disk of equal area is used")
+        area = math.pi * rr * rr
+        return "light", {"type": "disk", "name": name, "transform": ir_matrix(rigid), "radius": rr,
+                         "power": area_power(L, area, normalize), "color": color.tolist()}
+    if t in ("SphereLight", "CylinderLight"):
+        s = float(np.mean(scale))
+        if np.ptp(scale) > 1e-4 * s:
+            diag.warn(prim, "non-uniformly scaled light: the mean scale is used")
+        if t == "SphereLight":
+            r = float(_get(prim, "radius", 0.5, time)) * s
+        else:
+            cr = float(_get(prim, "radius", 0.5, time)) * s
+            ln = float(_get(prim, "length", 1.0, time)) * s
+            r = math.sqrt(cr * ln / 2.0)  # 4 pi R^2 = 2 pi r l
+            diag.warn(prim, f"cylinder light approximated by a sphere light of equal area (radius {r:.4g})")
+        # P = L 4 pi^2 r^2 = L pi A with A = 4 pi r^2: the same rule as area lights.
+        power = area_power(L, 4.0 * math.pi * r * r, normalize)
+        treat_as_point = bool(_get(prim, "treatAsPoint", False, time))
+        radius = 0.0 if treat_as_point or r <= 0 else r
+        if shaping and t == "SphereLight":
+            angle = float(_get(prim, "shaping:cone:angle", 90.0, time))
+            soft = float(_get(prim, "shaping:cone:softness", 0.0, time))
+            if _get(prim, "shaping:focus", 0.0, time) or _get(prim, "shaping:ies:file", None, time):
+                diag.warn(prim, "shaping focus and IES profiles are not supported; ignored")
+            if angle < 90.0:
+                return "light", {"type": "spot", "name": name, "position": pos,
+                                 "direction": forward.tolist(), "power": power,
+                                 "color": color.tolist(), "cone_angle": math.radians(2 * angle),
+                                 "blend": min(1.0, max(0.0, soft)), "radius": radius}
+        if radius == 0.0:
+            if power == 0.0 and L > 0:
+                diag.warn(prim, "point light of zero radius without normalize emits nothing")
+            return "light", {"type": "point", "name": name, "position": pos, "power": power,
+                             "color": color.tolist()}
+        return "light", {"type": "sphere", "name": name, "position": pos, "radius": radius,
+                         "power": power, "color": color.tolist()}
+    if t == "DistantLight":
+        angle = float(_get(prim, "angle", 0.53, time))
+        return "light", {"type": "distant", "name": name, "direction": forward.tolist(),
+                         "irradiance": L, "color": color.tolist(),
+                         "angle": math.radians(max(0.0, angle))}
+    # DomeLight: lat-long in the light's frame; our environment maps +Z up.
+    env = {"color": color.tolist(), "strength": L}
+    up_fix = np.eye(4)
+    if up_axis == "Y":  # environment +Z -> world +Y
+        up_fix = np.array([[1, 0, 0, 0], [0, 0, 1, 0], [0, -1, 0, 0], [0, 0, 0, 1]], dtype=np.float64)
+    env["transform"] = ir_matrix(rigid @ up_fix)
+    tex = _get(prim, "texture:file", None, time)
+    if tex is not None and (getattr(tex, "path", "") or str(tex)):
+        fmt = str(_get(prim, "texture:format", "automatic", time))
+        if fmt not in ("automatic", "latlong"):
+            diag.warn(prim, f"dome texture format `{fmt}` unsupported; read as lat-long")
+        idx = textures.add(prim, resolve_asset(tex, prim), "auto", "repeat")
+        if idx is None:
+            env["color"] = [1.0, 0.0, 1.0]
+        else:
+            env["texture"] = idx
+    return "environment", env

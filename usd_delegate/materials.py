@@ -1,0 +1,279 @@
+"""UsdShade materials -> IR `principled` materials.
+
+Read-only: bindings are computed with ``UsdShade.MaterialBindingAPI(prim).ComputeBoundMaterial()``
+(never ``Apply``). When a material carries both, the MaterialX network (OpenPBR or
+standard_surface, on ``outputs:mtlx:surface``) is preferred over UsdPreviewSurface: Blender's
+exporter writes glass only there.
+
+| UsdPreviewSurface | OpenPBR (`ND_open_pbr_surface_surfaceshader`) | standard_surface | IR `principled` |
+|---|---|---|---|
+| diffuseColor | base_color x base_weight | base_color x base | base_color |
+| metallic | base_metalness | metalness | metallic |
+| roughness | specular_roughness | specular_roughness | roughness |
+| ior | specular_ior | specular_IOR | ior |
+| (1) | specular_weight | specular | specular |
+| 1 - opacity (opacity < 1) | transmission_weight | transmission | transmission |
+| emissiveColor, strength 1 | emission_color, emission_luminance | emission_color, emission | emission_color, emission_strength |
+
+useSpecularWorkflow = 1 is approximated (specularColor ignored) and warned; clearcoat, normal
+maps, displacement, coat, sheen, subsurface and thin-film are warned when used.
+"""
+
+from __future__ import annotations
+
+from pxr import Sdf, UsdShade
+
+from .textures import MAGENTA, resolve_asset
+
+OPENPBR = "ND_open_pbr_surface_surfaceshader"
+STANDARD = "ND_standard_surface_surfaceshader"
+PREVIEW = "UsdPreviewSurface"
+
+_PREVIEW_DEFAULTS = {"diffuseColor": (0.18, 0.18, 0.18), "metallic": 0.0, "roughness": 0.5,
+                     "ior": 1.5, "opacity": 1.0, "emissiveColor": (0, 0, 0),
+                     "useSpecularWorkflow": 0, "clearcoat": 0.0}
+_OPENPBR_DEFAULTS = {"base_color": (0.8, 0.8, 0.8), "base_weight": 1.0, "base_metalness": 0.0,
+                     "specular_roughness": 0.3, "specular_ior": 1.5, "specular_weight": 1.0,
+                     "transmission_weight": 0.0, "emission_color": (1, 1, 1),
+                     "emission_luminance": 0.0, "coat_weight": 0.0,
+                     "subsurface_weight": 0.0, "fuzz_weight": 0.0, "thin_film_weight": 0.0}
+_STANDARD_DEFAULTS = {"base_color": (1, 1, 1), "base": 0.8, "metalness": 0.0,
+                      "specular_roughness": 0.2, "specular_IOR": 1.5, "specular": 1.0,
+                      "transmission": 0.0, "emission_color": (1, 1, 1), "emission": 0.0,
+                      "coat": 0.0, "subsurface": 0.0, "sheen": 0.0, "thin_film_thickness": 0.0}
+_MTLX_IMAGE = ("ND_image_", "ND_tiledimage_", "ND_gltf_image_")
+_MTLX_WRAP = {"periodic": "repeat", "clamp": "clamp", "mirror": "mirror", "constant": "black"}
+
+
+def _shader_id(shader) -> str:
+    sid = shader.GetIdAttr().Get() if shader else None
+    return str(sid or "")
+
+
+def _surface_shader(material, render_context=""):
+    out = material.GetSurfaceOutput(render_context) if render_context else material.GetSurfaceOutput()
+    if not out:
+        return None
+    for src in out.GetConnectedSources()[0]:
+        shader = _follow(src.source, src.sourceName, 0)
+        if shader:
+            return shader
+    return None
+
+
+def _follow(connectable, output_name, depth):
+    """The shader at the end of a connection, through NodeGraph outputs."""
+    prim = connectable.GetPrim()
+    if prim.IsA(UsdShade.Shader):
+        return UsdShade.Shader(prim)
+    if depth > 8:
+        return None
+    out = UsdShade.NodeGraph(prim).GetOutput(output_name)
+    if out:
+        for src in out.GetConnectedSources()[0]:
+            s = _follow(src.source, src.sourceName, depth + 1)
+            if s:
+                return s
+    return None
+
+
+class MaterialTable:
+    """The IR `materials` list; one entry per bound UsdShade.Material (by path)."""
+
+    def __init__(self, diag, textures, time) -> None:
+        self.diag = diag
+        self.textures = textures
+        self.time = time
+        self.materials: list[dict] = []
+        self._index: dict = {}
+
+    def index_of(self, prim) -> int:
+        """IR material index of the material bound to ``prim`` (or its displayColor)."""
+        material, _ = UsdShade.MaterialBindingAPI(prim).ComputeBoundMaterial()
+        if material:
+            key = str(material.GetPath())
+            if key not in self._index:
+                self.materials.append(self.read(material))
+                self._index[key] = len(self.materials) - 1
+            return self._index[key]
+        from pxr import UsdGeom
+
+        color = (0.18, 0.18, 0.18)
+        pv = UsdGeom.PrimvarsAPI(prim).GetPrimvar("displayColor")
+        if pv and pv.HasAuthoredValue():
+            v = pv.Get(self.time)
+            if v is not None and len(v):
+                if len(v) > 1:
+                    self.diag.warn(prim, "non-constant displayColor: the first value is used")
+                color = tuple(float(c) for c in v[0])
+        key = ("displayColor", color)
+        if key not in self._index:
+            self.materials.append({"type": "diffuse", "name": f"displayColor{list(color)}",
+                                   "color": list(color)})
+            self._index[key] = len(self.materials) - 1
+        return self._index[key]
+
+    def read(self, material) -> dict:
+        mtlx = _surface_shader(material, "mtlx")
+        if mtlx is not None and _shader_id(mtlx) in (OPENPBR, STANDARD):
+            return self._mtlx(material, mtlx)
+        preview = _surface_shader(material)
+        if preview is not None and _shader_id(preview) == PREVIEW:
+            return self._preview(material, preview)
+        for s in (mtlx, preview):
+            if s is not None:
+                self.diag.warn(s.GetPrim(), f"unsupported surface shader `{_shader_id(s)}`; grey diffuse used")
+        if mtlx is None and preview is None:
+            self.diag.warn(material.GetPrim(), "material has no surface shader; grey diffuse used")
+        return {"type": "diffuse", "name": str(material.GetPath()), "color": [0.18, 0.18, 0.18]}
+
+    # -- inputs -------------------------------------------------------------------------
+
+    def _value(self, shader, name, defaults):
+        inp = shader.GetInput(name)
+        if inp:
+            v = inp.Get(self.time)
+            if v is not None:
+                return v
+        return defaults.get(name)
+
+    def _source(self, shader, name):
+        """(source shader, output name) when the input is connected."""
+        inp = shader.GetInput(name)
+        if not inp or not inp.HasConnectedSource():
+            return None
+        for src in inp.GetConnectedSources()[0]:
+            s = _follow(src.source, src.sourceName, 0)
+            if s:
+                return s, str(src.sourceName)
+        return None
+
+    def color(self, shader, name, defaults, scale=1.0):
+        src = self._source(shader, name)
+        if src is not None:
+            tex = self._texture(src[0], src[1], shader, name)
+            if tex == "missing":
+                return list(MAGENTA)
+            if tex is not None:
+                return {"texture": tex[0], "scale": [scale] * 3}
+        v = self._value(shader, name, defaults)
+        v = [float(c) for c in v] if v is not None else [0.0, 0.0, 0.0]
+        return [max(0.0, c * scale) for c in v[:3]]
+
+    def float_(self, shader, name, defaults, lo=0.0, hi=1.0):
+        src = self._source(shader, name)
+        if src is not None:
+            tex = self._texture(src[0], src[1], shader, name)
+            if tex not in (None, "missing"):
+                return {"texture": tex[0], "channel": tex[1], "scale": 1.0}
+        v = self._value(shader, name, defaults)
+        return min(hi, max(lo, float(v if v is not None else 0.0)))
+
+    def scalar(self, shader, name, defaults):
+        if self._source(shader, name) is not None:
+            self.diag.warn(shader.GetPrim(), f"`{name}` is connected to a node graph; its default value is used")
+        v = self._value(shader, name, defaults)
+        return float(v if v is not None else 0.0)
+
+    def _texture(self, src, output, shader, name):
+        """(texture index, channel) for a texture node; "missing" for a missing file; None for
+        an unsupported node (warned)."""
+        sid = _shader_id(src)
+        channel = {"r": 0, "g": 1, "b": 2, "a": 3}.get(output, 0)
+        if sid == "UsdUVTexture":
+            path = resolve_asset(src.GetInput("file").Get(self.time) if src.GetInput("file") else None, src.GetPrim())
+            cs = src.GetInput("sourceColorSpace")
+            cs = str(cs.Get(self.time)) if cs and cs.Get(self.time) else "auto"
+            wrap = src.GetInput("wrapS")
+            wrap = str(wrap.Get(self.time)) if wrap and wrap.Get(self.time) else "useMetadata"
+            wrap_t = src.GetInput("wrapT")
+            if wrap_t and wrap_t.Get(self.time) and str(wrap_t.Get(self.time)) != wrap:
+                self.diag.warn(src.GetPrim(), "wrapT differs from wrapS: wrapS is used for both")
+            sc = src.GetInput("scale")
+            bi = src.GetInput("bias")
+            scale = tuple(sc.Get(self.time)) if sc and sc.Get(self.time) is not None else (1, 1, 1, 1)
+            bias = tuple(bi.Get(self.time)) if bi and bi.Get(self.time) is not None else (0, 0, 0, 0)
+            st = src.GetInput("st")
+            if st and st.HasConnectedSource():
+                reader = self._source(src, "st")
+                if reader and not _shader_id(reader[0]).startswith("UsdPrimvarReader"):
+                    self.diag.warn(reader[0].GetPrim(), f"texture coordinates from `{_shader_id(reader[0])}` unsupported; primvars:st used")
+            idx = self.textures.add(src.GetPrim(), path, cs, wrap, scale, bias)
+        elif sid.startswith(_MTLX_IMAGE):
+            f = src.GetInput("file")
+            path = resolve_asset(f.Get(self.time) if f else None, src.GetPrim())
+            cs = (f.GetAttr().GetColorSpace() if f else "") or "auto"
+            cs = {"srgb_texture": "sRGB", "lin_rec709": "raw", "raw": "raw"}.get(cs, cs)
+            ua = src.GetInput("uaddressmode")
+            wrap = _MTLX_WRAP.get(str(ua.Get(self.time)) if ua and ua.Get(self.time) else "periodic", "repeat")
+            idx = self.textures.add(src.GetPrim(), path, cs, wrap)
+            channel = {"outr": 0, "outg": 1, "outb": 2, "outa": 3}.get(output, channel)
+        else:
+            self.diag.warn(src.GetPrim(), f"node `{sid or src.GetPath()}` feeding `{name}` is unsupported; the input's value is used")
+            return None
+        if idx is None:
+            return "missing"
+        return idx, channel
+
+    # -- shaders ------------------------------------------------------------------------
+
+    def _preview(self, material, s) -> dict:
+        d = _PREVIEW_DEFAULTS
+        prim = s.GetPrim()
+        if int(self._value(s, "useSpecularWorkflow", d) or 0):
+            self.diag.warn(prim, "useSpecularWorkflow: approximated by the metallic workflow (specularColor ignored)")
+        for name in ("clearcoat",):
+            if float(self._value(s, name, d) or 0) > 0:
+                self.diag.warn(prim, f"`{name}` is not supported; ignored")
+        for name in ("normal", "displacement", "occlusion"):
+            if self._source(s, name) is not None:
+                self.diag.warn(prim, f"`{name}` input is not supported; ignored")
+        opacity = self.scalar(s, "opacity", d)
+        m = {
+            "type": "principled",
+            "name": str(material.GetPath()),
+            "base_color": self.color(s, "diffuseColor", d),
+            "metallic": self.float_(s, "metallic", d),
+            "roughness": self.float_(s, "roughness", d),
+            "ior": max(1.0, self.scalar(s, "ior", d)),
+            "transmission": min(1.0, max(0.0, 1.0 - opacity)),
+        }
+        em = self.color(s, "emissiveColor", d)
+        if isinstance(em, dict) or any(c > 0 for c in em):
+            m["emission_color"] = em
+            m["emission_strength"] = 1.0
+        return m
+
+    def _mtlx(self, material, s) -> dict:
+        prim = s.GetPrim()
+        if _shader_id(s) == OPENPBR:
+            d = _OPENPBR_DEFAULTS
+            names = ("base_color", "base_weight", "base_metalness", "specular_roughness",
+                     "specular_ior", "specular_weight", "transmission_weight",
+                     "emission_color", "emission_luminance")
+            unsupported = ("coat_weight", "subsurface_weight", "fuzz_weight", "thin_film_weight")
+        else:
+            d = _STANDARD_DEFAULTS
+            names = ("base_color", "base", "metalness", "specular_roughness", "specular_IOR",
+                     "specular", "transmission", "emission_color", "emission")
+            unsupported = ("coat", "subsurface", "sheen", "thin_film_thickness")
+        for name in unsupported:
+            if float(self._value(s, name, d) or 0) > 0:
+                self.diag.warn(prim, f"`{name}` is not supported; ignored")
+        bc, bw, met, rough, ior, spec, trans, ec, el = names
+        weight = self.scalar(s, bw, d)
+        m = {
+            "type": "principled",
+            "name": str(material.GetPath()),
+            "base_color": self.color(s, bc, d, scale=weight),
+            "metallic": self.float_(s, met, d),
+            "roughness": self.float_(s, rough, d),
+            "ior": max(1.0, self.scalar(s, ior, d)),
+            "specular": max(0.0, self.scalar(s, spec, d)),
+            "transmission": min(1.0, max(0.0, self.scalar(s, trans, d))),
+        }
+        strength = max(0.0, self.scalar(s, el, d))
+        if strength > 0:
+            m["emission_color"] = self.color(s, ec, d)
+            m["emission_strength"] = strength
+        return m
