@@ -17,7 +17,10 @@ use photonmap::scene::Scene;
 use std::time::Instant;
 
 fn pool(threads: usize) -> rayon::ThreadPool {
-    rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool")
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("thread pool")
 }
 
 fn block_rel_mse(a: &Image, b: &Image, block: usize) -> f64 {
@@ -45,7 +48,8 @@ fn block_rel_mse(a: &Image, b: &Image, block: usize) -> f64 {
 
 fn main() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let desc = photonmap::io::scene_json::load(root.join("tests/data/scenes/cornell_spheres.json")).expect("scene");
+    let desc = photonmap::io::scene_json::load(root.join("tests/data/scenes/cornell_spheres.json"))
+        .expect("scene");
     let scene = Scene::build(&desc).expect("scene builds");
 
     println!("## Photon pass (default scene, global map, 1,000,000 photons stored)\n");
@@ -53,14 +57,29 @@ fn main() {
     println!("|---|---|---|---|");
     let mut base = 0.0;
     for threads in [1usize, 2] {
-        let params = TraceParams { kind: MapKind::Global, target: 1_000_000, max_emitted: 100_000_000, max_bounces: 64, seed: 1, targets: &[], cancel: None };
+        let params = TraceParams {
+            kind: MapKind::Global,
+            target: 1_000_000,
+            max_emitted: 100_000_000,
+            max_bounces: 64,
+            seed: 1,
+            targets: &[],
+            cancel: None,
+        };
         let t = Instant::now();
-        let map = pool(threads).install(|| build_map(&scene, &params)).expect("map");
+        let map = pool(threads)
+            .install(|| build_map(&scene, &params))
+            .expect("map");
         let rate = map.emitted as f64 / t.elapsed().as_secs_f64();
         if threads == 1 {
             base = rate;
         }
-        println!("| {threads} | {:.0} | {:.0} | {:.2}x |", rate, rate / threads as f64, rate / base);
+        println!(
+            "| {threads} | {:.0} | {:.0} | {:.2}x |",
+            rate,
+            rate / threads as f64,
+            rate / base
+        );
     }
 
     println!("\n## Caustic photons aimed at specular objects (200,000 stored)\n");
@@ -68,30 +87,74 @@ fn main() {
     println!("|---|---|---|---|");
     let targets = specular_targets(&scene);
     let mut rates = vec![];
-    for (name, t) in [("whole light", &[][..]), ("towards specular bounding spheres", &targets[..])] {
-        let params = TraceParams { kind: MapKind::Caustic, target: 200_000, max_emitted: 200_000_000, max_bounces: 64, seed: 2, targets: t, cancel: None };
+    for (name, t) in [
+        ("whole light", &[][..]),
+        ("towards specular bounding spheres", &targets[..]),
+    ] {
+        let params = TraceParams {
+            kind: MapKind::Caustic,
+            target: 200_000,
+            max_emitted: 200_000_000,
+            max_bounces: 64,
+            seed: 2,
+            targets: t,
+            cancel: None,
+        };
         let t0 = Instant::now();
         let map = build_map(&scene, &params).expect("map");
         let per = 1000.0 * map.len() as f64 / map.emitted as f64;
         rates.push(per);
-        println!("| {name} | {} | {per:.1} | {:.2} |", map.emitted, t0.elapsed().as_secs_f64());
+        println!(
+            "| {name} | {} | {per:.1} | {:.2} |",
+            map.emitted,
+            t0.elapsed().as_secs_f64()
+        );
     }
-    println!("\nGain: {:.1}x more caustic photons per emitted path.", rates[1] / rates[0]);
+    println!(
+        "\nGain: {:.1}x more caustic photons per emitted path.",
+        rates[1] / rates[0]
+    );
 
-    println!("\n## Irradiance cache against gathering at every sample (128x128, 16 spp, 10^6 photons)\n");
-    let reference = read_rgb_layers(root.join("tests/data/references/cornell_spheres_full.exr")).expect("reference").0[""].clone();
+    println!(
+        "\n## Irradiance cache against gathering at every sample (128x128, 16 spp, 10^6 photons)\n"
+    );
+    let reference = read_rgb_layers(root.join("tests/data/references/cornell_spheres_full.exr"))
+        .expect("reference")
+        .0[""]
+        .clone();
     println!("| final gathering | seconds (cache + camera pass) | records | 8x8-block relMSE vs Mitsuba |");
     println!("|---|---|---|---|");
     let mut times = vec![];
-    for (name, cache) in [("irradiance cache (a = 0.15)", true), ("every sample", false)] {
-        let photons = PhotonSettings { global: 1_000_000, caustic: 1_000_000, final_gather_rays: 512, irradiance_cache: cache, ..Default::default() };
-        let settings = RenderSettings { spp: 16, seed: 5, filter: Filter::Box, photons, ..Default::default() };
-        let out = Renderer::new(&scene).settings(settings).render().expect("render");
+    for (name, cache) in [
+        ("irradiance cache (a = 0.15)", true),
+        ("every sample", false),
+    ] {
+        let photons = PhotonSettings {
+            global: 1_000_000,
+            caustic: 1_000_000,
+            final_gather_rays: 512,
+            irradiance_cache: cache,
+            ..Default::default()
+        };
+        let settings = RenderSettings {
+            spp: 16,
+            seed: 5,
+            filter: Filter::Box,
+            photons,
+            ..Default::default()
+        };
+        let out = Renderer::new(&scene)
+            .settings(settings)
+            .render()
+            .expect("render");
         let secs = out.stats.seconds["irradiance_cache"] + out.stats.seconds["render"];
         times.push(secs);
         let err = block_rel_mse(&out.film.combined(), &reference, 8);
         let _ = out.film.term(Term::Indirect);
-        println!("| {name} | {secs:.2} | {} | {err:.3e} |", out.stats.irradiance_cache_records);
+        println!(
+            "| {name} | {secs:.2} | {} | {err:.3e} |",
+            out.stats.irradiance_cache_records
+        );
     }
     println!("\nSpeed-up of the cache: {:.1}x.", times[1] / times[0]);
 }

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Runs every test of the project. Needs only the Rust toolchain.
+# Runs every test of the project: the Rust tests, then the Python package (built with pip)
+# and its tests. Needs the Rust toolchain, Python 3.11 and pip.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo test --no-fail-fast

@@ -1,7 +1,6 @@
 //! The photon terms: white furnace for `indirect`, energy of the stored photons, and the full
 //! global illumination against Mitsuba 3 references, converging as photons grow.
 
-#[path = "common_render.rs"]
 mod common;
 use common::*;
 use photonmap::geometry::shapes;
@@ -19,16 +18,33 @@ fn mesh_desc(m: &photonmap::geometry::MeshGeom, name: &str, material: u32) -> Me
         name: name.into(),
         positions: m.positions.iter().map(|p| p.to_array()).collect(),
         indices: m.indices.clone(),
-        normals: m.normals.as_ref().map(|n| n.iter().map(|v| v.to_array()).collect()),
+        normals: m
+            .normals
+            .as_ref()
+            .map(|n| n.iter().map(|v| v.to_array()).collect()),
         material,
         ..Default::default()
     }
 }
 
-fn render_with(desc: &SceneDesc, spp: u32, photons: PhotonSettings, seed: u64) -> photonmap::render::RenderOutput {
+fn render_with(
+    desc: &SceneDesc,
+    spp: u32,
+    photons: PhotonSettings,
+    seed: u64,
+) -> photonmap::render::RenderOutput {
     let scene = Scene::build(desc).expect("scene builds");
-    let settings = RenderSettings { spp, seed, filter: Filter::Box, photons, ..Default::default() };
-    Renderer::new(&scene).settings(settings).render().expect("render")
+    let settings = RenderSettings {
+        spp,
+        seed,
+        filter: Filter::Box,
+        photons,
+        ..Default::default()
+    };
+    Renderer::new(&scene)
+        .settings(settings)
+        .render()
+        .expect("render")
 }
 
 /// Inside a diffuse sphere of albedo Kd lit by a point light at its centre, every bounce
@@ -38,20 +54,44 @@ fn white_furnace_indirect_matches_kd_over_one_minus_kd() {
     for kd in [0.5f32, 0.9] {
         let sphere = shapes::sphere(glam::Vec3::ZERO, 1.0, 96, 192);
         let desc = SceneDesc {
-            camera: CameraDesc { fov: Some(1.2), ..Default::default() },
-            film: FilmDesc { width: 24, height: 24 },
-            materials: vec![MaterialDesc::Diffuse { name: "white".into(), color: ColorInput::Value([kd; 3]) }],
+            camera: CameraDesc {
+                fov: Some(1.2),
+                ..Default::default()
+            },
+            film: FilmDesc {
+                width: 24,
+                height: 24,
+            },
+            materials: vec![MaterialDesc::Diffuse {
+                name: "white".into(),
+                color: ColorInput::Value([kd; 3]),
+            }],
             meshes: vec![mesh_desc(&sphere, "sphere", 0)],
-            lights: vec![LightDesc::Point { name: "centre".into(), position: [0.0; 3], power: 100.0, color: [1.0; 3], radius: 0.0 }],
+            lights: vec![LightDesc::Point {
+                name: "centre".into(),
+                position: [0.0; 3],
+                power: 100.0,
+                color: [1.0; 3],
+                radius: 0.0,
+            }],
             ..Default::default()
         };
-        let photons = PhotonSettings { global: 100_000, max_bounces: 100_000, final_gather_rays: 512, ..Default::default() };
+        let photons = PhotonSettings {
+            global: 100_000,
+            max_bounces: 100_000,
+            final_gather_rays: 512,
+            ..Default::default()
+        };
         let out = render_with(&desc, 4, photons, 3);
         let ratio = out.film.term(Term::Indirect).mean() / out.film.term(Term::Direct).mean();
         let expected = kd / (1.0 - kd);
         eprintln!("Kd {kd}: indirect/direct {ratio:?}, expected {expected}");
         for c in 0..3 {
-            assert!((ratio[c] / expected - 1.0).abs() < 0.025, "Kd {kd}: ratio {} vs {expected}", ratio[c]);
+            assert!(
+                (ratio[c] / expected - 1.0).abs() < 0.025,
+                "Kd {kd}: ratio {} vs {expected}",
+                ratio[c]
+            );
         }
     }
 }
@@ -61,32 +101,86 @@ fn white_furnace_indirect_matches_kd_over_one_minus_kd() {
 #[test]
 fn first_hit_power_equals_light_power() {
     let b = shapes::cuboid(glam::Vec3::splat(-1.0), glam::Vec3::splat(1.0));
-    let rect = [[1.0, 0.0, 0.0, 0.1], [0.0, 0.0, 1.0, 0.8], [0.0, -1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]];
+    let rect = [
+        [1.0, 0.0, 0.0, 0.1],
+        [0.0, 0.0, 1.0, 0.8],
+        [0.0, -1.0, 0.0, 0.0],
+        [0.0, 0.0, 0.0, 1.0],
+    ];
     let desc = SceneDesc {
-        camera: CameraDesc { fov: Some(1.0), ..Default::default() },
-        film: FilmDesc { width: 8, height: 8 },
-        materials: vec![MaterialDesc::Diffuse { name: "white".into(), color: ColorInput::Value([0.8; 3]) }],
+        camera: CameraDesc {
+            fov: Some(1.0),
+            ..Default::default()
+        },
+        film: FilmDesc {
+            width: 8,
+            height: 8,
+        },
+        materials: vec![MaterialDesc::Diffuse {
+            name: "white".into(),
+            color: ColorInput::Value([0.8; 3]),
+        }],
         meshes: vec![mesh_desc(&b, "box", 0)],
         lights: vec![
-            LightDesc::Rect { name: "panel".into(), transform: rect, width: 0.4, height: 0.3, power: 30.0, color: [1.0, 0.5, 0.25], two_sided: false },
-            LightDesc::Point { name: "bulb".into(), position: [0.3, -0.2, 0.1], power: 10.0, color: [1.0; 3], radius: 0.0 },
-            LightDesc::Sphere { name: "ball".into(), position: [-0.5, 0.0, 0.2], power: 5.0, color: [0.2, 1.0, 0.4], radius: 0.1 },
+            LightDesc::Rect {
+                name: "panel".into(),
+                transform: rect,
+                width: 0.4,
+                height: 0.3,
+                power: 30.0,
+                color: [1.0, 0.5, 0.25],
+                two_sided: false,
+            },
+            LightDesc::Point {
+                name: "bulb".into(),
+                position: [0.3, -0.2, 0.1],
+                power: 10.0,
+                color: [1.0; 3],
+                radius: 0.0,
+            },
+            LightDesc::Sphere {
+                name: "ball".into(),
+                position: [-0.5, 0.0, 0.2],
+                power: 5.0,
+                color: [0.2, 1.0, 0.4],
+                radius: 0.1,
+            },
         ],
         ..Default::default()
     };
     let scene = Scene::build(&desc).unwrap();
-    let params = TraceParams { kind: MapKind::Global, target: 200_000, max_emitted: 10_000_000, max_bounces: 64, seed: 1, targets: &[], cancel: None };
+    let params = TraceParams {
+        kind: MapKind::Global,
+        target: 200_000,
+        max_emitted: 10_000_000,
+        max_bounces: 64,
+        seed: 1,
+        targets: &[],
+        cancel: None,
+    };
     let map = build_map(&scene, &params).unwrap();
     let stored = map.first_hit_power();
     let expected = glam::Vec3::new(30.0 + 10.0 + 1.0, 15.0 + 10.0 + 5.0, 7.5 + 10.0 + 2.0);
-    eprintln!("first-hit power {stored:?}, lights {expected:?}, {} photons from {} paths", map.len(), map.emitted);
+    eprintln!(
+        "first-hit power {stored:?}, lights {expected:?}, {} photons from {} paths",
+        map.len(),
+        map.emitted
+    );
     for c in 0..3 {
-        assert!((stored[c] / expected[c] - 1.0).abs() < 0.01, "channel {c}: {} vs {}", stored[c], expected[c]);
+        assert!(
+            (stored[c] / expected[c] - 1.0).abs() < 0.01,
+            "channel {c}: {} vs {}",
+            stored[c],
+            expected[c]
+        );
     }
 }
 
 fn reference_mean(name: &str) -> Image {
-    read_rgb_layers(data(&format!("references/{name}.exr"))).expect("reference").0[""].clone()
+    read_rgb_layers(data(&format!("references/{name}.exr")))
+        .expect("reference")
+        .0[""]
+        .clone()
 }
 
 /// relMSE of block means (8x8 pixels), which keeps the reference's own noise (fireflies of
@@ -139,14 +233,28 @@ fn full_gi_errors(scene: &str, reference: &str, counts: &[usize]) -> Vec<(f64, f
 /// at 10^6 photons leave a 2x margin over those; a 2% brightness error alone would add 4e-4.
 #[test]
 fn diffuse_cornell_full_gi_converges_to_mitsuba() {
-    let errs = full_gi_errors("cornell_diffuse", "cornell_diffuse_full", &[10_000, 100_000, 1_000_000]);
-    assert!(errs[1].1 < errs[0].1 && errs[2].1 < errs[1].1, "block error must fall as photons grow: {errs:?}");
+    let errs = full_gi_errors(
+        "cornell_diffuse",
+        "cornell_diffuse_full",
+        &[10_000, 100_000, 1_000_000],
+    );
+    assert!(
+        errs[1].1 < errs[0].1 && errs[2].1 < errs[1].1,
+        "block error must fall as photons grow: {errs:?}"
+    );
     assert!(errs[2].1 < 1.2e-4, "{errs:?}");
 }
 
 #[test]
 fn spheres_cornell_full_gi_converges_to_mitsuba() {
-    let errs = full_gi_errors("cornell_spheres", "cornell_spheres_full", &[10_000, 100_000, 1_000_000]);
-    assert!(errs[1].1 < errs[0].1 && errs[2].1 < errs[1].1, "block error must fall as photons grow: {errs:?}");
+    let errs = full_gi_errors(
+        "cornell_spheres",
+        "cornell_spheres_full",
+        &[10_000, 100_000, 1_000_000],
+    );
+    assert!(
+        errs[1].1 < errs[0].1 && errs[2].1 < errs[1].1,
+        "block error must fall as photons grow: {errs:?}"
+    );
     assert!(errs[2].1 < 2e-4, "{errs:?}");
 }

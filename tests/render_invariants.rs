@@ -1,9 +1,8 @@
 //! Invariants of a render: determinism across thread counts, the sum rule, zero terms.
 
-#[path = "common_render.rs"]
 mod common;
 use common::*;
-use photonmap::render::aov::Term;
+use photonmap::render::aov::{Term, TermMask};
 
 #[test]
 fn bit_identical_for_one_and_two_threads() {
@@ -53,22 +52,29 @@ fn combined_is_the_exact_sum_and_terms_are_finite() {
         assert_eq!(combined.data[i], s);
     }
     // The default scene shows emission (the light), direct light, and specular (the spheres).
-    for t in [Term::Direct, Term::Specular, Term::Emission] {
+    // The default scene shows every surface term: the light, direct light, interreflection,
+    // the caustic under the glass sphere, and the spheres themselves.
+    for t in [
+        Term::Direct,
+        Term::Indirect,
+        Term::Caustic,
+        Term::Specular,
+        Term::Emission,
+    ] {
         assert!(
             out.film.term(t).mean().max_element() > 0.0,
             "{} is empty",
             t.name()
         );
-    }
-    // No photon pass yet: indirect and caustic are zeros, and the stats say why.
-    for t in [Term::Indirect, Term::Caustic, Term::Volume] {
-        assert_eq!(out.film.term(t).mean().max_element(), 0.0);
         assert!(
-            out.stats.skipped.iter().any(|s| s.term == t.name()),
-            "{} not reported as skipped",
+            !out.stats.skipped.iter().any(|s| s.term == t.name()),
+            "{} reported as skipped",
             t.name()
         );
     }
+    // No media: the volume term is zeros, and the stats say why.
+    assert_eq!(out.film.term(Term::Volume).mean().max_element(), 0.0);
+    assert!(out.stats.skipped.iter().any(|s| s.term == "volume"));
     assert_eq!(out.stats.non_finite_samples, 0);
 }
 
@@ -80,19 +86,39 @@ fn maps_are_built_only_when_needed() {
     desc.film.width = 16;
     desc.film.height = 16;
     let out = render(&desc, 1, 0, 0);
-    let caustic = out.stats.photon_maps.iter().find(|m| m.map == "caustic").unwrap();
-    assert!(!caustic.built && caustic.skipped_because.as_deref().unwrap().contains("no specular"), "{caustic:?}");
-    assert!(out.stats.photon_maps.iter().any(|m| m.map == "global" && m.built && m.stored > 0));
+    let caustic = out
+        .stats
+        .photon_maps
+        .iter()
+        .find(|m| m.map == "caustic")
+        .unwrap();
+    assert!(
+        !caustic.built
+            && caustic
+                .skipped_because
+                .as_deref()
+                .unwrap()
+                .contains("no specular"),
+        "{caustic:?}"
+    );
+    assert!(out
+        .stats
+        .photon_maps
+        .iter()
+        .any(|m| m.map == "global" && m.built && m.stored > 0));
 
-    let scene = photonmap::scene::Scene::build(&desc).unwrap();
-    let settings = photonmap::render::RenderSettings {
-        spp: 1,
-        terms: photonmap::render::aov::TermMask::ALL.without(Term::Indirect),
-        ..Default::default()
-    };
-    let out = photonmap::render::Renderer::new(&scene).settings(settings).render().unwrap();
-    let global = out.stats.photon_maps.iter().find(|m| m.map == "global").unwrap();
-    assert!(!global.built && global.skipped_because.is_some(), "{global:?}");
+    let only_direct = TermMask::ALL.without(Term::Indirect);
+    let out = render_terms(&desc, 1, 0, 0, only_direct);
+    let global = out
+        .stats
+        .photon_maps
+        .iter()
+        .find(|m| m.map == "global")
+        .unwrap();
+    assert!(
+        !global.built && global.skipped_because.is_some(),
+        "{global:?}"
+    );
     assert!(out.stats.skipped.iter().any(|s| s.term == "indirect"));
 }
 

@@ -78,7 +78,13 @@ impl PhotonMap {
         // estimator), so the farthest photon is left out. With fewer found, the search radius
         // itself bounds the disk and every photon counts.
         let (r2, skip) = if found.len() >= k && k > 1 {
-            let (i, far) = found.iter().enumerate().fold((0, 0.0f32), |acc, (i, nb)| if nb.dist2 > acc.1 { (i, nb.dist2) } else { acc });
+            let (i, far) = found.iter().enumerate().fold((0, 0.0f32), |acc, (i, nb)| {
+                if nb.dist2 > acc.1 {
+                    (i, nb.dist2)
+                } else {
+                    acc
+                }
+            });
             (far, Some(i))
         } else {
             (max_r2, None)

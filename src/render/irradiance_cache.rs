@@ -31,7 +31,11 @@ impl Record {
         // over which its translational gradient would change its irradiance by 100%.
         let lum = crate::math::luminance(g.irradiance);
         let grad = g.grad_t[0] * 0.2126 + g.grad_t[1] * 0.7152 + g.grad_t[2] * 0.0722;
-        let limit = if grad.length() > 0.0 { lum / grad.length() } else { f32::INFINITY };
+        let limit = if grad.length() > 0.0 {
+            lum / grad.length()
+        } else {
+            f32::INFINITY
+        };
         let r = g.harmonic_distance.min(limit).clamp(r_min, r_max);
         // Ward & Heckbert: limit the translational gradient where R was clamped upwards.
         let scale = if g.harmonic_distance < r {

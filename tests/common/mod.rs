@@ -1,8 +1,8 @@
-//! Helpers shared by the integration tests (included with `#[path]`).
+//! Helpers shared by the integration tests (`mod common;`).
 #![allow(dead_code)]
 
 use photonmap::io::scene_json;
-use photonmap::render::aov::Term;
+use photonmap::render::aov::{Term, TermMask};
 use photonmap::render::film::{Filter, Image};
 use photonmap::render::{RenderOutput, RenderSettings, Renderer};
 use photonmap::scene::{Scene, SceneDesc};
@@ -19,11 +19,23 @@ pub fn load_scene(name: &str) -> SceneDesc {
 }
 
 pub fn render(desc: &SceneDesc, spp: u32, seed: u64, threads: usize) -> RenderOutput {
+    render_terms(desc, spp, seed, threads, TermMask::ALL)
+}
+
+/// Renders only the given terms (the others' estimators do not run at all).
+pub fn render_terms(
+    desc: &SceneDesc,
+    spp: u32,
+    seed: u64,
+    threads: usize,
+    terms: TermMask,
+) -> RenderOutput {
     let scene = Scene::build(desc).expect("scene builds");
     let settings = RenderSettings {
         spp,
         seed,
         threads,
+        terms,
         filter: Filter::Box,
         ..Default::default()
     };
