@@ -76,6 +76,8 @@ pub fn dielectric_lobe(eta: f32, roughness: f32, tint: Spectrum) -> Lobe {
 /// (GGX alpha = roughness^2, clamped to 1e-4; roughness 0 is the smooth delta lobe).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Material {
+    /// Invisible boundary of a participating medium: no lobes, rays continue unchanged.
+    Null { name: String },
     /// Lambertian reflector.
     ///
     /// | parameter | meaning |
@@ -216,8 +218,14 @@ impl Material {
                     0.0
                 },
             },
+            MaterialDesc::Null { name } => Material::Null { name: name.clone() },
             MaterialDesc::Principled(p) => Material::Principled(Box::new(Principled::from_desc(p))),
         }
+    }
+
+    /// An invisible surface (a medium boundary): rays and photons pass straight through.
+    pub fn is_null(&self) -> bool {
+        matches!(self, Material::Null { .. })
     }
 
     pub fn name(&self) -> &str {
@@ -227,7 +235,8 @@ impl Material {
             | Material::Conductor { name, .. }
             | Material::Dielectric { name, .. }
             | Material::Glossy { name, .. }
-            | Material::Emission { name, .. } => name,
+            | Material::Emission { name, .. }
+            | Material::Null { name } => name,
             Material::Principled(p) => &p.name,
         }
     }
@@ -236,6 +245,7 @@ impl Material {
     pub fn bsdf(&self, frame: Frame, uv: Vec2, textures: &[Texture]) -> Bsdf {
         let b = Bsdf::new(frame);
         match self {
+            Material::Null { .. } => b,
             Material::Diffuse { color, .. } => b.with(
                 1.0,
                 Lobe::Lambert(Lambert {
@@ -298,7 +308,7 @@ impl Material {
     /// Whether a delta or transmissive lobe is possible (the scene then needs a caustic map).
     pub fn has_specular(&self) -> bool {
         match self {
-            Material::Diffuse { .. } | Material::Emission { .. } => false,
+            Material::Diffuse { .. } | Material::Emission { .. } | Material::Null { .. } => false,
             Material::Mirror { .. } | Material::Dielectric { .. } => true,
             Material::Conductor { roughness, .. } | Material::Glossy { roughness, .. } => {
                 *roughness <= 0.0

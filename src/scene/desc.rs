@@ -66,6 +66,35 @@ pub struct SceneDesc {
     /// Light arriving from infinity; absent means black.
     #[serde(default)]
     pub environment: Option<EnvironmentDesc>,
+    /// Participating media, referenced by meshes (`interior_medium`) and by `world_medium`.
+    #[serde(default)]
+    pub media: Vec<MediumDesc>,
+    /// Medium filling all space outside mesh media (world fog); the camera starts in it.
+    #[serde(default)]
+    pub world_medium: Option<u32>,
+}
+
+/// A homogeneous participating medium (coefficients per unit length of scene units).
+///
+/// | field | meaning |
+/// |---|---|
+/// | `sigma_a` | absorption coefficient, RGB |
+/// | `sigma_s` | scattering coefficient, RGB |
+/// | `g` | Henyey-Greenstein anisotropy in (-1, 1): < 0 back-scattering, > 0 forward |
+///
+/// Media fill the inside of closed meshes (`MeshDesc::interior_medium`) or the whole world
+/// (`SceneDesc::world_medium`). Along a ray the medium is that of the most recently entered
+/// mesh not yet exited, else the world medium: nested meshes work as expected, and where
+/// two mesh media overlap, the one entered last wins.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct MediumDesc {
+    #[serde(default)]
+    pub name: String,
+    pub sigma_a: Rgb,
+    pub sigma_s: Rgb,
+    #[serde(default)]
+    pub g: f32,
 }
 
 /// Output image size in pixels.
@@ -195,6 +224,10 @@ pub struct MeshDesc {
     pub material_indices: Option<Vec<u32>>,
     #[serde(default = "identity")]
     pub transform: Matrix,
+    /// Medium inside this closed mesh (index into `media`); the mesh's normals (from the
+    /// triangle winding) must point outwards.
+    #[serde(default)]
+    pub interior_medium: Option<u32>,
 }
 
 impl Default for MeshDesc {
@@ -208,6 +241,7 @@ impl Default for MeshDesc {
             material: 0,
             material_indices: None,
             transform: IDENTITY,
+            interior_medium: None,
         }
     }
 }
@@ -287,6 +321,7 @@ pub enum FloatInput {
 /// | `dielectric` | `ior`, `roughness` (0 = smooth), `color` (transmission tint) |
 /// | `glossy` | `color` (normal-incidence reflectance, Schlick), `roughness` |
 /// | `emission` | `color`, `strength`: radiance = color x strength; reflects nothing |
+/// | `null` | an invisible surface: the boundary of a medium (Blender's volume-only material) |
 /// | `principled` | Blender Principled BSDF / OpenPBR: `base_color`, `metallic`, `roughness`, `transmission`, `ior`, `specular`, `emission_color`, `emission_strength` |
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
@@ -336,6 +371,10 @@ pub enum MaterialDesc {
         color: ColorInput,
         #[serde(default = "one")]
         strength: f32,
+    },
+    Null {
+        #[serde(default)]
+        name: String,
     },
     Principled(Box<PrincipledDesc>),
 }
@@ -401,7 +440,8 @@ impl MaterialDesc {
             | MaterialDesc::Conductor { name, .. }
             | MaterialDesc::Dielectric { name, .. }
             | MaterialDesc::Glossy { name, .. }
-            | MaterialDesc::Emission { name, .. } => name,
+            | MaterialDesc::Emission { name, .. }
+            | MaterialDesc::Null { name } => name,
             MaterialDesc::Principled(p) => &p.name,
         }
     }

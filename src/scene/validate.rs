@@ -142,6 +142,25 @@ pub fn validate(scene: &SceneDesc) -> Result<()> {
     for (i, m) in scene.materials.iter().enumerate() {
         validate_material(i, m, scene)?;
     }
+    for (i, m) in scene.media.iter().enumerate() {
+        let c = Ctx::new(format!("/media/{i}"), &m.name);
+        c.rgb("sigma_a", &m.sigma_a)?;
+        c.rgb("sigma_s", &m.sigma_s)?;
+        for (k, v) in m.sigma_a.iter().chain(m.sigma_s.iter()).enumerate() {
+            if *v > 1e8 {
+                let field = if k < 3 { format!("sigma_a/{k}") } else { format!("sigma_s/{}", k - 3) };
+                return Err(c.err(&field, format!("must be at most 1e8, got {v}")));
+            }
+        }
+        if !(m.g.is_finite() && m.g > -1.0 && m.g < 1.0) {
+            return Err(c.err("g", format!("must be in (-1, 1), got {}", m.g)));
+        }
+    }
+    if let Some(w) = scene.world_medium {
+        if w as usize >= scene.media.len() {
+            return Err(Error::scene("/world_medium", "", format!("medium index {w} out of range ({} media)", scene.media.len())));
+        }
+    }
     for (i, m) in scene.meshes.iter().enumerate() {
         validate_mesh(i, m, scene)?;
     }
@@ -273,6 +292,7 @@ fn validate_material(i: usize, m: &MaterialDesc, scene: &SceneDesc) -> Result<()
             c.color_input("color", color, scene)?;
             c.non_negative("strength", *strength)
         }
+        MaterialDesc::Null { .. } => Ok(()),
         MaterialDesc::Principled(p) => {
             c.color_input("base_color", &p.base_color, scene)?;
             c.float_input("metallic", &p.metallic, 0.0, 1.0, scene)?;
@@ -366,6 +386,11 @@ fn validate_mesh(i: usize, m: &MeshDesc, scene: &SceneDesc) -> Result<()> {
             }
         }
         None => check_mat("material", m.material)?,
+    }
+    if let Some(mi) = m.interior_medium {
+        if mi as usize >= scene.media.len() {
+            return Err(c.err("interior_medium", format!("medium index {mi} out of range ({} media)", scene.media.len())));
+        }
     }
     c.matrix("transform", &m.transform)
 }
