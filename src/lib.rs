@@ -13,6 +13,7 @@ pub mod io;
 pub mod lights;
 pub mod materials;
 pub mod math;
+pub mod media;
 pub mod photon;
 pub mod render;
 pub mod sampling;
