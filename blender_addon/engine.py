@@ -77,9 +77,20 @@ class PhotonMapRenderEngine(bpy.types.RenderEngine):
         self.viewport = None
 
     def __del__(self):
-        vp = getattr(self, "viewport", None)
+        try:
+            vp = self.viewport
+        except (AttributeError, ReferenceError):  # freed by Blender already
+            return
         if vp is not None:
             vp.stop()
+
+    def _report(self, kind: str, message: str) -> None:
+        """Every message goes through here (one place to log or to test)."""
+        self.report({kind}, f"PhotonMap: {message}")
+
+    def _test_break(self) -> bool:
+        """Esc pressed (or the render otherwise stopped)."""
+        return self.test_break()
 
     # Passes -----------------------------------------------------------------------------
     def update_render_passes(self, scene=None, renderlayer=None):
@@ -92,10 +103,10 @@ class PhotonMapRenderEngine(bpy.types.RenderEngine):
         try:
             exported = export_scene(depsgraph)
         except Exception as e:
-            self.report({"ERROR"}, f"PhotonMap: export failed: {e}")
+            self._report("ERROR", f"export failed: {e}")
             return
         for w in exported.warnings:
-            self.report({"WARNING"}, f"PhotonMap: {w}")
+            self._report("WARNING", w)
         settings = render_settings(scene.photonmap)
         if self.is_preview:
             settings.update(quality="draft", spp=min(settings["spp"], 8),
@@ -105,12 +116,12 @@ class PhotonMapRenderEngine(bpy.types.RenderEngine):
         try:
             job = RenderJob(exported.ir, settings)
         except photonmap.PhotonmapError as e:
-            self.report({"ERROR"}, f"PhotonMap: {e}")
+            self._report("ERROR", str(e))
             return
         started = time.monotonic()
 
         def poll(j: RenderJob) -> None:
-            if self.test_break():
+            if self._test_break():
                 j.cancel()
             self.update_progress(min(max(j.fraction, 0.0), 1.0))
             self.update_stats("", f"PhotonMap | {j.phase} {100 * j.fraction:.0f}% | "
@@ -121,7 +132,7 @@ class PhotonMapRenderEngine(bpy.types.RenderEngine):
                 job.error is not None and job.token.cancelled()):
             return
         if job.error is not None:
-            self.report({"ERROR"}, f"PhotonMap: {job.error}")
+            self._report("ERROR", str(job.error))
             return
         passes.write_result(self, job.out, exported.window, depsgraph.view_layer.name)
         self.update_progress(1.0)

@@ -30,9 +30,12 @@ def _rows_bottom_up(img: np.ndarray, channels: int) -> np.ndarray:
 
 
 def write_result(engine, out: dict, window, layer_name: str = "") -> None:
-    """Writes the render ``out`` (photonmap.render's dict) into Blender's render result at the
-    rendered window."""
-    result = engine.begin_result(window.x0, window.y0, window.w, window.h, layer=layer_name)
+    """Writes the render ``out`` (photonmap.render's dict) into Blender's render result. With a
+    render border, Blender's result is the border region alone, so ``out`` (rendered for
+    exactly that window) starts at its corner."""
+    result = engine.begin_result(0, 0, window.w, window.h, layer=layer_name)
+    if result is None:
+        raise RuntimeError(f"Blender gave no render result of {window.w}x{window.h}")
     try:
         layer = result.layers[0]
         for p in layer.passes:
