@@ -333,3 +333,44 @@ def test_world_and_textures_export(photonmap_scene, addon):
     assert data[1, 0] == pytest.approx([1, 0, 0], abs=1e-6)
     assert ir["meshes"][0]["uvs"].shape == (4, 2)
     photonmap.Scene.from_dict(ir)
+
+
+def test_viewport_refines_progressively(photonmap_scene, addon):
+    """The viewport's refinement loop (drawing needs `gpu`, absent headless)."""
+    from importlib import import_module
+
+    viewport = import_module(addon.__name__ + ".viewport")
+    camera_mod = import_module(addon.__name__ + ".export.camera")
+    sc = photonmap_scene(scenes.cornell_area)
+    sc.photonmap.quality = "draft"
+
+    class Engine:
+        redraws = 0
+
+        def tag_redraw(self):
+            Engine.redraws += 1
+
+    vp = viewport.ViewportRender(Engine())
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    vp.update_scene(None, depsgraph)
+    win = camera_mod.Window(48, 32, 0, 0, 48, 32)
+    cam = camera_mod.camera_ir(sc.camera.matrix_world, 35.0, 72.0, 72.0, "AUTO", (0, 0), 0.01,
+                               100.0, win)
+    vp._size = (48, 32)
+    sizes = []
+    vp.generation += 1
+    gen = vp.generation
+    orig = viewport.RenderJob
+
+    class Spy(orig):
+        def _run(self):
+            super()._run()
+            sizes.append(self.out["combined"].shape[:2])
+
+    viewport.RenderJob = Spy
+    try:
+        vp._refine(gen, dict(vp.ir, camera=cam), 48, 32, dict(vp.settings))
+    finally:
+        viewport.RenderJob = orig
+    assert sizes == [(8, 12), (32, 48), (32, 48)]
+    assert Engine.redraws == 3 and vp.image.shape == (32, 48, 3) and vp.image.mean() > 0.01
