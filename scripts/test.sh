@@ -13,3 +13,20 @@ VENV="${PHOTONMAP_TEST_VENV:-$PWD/.venv-test}"
 "$VENV/bin/python" -m pip install --quiet --upgrade pip
 CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}" "$VENV/bin/python" -m pip install --quiet . pytest
 (cd tests/python && "$VENV/bin/python" -m pytest -q -p no:cacheprovider .)
+
+# Blender add-on: the `bpy` module (Blender 5.0.1 as a CPython 3.11 wheel, ~375 MB, pins
+# numpy < 2) in its own venv; builds the extension zip (our abi3 wheel inside), installs it the
+# way users do, renders headless and compares with the committed Cycles references.
+# PHOTONMAP_SKIP_BLENDER=1 skips this step.
+if [ "${PHOTONMAP_SKIP_BLENDER:-0}" != 1 ]; then
+    BPY_PY="${BPY_PYTHON:-python3.11}"
+    BPY_VENV="${PHOTONMAP_BPY_VENV:-$PWD/.venv-bpy}"
+    [ -x "$BPY_VENV/bin/python" ] || "$BPY_PY" -m venv "$BPY_VENV"
+    "$BPY_VENV/bin/python" -m pip install --quiet --upgrade pip
+    "$BPY_VENV/bin/python" -m pip install --quiet bpy==5.0.1 openimageio pytest
+    EXT_DIR="$(mktemp -d)"
+    CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}" \
+        python3 scripts/build_blender_extension.py --out "$EXT_DIR" > "$EXT_DIR/zip.txt"
+    (cd tests/blender && PHOTONMAP_BLENDER_ZIP="$(tail -n 1 "$EXT_DIR/zip.txt")" \
+        "$BPY_VENV/bin/python" -m pytest -q -p no:cacheprovider -W ignore::DeprecationWarning .)
+fi

@@ -1,0 +1,69 @@
+"""Images -> IR textures (float RGB(A), rows top to bottom, linear Rec.709)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+# Colour spaces whose pixel values are already linear (or are data, used as they are).
+_LINEAR = {"linear", "linear rec.709", "non-color", "raw", "linear rec.2020", "linear cie-xyz e",
+           "linear cie-xyz d65", "acescg", "aces2065-1", "linear fileinfo", "xyz"}
+
+
+def srgb_to_linear(c: np.ndarray) -> np.ndarray:
+    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4).astype(np.float32)
+
+
+def image_pixels(image) -> np.ndarray | None:
+    """Blender's loaded pixels of ``image`` as a (H, W, C) float32 array, rows top to bottom,
+    linear. Float images are already linear in Blender; byte images in sRGB are decoded."""
+    w, h = image.size[:2]
+    if w == 0 or h == 0:
+        return None
+    ch = image.channels
+    buf = np.empty(w * h * ch, dtype=np.float32)
+    image.pixels.foreach_get(buf)
+    px = buf.reshape(h, w, ch)[::-1]  # Blender's rows go bottom to top
+    cs = image.colorspace_settings.name.lower()
+    if not image.is_float and cs not in _LINEAR:
+        px = px.copy()
+        px[..., :3] = srgb_to_linear(px[..., :3])
+    if ch == 4:
+        px = px[..., :3]  # alpha is not used by the core's materials
+    elif ch == 2:
+        px = px[..., :1]
+    return np.ascontiguousarray(px, dtype=np.float32)
+
+
+_WRAP = {"REPEAT": "repeat", "EXTEND": "clamp", "CLIP": "black", "MIRROR": "mirror"}
+
+
+class ImageCache:
+    """Each Blender image becomes one IR texture, however many nodes use it."""
+
+    def __init__(self, ir_textures: list, warn):
+        self.textures = ir_textures
+        self.warn = warn
+        self.index: dict[tuple, int] = {}
+
+    def texture(self, image, extension: str = "REPEAT", owner: str = "") -> int | None:
+        if image is None:
+            return None
+        key = (image.name, extension)
+        if key in self.index:
+            return self.index[key]
+        try:
+            px = image_pixels(image)
+        except Exception as e:  # unreadable file, packed data missing, ...
+            px = None
+            self.warn(f"image '{image.name}'{owner}: cannot read pixels ({e}); ignored")
+        if px is None:
+            self.warn(f"image '{image.name}'{owner}: no pixels (missing file?); ignored")
+            self.index[key] = None
+            return None
+        h, w, c = px.shape
+        self.textures.append({
+            "name": image.name, "width": int(w), "height": int(h), "channels": int(c),
+            "data": px.ravel(), "wrap": _WRAP.get(extension, "repeat"),
+        })
+        self.index[key] = len(self.textures) - 1
+        return self.index[key]

@@ -1,0 +1,192 @@
+"""Materials -> IR materials.
+
+Follows the node tree from the active Material Output's Surface socket:
+
+| node | IR |
+|---|---|
+| Principled BSDF | `principled`: Base Color, Metallic, Roughness, IOR, Transmission Weight, Specular IOR Level (x 2 = `specular`), Emission Color and Strength |
+| Diffuse BSDF | `diffuse` (roughness ignored) |
+| Glossy / Anisotropic BSDF | `glossy` (anisotropy ignored) |
+| Glass BSDF | `dielectric` |
+| Transparent BSDF | `dielectric` of IOR 1 (a pass-through; shadows of it are not exact) |
+| Emission | `emission` |
+
+Image Texture nodes (through Reroutes) on colour inputs, and on Metallic/Roughness of the
+Principled BSDF, become IR textures on the mesh UVs. Any other node tree becomes grey diffuse
+with a warning naming the material; volume shaders are skipped with a warning.
+"""
+
+from __future__ import annotations
+
+GREY = {"type": "diffuse", "color": [0.8, 0.8, 0.8]}
+
+
+def _output_node(tree):
+    outs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]
+    for n in outs:
+        if n.is_active_output and n.target in {"ALL", "CYCLES"}:
+            return n
+    for n in outs:
+        if n.target in {"ALL", "CYCLES"}:
+            return n
+    return outs[0] if outs else None
+
+
+def _source(socket):
+    """The node (and its output socket) feeding ``socket``, through reroutes; None if unlinked."""
+    while socket.is_linked:
+        link = socket.links[0]
+        if not link.is_valid or link.is_muted:
+            return None, None
+        node = link.from_node
+        if node.bl_idname == "NodeReroute":
+            socket = node.inputs[0]
+            continue
+        return node, link.from_socket
+    return None, None
+
+
+class MaterialExporter:
+    def __init__(self, images, warn):
+        self.images = images
+        self.warn = warn
+
+    def _input(self, node, name):
+        s = node.inputs.get(name)
+        if s is None:
+            return None
+        return s
+
+    def _color(self, node, name, mat_name, default=(0.8, 0.8, 0.8)):
+        s = self._input(node, name)
+        if s is None:
+            return list(default)
+        src, out = _source(s)
+        if src is None:
+            return [float(c) for c in s.default_value[:3]]
+        if src.bl_idname == "ShaderNodeTexImage":
+            t = self.images.texture(src.image, src.extension, f" (material '{mat_name}')")
+            if t is not None:
+                if out is not None and out.name == "Alpha":
+                    self.warn(f"material '{mat_name}': {name} from an image's alpha; uses its colour")
+                return {"texture": t}
+        elif src.bl_idname == "ShaderNodeRGB":
+            return [float(c) for c in out.default_value[:3]]
+        self.warn(f"material '{mat_name}': '{src.name}' ({src.bl_idname}) on {name} is not "
+                  f"supported; uses the input's value")
+        return [float(c) for c in s.default_value[:3]]
+
+    def _float(self, node, name, mat_name, default=0.0, textures=True):
+        s = self._input(node, name)
+        if s is None:
+            return float(default)
+        src, out = _source(s)
+        if src is None:
+            return float(s.default_value)
+        if textures and src.bl_idname == "ShaderNodeTexImage":
+            t = self.images.texture(src.image, src.extension, f" (material '{mat_name}')")
+            if t is not None:
+                return {"texture": t, "channel": 0, "scale": 1.0}
+        if src.bl_idname == "ShaderNodeValue":
+            return float(out.default_value)
+        self.warn(f"material '{mat_name}': '{src.name}' ({src.bl_idname}) on {name} is not "
+                  f"supported; uses the input's value")
+        return float(s.default_value)
+
+    def _const(self, value, mat_name, name):
+        """Inputs the IR takes only as constants: a texture becomes its mean."""
+        if isinstance(value, dict):
+            self.warn(f"material '{mat_name}': a texture on {name} is not supported by the core; "
+                      f"uses 1")
+            return 1.0
+        return value
+
+    def export(self, mat) -> dict:
+        """One IR material for the Blender material ``mat`` (None: Blender's default grey)."""
+        if mat is None:
+            return dict(GREY, name="(default)")
+        name = mat.name
+        tree = mat.node_tree if getattr(mat, "use_nodes", True) else None
+        if tree is None:
+            return {"type": "diffuse", "name": name, "color": [float(c) for c in mat.diffuse_color[:3]]}
+        out = _output_node(tree)
+        if out is None:
+            self.warn(f"material '{name}': no Material Output; renders grey diffuse")
+            return dict(GREY, name=name)
+        vol = out.inputs.get("Volume")
+        if vol is not None and vol.is_linked:
+            self.warn(f"material '{name}': volumes are not supported yet; the volume is skipped")
+        surf, _ = _source(out.inputs["Surface"])
+        if surf is None:
+            if vol is not None and vol.is_linked:
+                # A volume-only material: Cycles' surface is then a pass-through.
+                return {"type": "dielectric", "name": name, "ior": 1.0}
+            return {"type": "diffuse", "name": name, "color": [0.0, 0.0, 0.0]}
+        kind = surf.bl_idname
+        try:
+            if kind == "ShaderNodeBsdfPrincipled":
+                return self._principled(surf, name)
+            if kind == "ShaderNodeBsdfDiffuse":
+                return {"type": "diffuse", "name": name, "color": self._color(surf, "Color", name)}
+            if kind in {"ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic"}:
+                return {"type": "glossy", "name": name,
+                        "color": self._const_color(self._color(surf, "Color", name), name, "Color"),
+                        "roughness": self._const(self._float(surf, "Roughness", name, 0.5), name,
+                                                 "Roughness")}
+            if kind == "ShaderNodeBsdfGlass":
+                return {"type": "dielectric", "name": name,
+                        "ior": self._const(self._float(surf, "IOR", name, 1.5), name, "IOR"),
+                        "roughness": self._const(self._float(surf, "Roughness", name, 0.0), name,
+                                                 "Roughness"),
+                        "color": self._const_color(self._color(surf, "Color", name, (1, 1, 1)),
+                                                   name, "Color")}
+            if kind == "ShaderNodeBsdfTransparent":
+                return {"type": "dielectric", "name": name, "ior": 1.0, "roughness": 0.0,
+                        "color": self._const_color(self._color(surf, "Color", name, (1, 1, 1)),
+                                                   name, "Color")}
+            if kind == "ShaderNodeEmission":
+                return {"type": "emission", "name": name,
+                        "color": self._color(surf, "Color", name, (1, 1, 1)),
+                        "strength": self._const(self._float(surf, "Strength", name, 1.0), name,
+                                                "Strength")}
+        except Exception as e:  # a node of an unexpected version; never fail the render
+            self.warn(f"material '{name}': {e}; renders grey diffuse")
+            return dict(GREY, name=name)
+        self.warn(f"material '{name}': shader node '{surf.name}' ({kind}) is not supported; "
+                  f"renders grey diffuse")
+        return dict(GREY, name=name)
+
+    def _const_color(self, value, mat_name, name):
+        if isinstance(value, dict):
+            self.warn(f"material '{mat_name}': a texture on {name} is not supported by the core "
+                      f"for this shader; uses white")
+            return [1.0, 1.0, 1.0]
+        return value
+
+    def _principled(self, n, name) -> dict:
+        ior = self._const(self._float(n, "IOR", name, 1.5, textures=False), name, "IOR")
+        transmission = self._const(self._float(n, "Transmission Weight", name, 0.0, textures=False),
+                                   name, "Transmission Weight")
+        level = self._const(self._float(n, "Specular IOR Level", name, 0.5, textures=False), name,
+                            "Specular IOR Level")
+        d = {
+            "type": "principled", "name": name,
+            "base_color": self._color(n, "Base Color", name),
+            "metallic": self._float(n, "Metallic", name, 0.0),
+            "roughness": self._float(n, "Roughness", name, 0.5),
+            "ior": float(ior),
+            "transmission": float(transmission),
+            "specular": 2.0 * float(level),
+            "emission_color": self._color(n, "Emission Color", name, (1, 1, 1)),
+            "emission_strength": float(self._const(
+                self._float(n, "Emission Strength", name, 0.0, textures=False), name,
+                "Emission Strength")),
+        }
+        for sock in ("Coat Weight", "Sheen Weight", "Subsurface Weight"):
+            s = n.inputs.get(sock)
+            if s is not None and (s.is_linked or float(s.default_value) > 0.0):
+                self.warn(f"material '{name}': {sock} is not supported; ignored")
+        s = n.inputs.get("Normal")
+        if s is not None and s.is_linked:
+            self.warn(f"material '{name}': normal maps are not supported; ignored")
+        return d

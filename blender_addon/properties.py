@@ -1,0 +1,69 @@
+"""Settings under ``scene.photonmap``: the CLI's names, defaults and quality presets (the
+numbers come from ``photonmap.preset``)."""
+
+from __future__ import annotations
+
+import bpy
+import photonmap
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty
+
+_DEFAULT_QUALITY = "medium"
+_P = photonmap.preset(_DEFAULT_QUALITY)
+_QUALITY_ITEMS = [(q, q.capitalize(), f"The {q} preset of the core") for q in photonmap.QUALITIES]
+#: The fields a preset fills.
+PRESET_FIELDS = tuple(_P.keys())
+
+
+def _apply_preset(self, _context):
+    for key, value in photonmap.preset(self.quality).items():
+        if hasattr(self, key):
+            setattr(self, key, value if value is not None else 0)
+
+
+class PhotonMapSettings(bpy.types.PropertyGroup):
+    quality: EnumProperty(name="Quality", items=_QUALITY_ITEMS, default=_DEFAULT_QUALITY,
+                          update=_apply_preset,
+                          description="Preset; choosing one fills the settings below")
+    spp: IntProperty(name="Samples", default=_P["spp"], min=1, soft_max=4096,
+                     description="Camera samples per pixel")
+    photons: IntProperty(name="Photons", default=_P["photons"], min=0,
+                         description="Photons to store in the global map")
+    caustic_photons: IntProperty(name="Caustic Photons", default=_P["caustic_photons"], min=0,
+                                 description="Photons to store in the caustic map")
+    gather: IntProperty(name="Gather", default=_P["gather"], min=1,
+                        description="Photons per radiance estimate (k nearest)")
+    radius: FloatProperty(name="Radius", default=_P["radius"] or 0.0, min=0.0, subtype="DISTANCE",
+                          description="Largest photon search radius (0 = from the scene size)")
+    final_gather_rays: IntProperty(name="Final Gather Rays", default=_P["final_gather_rays"], min=0,
+                                   description="Final-gathering rays per irradiance-cache record")
+    irradiance_cache: BoolProperty(name="Irradiance Cache", default=_P["irradiance_cache"],
+                                   description="Ward's irradiance cache for final gathering")
+    cache_tolerance: FloatProperty(name="Cache Tolerance", default=_P["cache_tolerance"],
+                                   min=0.001, soft_max=1.0,
+                                   description="Irradiance-cache error tolerance (Ward's a)")
+    max_specular_depth: IntProperty(name="Max Specular Depth", default=_P["max_specular_depth"],
+                                    min=0, soft_max=64,
+                                    description="Perfectly specular bounces followed from the eye")
+    seed: IntProperty(name="Seed", default=0, min=0, description="Random seed")
+    threads: IntProperty(name="Threads", default=0, min=0, description="Worker threads (0 = all)")
+
+
+def render_settings(s: PhotonMapSettings) -> dict:
+    """Keyword arguments of ``photonmap.render`` for these settings."""
+    return {
+        "quality": s.quality, "spp": s.spp, "photons": s.photons,
+        "caustic_photons": s.caustic_photons, "gather": s.gather,
+        "radius": s.radius if s.radius > 0 else None, "final_gather_rays": s.final_gather_rays,
+        "irradiance_cache": s.irradiance_cache, "cache_tolerance": s.cache_tolerance,
+        "max_specular_depth": s.max_specular_depth, "seed": s.seed, "threads": s.threads,
+    }
+
+
+def register():
+    bpy.utils.register_class(PhotonMapSettings)
+    bpy.types.Scene.photonmap = bpy.props.PointerProperty(type=PhotonMapSettings)
+
+
+def unregister():
+    del bpy.types.Scene.photonmap
+    bpy.utils.unregister_class(PhotonMapSettings)

@@ -1,0 +1,97 @@
+"""Render Properties panels, and the built-in panels PhotonMap shares with other engines."""
+
+from __future__ import annotations
+
+import bpy
+
+ENGINE = "PHOTONMAP"
+
+# Built-in panels that show for EEVEE/Workbench and make sense here too (materials, world and
+# light properties, format and output panels already list BLENDER_RENDER).
+_SHARED = {
+    "EEVEE_MATERIAL_PT_context_material", "EEVEE_MATERIAL_PT_surface", "MATERIAL_PT_preview",
+    "EEVEE_WORLD_PT_surface", "WORLD_PT_context_world", "DATA_PT_light", "DATA_PT_EEVEE_light",
+    "DATA_PT_context_light", "DATA_PT_area", "DATA_PT_spot", "DATA_PT_lens", "DATA_PT_camera",
+    "DATA_PT_camera_dof", "DATA_PT_camera_dof_aperture", "DATA_PT_context_camera",
+}
+_EXCLUDE = {"VIEWLAYER_PT_filter", "VIEWLAYER_PT_layer_passes"}
+_added: list = []
+
+
+class PhotonMapPanel:
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "render"
+    COMPAT_ENGINES = {ENGINE}
+
+    @classmethod
+    def poll(cls, context):
+        return context.engine in cls.COMPAT_ENGINES
+
+
+class PHOTONMAP_PT_quality(PhotonMapPanel, bpy.types.Panel):
+    bl_label = "Quality"
+
+    def draw(self, context):
+        s = context.scene.photonmap
+        layout = self.layout
+        layout.use_property_split = True
+        layout.prop(s, "quality")
+        layout.prop(s, "spp")
+        layout.prop(s, "seed")
+        layout.prop(s, "threads")
+
+
+class PHOTONMAP_PT_photons(PhotonMapPanel, bpy.types.Panel):
+    bl_label = "Photons"
+
+    def draw(self, context):
+        s = context.scene.photonmap
+        layout = self.layout
+        layout.use_property_split = True
+        for name in ("photons", "caustic_photons", "gather", "radius"):
+            layout.prop(s, name)
+
+
+class PHOTONMAP_PT_gather(PhotonMapPanel, bpy.types.Panel):
+    bl_label = "Final Gathering"
+
+    def draw(self, context):
+        s = context.scene.photonmap
+        layout = self.layout
+        layout.use_property_split = True
+        layout.prop(s, "final_gather_rays")
+        layout.prop(s, "irradiance_cache")
+        row = layout.row()
+        row.active = s.irradiance_cache
+        row.prop(s, "cache_tolerance")
+        layout.prop(s, "max_specular_depth")
+
+
+CLASSES = (PHOTONMAP_PT_quality, PHOTONMAP_PT_photons, PHOTONMAP_PT_gather)
+
+
+def _shared_panels():
+    for panel in bpy.types.Panel.__subclasses__():
+        engines = getattr(panel, "COMPAT_ENGINES", None)
+        if engines is None or panel.__name__ in _EXCLUDE:
+            continue
+        if "BLENDER_RENDER" in engines or panel.__name__ in _SHARED:
+            yield panel
+
+
+def register():
+    for c in CLASSES:
+        bpy.utils.register_class(c)
+    for panel in _shared_panels():
+        if ENGINE not in panel.COMPAT_ENGINES:
+            panel.COMPAT_ENGINES.add(ENGINE)
+            _added.append(panel)
+
+
+def unregister():
+    for panel in _added:
+        panel.COMPAT_ENGINES.discard(ENGINE)
+    _added.clear()
+    for c in reversed(CLASSES):
+        bpy.utils.unregister_class(c)

@@ -1,0 +1,376 @@
+"""The PhotonMap Blender extension, headless in the `bpy` module."""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+
+import bpy
+import numpy as np
+import photonmap
+import pytest
+import scenes
+from conftest import enable, exr_parts, set_multilayer_exr
+
+QUALITY_FOR_BRIGHTNESS = "high"
+TOLERANCE = 0.03
+
+
+def test_installs_and_registers(addon):
+    assert addon.__name__ == "bl_ext.user_default.photonmap"
+    assert "PHOTONMAP" in {getattr(e, "bl_idname", "") for e in bpy.types.RenderEngine.__subclasses__()}
+    sc = bpy.context.scene
+    sc.render.engine = "PHOTONMAP"
+    assert sc.photonmap.quality == "medium"
+    # The add-on imports the renderer only, never the USD importer.
+    import sys
+
+    assert "usd_delegate" not in sys.modules
+
+
+def test_quality_fills_the_settings_from_the_core_presets(addon):
+    s = bpy.context.scene.photonmap
+    for q in photonmap.QUALITIES:
+        s.quality = q
+        p = photonmap.preset(q)
+        assert s.spp == p["spp"]
+        assert s.photons == p["photons"]
+        assert s.caustic_photons == p["caustic_photons"]
+        assert s.final_gather_rays == p["final_gather_rays"]
+        assert s.gather == p["gather"]
+        assert s.irradiance_cache == p["irradiance_cache"]
+        assert s.cache_tolerance == pytest.approx(p["cache_tolerance"])
+        assert s.max_specular_depth == p["max_specular_depth"]
+
+
+def test_presets_are_what_the_core_renders_with(addon):
+    scene = photonmap.Scene.from_dict({
+        "camera": {"fov": 0.7, "transform": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 3], [0, 0, 0, 1]]},
+        "film": {"width": 4, "height": 4},
+        "materials": [{"type": "diffuse", "color": [0.5, 0.5, 0.5]}],
+        "meshes": [{"positions": [[-1, -1, 0], [1, -1, 0], [1, 1, 0]], "indices": [[0, 1, 2]]}],
+        "lights": [{"type": "point", "position": [0, 0, 1], "power": 10}],
+    })
+    out = photonmap.render(scene, quality="draft")
+    p = photonmap.preset("draft")
+    assert out["stats"]["spp"] == p["spp"]
+    # Photons are traced in batches until the requested number is stored.
+    assert p["photons"] <= out["stats"]["photons_stored"]["global"] < 1.1 * p["photons"]
+
+
+def test_passes_in_the_result_and_in_multilayer_exr(photonmap_scene, addon, tmp_path, monkeypatch):
+    sc = photonmap_scene(scenes.cornell_area)
+    seen = {}
+    write = addon.passes.write_result
+
+    def spy(engine, out, window, layer_name=""):
+        seen["out"] = out
+        write(engine, out, window, layer_name)
+
+    monkeypatch.setattr(addon.passes, "write_result", spy)
+    path = tmp_path / "passes.exr"
+    set_multilayer_exr(sc, path)
+    bpy.ops.render.render(write_still=True)
+    assert "out" in seen, "the engine wrote no result"
+
+    parts = exr_parts(path)
+    layer = bpy.context.view_layer.name
+    names = {n.split(".", 1)[1] for n in parts if n.startswith(layer + ".")}
+    assert names == {"Combined", *photonmap.PASS_NAMES}, names
+    comb = np.stack([parts[f"{layer}.Combined"][f"{layer}.Combined.{c}"] for c in "RGB"], -1)
+    total = sum(np.stack([parts[f"{layer}.{p}"][f"{layer}.{p}.{c}"] for c in "RGB"], -1)
+                for p in photonmap.PASS_NAMES)
+    assert comb.mean() > 0.05
+    np.testing.assert_allclose(comb, total, rtol=1e-4, atol=1e-5)
+    # Blender's rows go bottom to top: the EXR (top row first) equals the core's image.
+    np.testing.assert_allclose(comb, seen["out"]["combined"], rtol=1e-5, atol=1e-6)
+    # The compositor's Render Layers node offers every pass.
+    tree = bpy.data.node_groups.new("Compositing", "CompositorNodeTree")
+    node = tree.nodes.new("CompositorNodeRLayers")
+    node.scene = sc
+    sockets = {o.name for o in node.outputs if o.enabled}
+    assert set(photonmap.PASS_NAMES) <= sockets, sockets
+
+
+def _mean_rgb(path):
+    import OpenImageIO as oiio
+
+    px = oiio.ImageBuf(str(path), 0, 0).get_pixels(oiio.FLOAT)
+    return px[..., :3].mean()
+
+
+@pytest.mark.parametrize("light", ["area", "point", "sun"])
+def test_brightness_matches_cycles(photonmap_scene, tmp_path, light, record_property):
+    ref = scenes_dir() / f"cycles_{light}.exr"
+    sc = photonmap_scene(scenes.SCENES[light], quality=QUALITY_FOR_BRIGHTNESS)
+    path = tmp_path / f"{light}.exr"
+    set_multilayer_exr(sc, path)
+    bpy.ops.render.render(write_still=True)
+    parts = exr_parts(path)
+    layer = bpy.context.view_layer.name
+    ours = np.stack([parts[f"{layer}.Combined"][f"{layer}.Combined.{c}"] for c in "RGB"], -1)
+    emission = parts[f"{layer}.Emission"][f"{layer}.Emission.R"]
+    assert emission.max() == 0.0, "an emitter is in frame; the comparison needs them out"
+    cycles = _mean_rgb(ref)
+    ratio = float(ours.mean() / cycles)
+    record_property("ratio", ratio)
+    print(f"\n{light}: PhotonMap mean {ours.mean():.4f}, Cycles {cycles:.4f}, ratio {ratio:.4f}")
+    assert abs(ratio - 1.0) < TOLERANCE, ratio
+
+
+def scenes_dir():
+    from pathlib import Path
+
+    return Path(scenes.__file__).resolve().parent / "data"
+
+
+def _every_light_and_instances():
+    sc = scenes.empty_scene()
+    sc.unit_settings.scale_length = 0.01
+    me = bpy.data.meshes.new("box")
+    me.from_pydata([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)], [], [(0, 1, 2, 3)])
+    glass = bpy.data.materials.new("glass")
+    glass.use_nodes = True
+    bsdf = glass.node_tree.nodes["Principled BSDF"]
+    bsdf.inputs["Transmission Weight"].default_value = 1.0
+    bsdf.inputs["IOR"].default_value = 1.45
+    bsdf.inputs["Roughness"].default_value = 0.0
+    bsdf.inputs["Specular IOR Level"].default_value = 0.25
+    me.materials.append(glass)
+    for i in range(5):
+        ob = bpy.data.objects.new(f"box.{i}", me)
+        ob.location = (2.0 * i, 0, 0)
+        sc.collection.objects.link(ob)
+    scenes.light("POINT", (0, 0, 3), energy=100.0, shadow_soft_size=0.2)
+    scenes.light("SPOT", (1, 0, 3), energy=50.0, spot_size=math.radians(60), spot_blend=0.3,
+                 shadow_soft_size=0.0)
+    for shape in ("SQUARE", "RECTANGLE", "DISK", "ELLIPSE"):
+        ob = scenes.light("AREA", (0, 2, 3), shape=shape, size=0.5, size_y=0.25, energy=10.0)
+        ob.name = f"area_{shape.lower()}"
+    scenes.light("SUN", (0, 0, 9), (30, 0, 0), energy=3.0, angle=math.radians(1.0))
+    cam = scenes.camera((4, -8, 3), (75, 0, 0))
+    cam.data.dof.use_dof = True
+    cam.data.dof.aperture_fstop = 2.0
+    cam.data.dof.focus_distance = 7.0
+    return sc
+
+
+def test_export_ir(photonmap_scene, addon):
+    photonmap_scene(_every_light_and_instances)
+    res = addon.export.export_scene(bpy.context.evaluated_depsgraph_get())
+    ir = res.ir
+    assert len(ir["meshes"]) == 1
+    assert len(ir["instances"]) == 5 and all(i["mesh"] == 0 for i in ir["instances"])
+    assert sorted(round(i["transform"][0][3], 4) for i in ir["instances"]) == [0, 2, 4, 6, 8]
+    mesh = ir["meshes"][0]
+    assert mesh["indices"].shape == (2, 3)
+    mat = ir["materials"][mesh["material"]]
+    assert mat["type"] == "principled" and mat["transmission"] == 1.0
+    assert mat["ior"] == pytest.approx(1.45) and mat["specular"] == pytest.approx(0.5)
+    kinds = sorted(light["type"] for light in ir["lights"])
+    assert kinds == ["disk", "disk", "distant", "point", "rect", "rect", "spot"]
+    by_name = {light["name"]: light for light in ir["lights"]}
+    assert by_name["point"]["power"] == 100.0 and by_name["point"]["radius"] == pytest.approx(0.2)
+    assert by_name["spot"]["cone_angle"] == pytest.approx(math.radians(60))
+    assert by_name["spot"]["blend"] == pytest.approx(0.3)
+    assert by_name["spot"]["direction"] == pytest.approx([0, 0, -1], abs=1e-6)
+    assert (by_name["area_rectangle"]["width"], by_name["area_rectangle"]["height"]) == \
+        pytest.approx((0.5, 0.25))
+    assert by_name["area_square"]["height"] == pytest.approx(0.5)
+    assert by_name["area_disk"]["radius"] == pytest.approx(0.25)
+    assert by_name["area_ellipse"]["radius"] == pytest.approx(0.5 * math.sqrt(0.5 * 0.25))
+    sun = by_name["sun"]
+    assert sun["irradiance"] == 3.0 and sun["angle"] == pytest.approx(math.radians(1.0))
+    assert sun["direction"] == pytest.approx([0, math.sin(math.radians(30)),
+                                              -math.cos(math.radians(30))], abs=1e-5)
+    cam = ir["camera"]
+    assert cam["units_per_mm"] == pytest.approx(0.1)  # 1 mm = 0.1 units of 1 cm
+    assert cam["fstop"] == 2.0 and cam["focus_distance"] == pytest.approx(7.0)
+    assert cam["fov"] == pytest.approx(2 * math.atan(18.0 / 35.0))  # 35 mm lens, 36 mm sensor
+    assert ir["film"] == {"width": 64, "height": 64}
+    assert "environment" not in ir
+    # The core accepts it.
+    scene = photonmap.Scene.from_dict(ir)
+    assert scene.counts()["lights"] == 7
+
+
+def test_render_border_renders_only_the_border(photonmap_scene, addon, tmp_path, monkeypatch):
+    sc = photonmap_scene(scenes.cornell_area)
+    sc.render.use_border = True
+    sc.render.use_crop_to_border = False
+    sc.render.border_min_x, sc.render.border_max_x = 0.25, 0.75
+    sc.render.border_min_y, sc.render.border_max_y = 0.5, 1.0
+    films = []
+    render = addon.engine.photonmap.render
+
+    def spy(scene, **kw):
+        films.append((scene.width, scene.height))
+        return render(scene, **kw)
+
+    monkeypatch.setattr(addon.engine.photonmap, "render", spy)
+    path = tmp_path / "border.exr"
+    set_multilayer_exr(sc, path)
+    bpy.ops.render.render(write_still=True)
+    assert films == [(32, 32)]
+    parts = exr_parts(path)
+    layer = bpy.context.view_layer.name
+    r = parts[f"{layer}.Combined"][f"{layer}.Combined.R"]
+    assert r.shape == (64, 64)
+    # Border in the upper middle: rows 0..31 from the top, columns 16..47.
+    assert r[:32, 16:48].mean() > 0.05
+    assert np.all(r[32:, :] == 0) and np.all(r[:, :16] == 0) and np.all(r[:, 48:] == 0)
+    # The border rendered alone matches the same window of the full render.
+    sc.render.use_border = False
+    full_path = tmp_path / "full.exr"
+    set_multilayer_exr(sc, full_path)
+    bpy.ops.render.render(write_still=True)
+    full = exr_parts(full_path)[f"{layer}.Combined"][f"{layer}.Combined.R"]
+    assert r[:32, 16:48].mean() == pytest.approx(full[:32, 16:48].mean(), rel=0.1)
+
+
+def test_escape_cancels_the_render(photonmap_scene, addon, reports, monkeypatch, tmp_path):
+    sc = photonmap_scene(scenes.cornell_area, quality="final")
+    sc.render.resolution_x = sc.render.resolution_y = 256
+    state = {"start": None, "broke": None}
+
+    def test_break(self):
+        now = time.monotonic()
+        if state["start"] is None:
+            state["start"] = now
+        if now - state["start"] > 0.5:
+            state["broke"] = state["broke"] or now
+            return True
+        return False
+
+    monkeypatch.setattr(addon.engine.PhotonMapRenderEngine, "_test_break", test_break)
+    wrote = []
+    monkeypatch.setattr(addon.passes, "write_result", lambda *a, **k: wrote.append(1))
+    bpy.ops.render.render()
+    end = time.monotonic()
+    assert state["broke"] is not None, "the engine never polled test_break"
+    assert end - state["broke"] < 1.0, end - state["broke"]
+    assert not wrote, "a cancelled render wrote a result"
+    assert not reports.of("ERROR"), reports.items
+
+
+def _unsupported_material_scene():
+    sc = scenes.empty_scene()
+    scenes.cornell_walls()
+    scenes.light("AREA", (0, 0, 1.98), size=0.5, energy=60.0)
+    m = bpy.data.materials.new("toon stuff")
+    m.use_nodes = True
+    nt = m.node_tree
+    nt.nodes.clear()
+    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    mix = nt.nodes.new("ShaderNodeMixShader")
+    toon = nt.nodes.new("ShaderNodeBsdfToon")
+    nt.links.new(toon.outputs[0], mix.inputs[1])
+    nt.links.new(mix.outputs[0], out.inputs["Surface"])
+    vol = bpy.data.materials.new("fog")
+    vol.use_nodes = True
+    vt = vol.node_tree
+    vt.nodes.clear()
+    vout = vt.nodes.new("ShaderNodeOutputMaterial")
+    pv = vt.nodes.new("ShaderNodeVolumePrincipled")
+    vt.links.new(pv.outputs[0], vout.inputs["Volume"])
+    floor = bpy.data.objects["floor"]
+    floor.data.materials[0] = m
+    back = bpy.data.objects["back"]
+    back.data.materials[0] = vol
+    return sc
+
+
+def test_unsupported_material_renders_grey_with_a_warning(photonmap_scene, reports, tmp_path):
+    sc = photonmap_scene(_unsupported_material_scene)
+    path = tmp_path / "unsupported.exr"
+    set_multilayer_exr(sc, path)
+    bpy.ops.render.render(write_still=True)
+    warnings = reports.of("WARNING")
+    assert any("'toon stuff'" in w and "not supported" in w for w in warnings), warnings
+    assert any("'fog'" in w and "volume" in w for w in warnings), warnings
+    assert not reports.of("ERROR"), reports.items
+    parts = exr_parts(path)
+    layer = bpy.context.view_layer.name
+    assert parts[f"{layer}.Combined"][f"{layer}.Combined.G"].mean() > 0.05
+
+
+def test_world_and_textures_export(photonmap_scene, addon):
+    def build():
+        sc = scenes.empty_scene()
+        world = bpy.data.worlds.new("sky")
+        world.use_nodes = True
+        bg = world.node_tree.nodes["Background"]
+        img = bpy.data.images.new("env", 8, 4, float_buffer=True)
+        img.pixels.foreach_set(np.full(8 * 4 * 4, 0.5, dtype=np.float32))
+        env = world.node_tree.nodes.new("ShaderNodeTexEnvironment")
+        env.image = img
+        world.node_tree.links.new(env.outputs["Color"], bg.inputs["Color"])
+        bg.inputs["Strength"].default_value = 2.0
+        sc.world = world
+        tex = bpy.data.images.new("albedo", 2, 2)  # byte image, sRGB
+        tex.pixels.foreach_set(np.array([1, 0, 0, 1] * 2 + [0.5, 0.5, 0.5, 1] * 2, np.float32))
+        m = bpy.data.materials.new("textured")
+        m.use_nodes = True
+        t = m.node_tree.nodes.new("ShaderNodeTexImage")
+        t.image = tex
+        m.node_tree.links.new(t.outputs["Color"],
+                              m.node_tree.nodes["Principled BSDF"].inputs["Base Color"])
+        bpy.ops.mesh.primitive_plane_add()
+        bpy.context.object.data.materials.append(m)
+        scenes.camera((0, -4, 2), (60, 0, 0))
+        return sc
+
+    photonmap_scene(build)
+    ir = addon.export.export_scene(bpy.context.evaluated_depsgraph_get()).ir
+    env = ir["environment"]
+    assert env["strength"] == 2.0 and ir["textures"][env["texture"]]["width"] == 8
+    mat = next(m for m in ir["materials"] if m["name"] == "textured")
+    tex = ir["textures"][mat["base_color"]["texture"]]
+    data = np.asarray(tex["data"]).reshape(tex["height"], tex["width"], tex["channels"])
+    # Top row (Blender's last) is the grey, decoded from sRGB; the bottom row is red.
+    assert data[0, 0] == pytest.approx([0.2140] * 3, abs=2e-3)
+    assert data[1, 0] == pytest.approx([1, 0, 0], abs=1e-6)
+    assert ir["meshes"][0]["uvs"].shape == (4, 2)
+    photonmap.Scene.from_dict(ir)
+
+
+def test_viewport_refines_progressively(photonmap_scene, addon):
+    """The viewport's refinement loop (drawing needs `gpu`, absent headless)."""
+    from importlib import import_module
+
+    viewport = import_module(addon.__name__ + ".viewport")
+    camera_mod = import_module(addon.__name__ + ".export.camera")
+    sc = photonmap_scene(scenes.cornell_area)
+    sc.photonmap.quality = "draft"
+
+    class Engine:
+        redraws = 0
+
+        def tag_redraw(self):
+            Engine.redraws += 1
+
+    vp = viewport.ViewportRender(Engine())
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    vp.update_scene(None, depsgraph)
+    win = camera_mod.Window(48, 32, 0, 0, 48, 32)
+    cam = camera_mod.camera_ir(sc.camera.matrix_world, 35.0, 72.0, 72.0, "AUTO", (0, 0), 0.01,
+                               100.0, win)
+    vp._size = (48, 32)
+    sizes = []
+    vp.generation += 1
+    gen = vp.generation
+    orig = viewport.RenderJob
+
+    class Spy(orig):
+        def _run(self):
+            super()._run()
+            sizes.append(self.out["combined"].shape[:2])
+
+    viewport.RenderJob = Spy
+    try:
+        vp._refine(gen, dict(vp.ir, camera=cam), 48, 32, dict(vp.settings))
+    finally:
+        viewport.RenderJob = orig
+    assert sizes == [(8, 12), (32, 48), (32, 48)]
+    assert Engine.redraws == 3 and vp.image.shape == (32, 48, 3) and vp.image.mean() > 0.01
