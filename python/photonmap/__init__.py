@@ -237,34 +237,15 @@ def render(
     return out
 
 
-# The quality presets of ``src/render/settings.rs`` (``Quality::spp``, ``Quality::photons`` and
-# the ``PhotonSettings``/``RenderSettings`` defaults), until the core exports them as
-# ``_core.preset``; tests/blender checks them against what the core renders with.
-_PRESETS: dict[str, dict[str, Any]] = {
-    q: {"spp": spp, "photons": g, "caustic_photons": c, "final_gather_rays": fg}
-    for q, spp, g, c, fg in (
-        ("draft", 4, 50_000, 20_000, 64),
-        ("medium", 16, 200_000, 100_000, 256),
-        ("high", 64, 500_000, 300_000, 512),
-        ("final", 256, 2_000_000, 1_000_000, 1024),
-    )
-}
-_PRESET_COMMON: dict[str, Any] = {
-    "gather": 100, "radius": 0.0, "irradiance_cache": True, "cache_tolerance": 0.15,
-    "max_specular_depth": 8,
-}
-
-
 def preset(name: str) -> dict[str, Any]:
     """The settings of a quality preset, named as the ``render`` keywords and CLI flags:
     ``spp``, ``photons``, ``caustic_photons``, ``gather``, ``radius`` (0 = from the scene size),
-    ``final_gather_rays``, ``irradiance_cache``, ``cache_tolerance``, ``max_specular_depth``."""
-    core = getattr(_core, "preset", None)
-    if core is not None:
-        return dict(core(name))
-    if name not in _PRESETS:
-        raise ValueError(f"unknown quality `{name}` (expected {', '.join(QUALITIES)})")
-    return {**_PRESET_COMMON, **_PRESETS[name]}
+    ``final_gather_rays``, ``irradiance_cache``, ``cache_tolerance``, ``max_specular_depth``.
+    The numbers come from the core (``Quality::settings``)."""
+    try:
+        return json.loads(_core.preset(name))
+    except ValueError as e:
+        raise ValueError(str(e)) from None
 
 
 class Renderer:

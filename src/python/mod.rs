@@ -545,6 +545,30 @@ fn run_cli(
     Ok(0)
 }
 
+/// The settings of a quality preset as JSON, named as the `render` keywords and CLI flags.
+#[pyfunction]
+fn preset(name: &str) -> PyResult<String> {
+    let q = Quality::parse(name).ok_or_else(|| {
+        pyo3::exceptions::PyValueError::new_err(format!(
+            "unknown quality `{name}` (expected draft, medium, high or final)"
+        ))
+    })?;
+    let s = q.settings();
+    let p = &s.photons;
+    Ok(format!(
+        "{{\"spp\": {}, \"photons\": {}, \"caustic_photons\": {}, \"gather\": {}, \"radius\": {}, \"final_gather_rays\": {}, \"irradiance_cache\": {}, \"cache_tolerance\": {}, \"max_specular_depth\": {}}}",
+        s.spp,
+        p.global,
+        p.caustic,
+        p.gather,
+        p.max_radius.unwrap_or(0.0),
+        p.final_gather_rays,
+        p.irradiance_cache,
+        p.cache_tolerance,
+        s.max_specular_depth
+    ))
+}
+
 /// Panics inside the guarded boundary, to test that a panic becomes an exception.
 #[pyfunction]
 fn _panic_for_test(py: Python<'_>) -> PyResult<()> {
@@ -583,6 +607,7 @@ fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<CancelToken>()?;
     m.add_function(wrap_pyfunction!(render, m)?)?;
     m.add_function(wrap_pyfunction!(run_cli, m)?)?;
+    m.add_function(wrap_pyfunction!(preset, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
     Ok(())
 }
