@@ -13,6 +13,9 @@ use serde::Serialize;
 pub enum MapKind {
     Global,
     Caustic,
+    /// Photons at scattering events in participating media, after at least one earlier
+    /// interaction (single scattering is estimated directly).
+    Volume,
 }
 
 impl MapKind {
@@ -20,6 +23,7 @@ impl MapKind {
         match self {
             MapKind::Global => "global",
             MapKind::Caustic => "caustic",
+            MapKind::Volume => "volume",
         }
     }
 }
@@ -54,6 +58,28 @@ impl PhotonMap {
         self.tree.memory_bytes()
     }
 
+    /// The k nearest photons within `max_r2`, the squared radius of the estimate, and which
+    /// photon to leave out. With k photons found, the radius is the k-th photon's distance, and
+    /// that photon lies on the boundary: (k - 1) photons over the disk (or sphere) is the
+    /// unbiased k-NN density, so the farthest is left out. With fewer found, the search radius
+    /// itself bounds the region and every photon counts.
+    fn nearest<'s>(&self, p: Vec3, k: usize, max_r2: f32, scratch: &'s mut KnnScratch) -> Option<(&'s [super::Neighbor], f32, Option<usize>)> {
+        let found = self.tree.knn(p, k, max_r2, scratch);
+        if found.is_empty() {
+            return None;
+        }
+        let (r2, skip) = if found.len() >= k && k > 1 {
+            let (i, far) = found
+                .iter()
+                .enumerate()
+                .fold((0, 0.0f32), |acc, (i, nb)| if nb.dist2 > acc.1 { (i, nb.dist2) } else { acc });
+            (far, Some(i))
+        } else {
+            (max_r2, None)
+        };
+        (r2 > 0.0 && r2.is_finite()).then_some((found, r2, skip))
+    }
+
     /// Reflected radiance at `p` towards `wo` (Jensen 2001, eq. 7.6):
     /// L = sum_p f(wo, wi_p) Phi_p / (pi r^2), over the `k` nearest photons within `max_r2`,
     /// counting only photons that arrived on the side of `n` (the side `wo` is on).
@@ -69,29 +95,7 @@ impl PhotonMap {
         filter: EstimateFilter,
         scratch: &mut KnnScratch,
     ) -> Spectrum {
-        let found = self.tree.knn(p, k, max_r2, scratch);
-        if found.is_empty() {
-            return Spectrum::ZERO;
-        }
-        // With k photons found, the radius is the k-th photon's distance, and that photon lies
-        // on the boundary: (k - 1) photons over pi r^2 is the unbiased density (the k-NN
-        // estimator), so the farthest photon is left out. With fewer found, the search radius
-        // itself bounds the disk and every photon counts.
-        let (r2, skip) = if found.len() >= k && k > 1 {
-            let (i, far) = found.iter().enumerate().fold((0, 0.0f32), |acc, (i, nb)| {
-                if nb.dist2 > acc.1 {
-                    (i, nb.dist2)
-                } else {
-                    acc
-                }
-            });
-            (far, Some(i))
-        } else {
-            (max_r2, None)
-        };
-        if !(r2 > 0.0) || !r2.is_finite() {
-            return Spectrum::ZERO;
-        }
+        let Some((found, r2, skip)) = self.nearest(p, k, max_r2, scratch) else { return Spectrum::ZERO };
         let r = r2.sqrt();
         let mut sum = Spectrum::ZERO;
         for (i, nb) in found.iter().enumerate() {
@@ -114,6 +118,21 @@ impl PhotonMap {
             EstimateFilter::Cone { k } => 1.0 - 2.0 / (3.0 * k),
         };
         sum / (norm * PI * r2)
+    }
+
+    /// In-scattered radiance at `x` towards `wo` from a volume map (Jensen & Christensen 1998):
+    /// sum_p p(wo, wi_p) Phi_p / (4/3 pi r^3), with the k-th photon bounding the sphere.
+    pub fn volume_radiance(&self, x: Vec3, wo: Vec3, phase: &crate::media::HenyeyGreenstein, k: usize, max_r2: f32, scratch: &mut KnnScratch) -> Spectrum {
+        let Some((found, r2, skip)) = self.nearest(x, k, max_r2, scratch) else { return Spectrum::ZERO };
+        let mut sum = Spectrum::ZERO;
+        for (i, nb) in found.iter().enumerate() {
+            if Some(i) == skip {
+                continue;
+            }
+            let ph = self.tree.get(nb.index);
+            sum += ph.power() * phase.eval(wo, ph.incoming());
+        }
+        sum / (4.0 / 3.0 * PI * r2 * r2.sqrt())
     }
 
     /// Total power of the photons flagged as first hits (for the energy test).

@@ -12,6 +12,7 @@ use crate::geometry::Ray;
 use crate::lights::{LeSample, Light, Target};
 use crate::materials::bsdf::{Component, LobeFlags};
 use crate::math::{is_finite3, Frame, Spectrum};
+use crate::media::MediumStack;
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use glam::Vec3;
@@ -49,62 +50,93 @@ fn mean(c: Spectrum) -> f32 {
     (c.x + c.y + c.z) / 3.0
 }
 
-/// Traces one photon path, appending what it stores.
-fn trace_path(
-    scene: &Scene,
-    le: LeSample,
-    scale: f32,
-    kind: MapKind,
-    max_bounces: u32,
-    rng: &mut Rng,
-    out: &mut Vec<RawPhoton>,
-) {
+/// Traces one photon path, appending what it stores. In a medium, a free-flight distance is
+/// drawn with the channel-mean extinction and the per-channel ratio corrects the power; at a
+/// collision the photon scatters (Henyey-Greenstein) with probability equal to the mean
+/// albedo, else it is absorbed (Jensen 2001, §10.3).
+#[allow(clippy::too_many_arguments)]
+fn trace_path(scene: &Scene, le: LeSample, scale: f32, start: MediumStack, kind: MapKind, max_bounces: u32, rng: &mut Rng, out: &mut Vec<RawPhoton>) {
     let mut power = le.weight * scale;
-    let mut ray = Ray {
-        o: le.o,
-        d: le.d,
-        t_max: f32::INFINITY,
-    };
+    let mut ray = Ray { o: le.o, d: le.d, t_max: f32::INFINITY };
+    let mut stack = start;
+    let mut interactions = 0u32;
     let mut specular_bounces = 0u32;
-    for bounce in 0..max_bounces {
-        let Some(hit) = scene.accel.intersect(&ray) else {
-            break;
-        };
+    let mut crossings = 0u32;
+    while interactions < max_bounces && crossings < 4 * max_bounces + 16 {
+        let hit = scene.accel.intersect(&ray);
+        let dir_len = ray.d.length();
+        let dist = hit.as_ref().map_or(f32::INFINITY, |h| h.t * dir_len);
+        if let Some(m) = stack.current(scene.world_medium) {
+            let med = &scene.media[m as usize];
+            let st = med.sigma_t();
+            let st_avg = mean(st);
+            if st_avg > 0.0 {
+                let t = -(1.0 - rng.f32()).ln() / st_avg;
+                let d = ray.d / dir_len;
+                if t < dist {
+                    // Collision at distance t.
+                    let ratio = Spectrum::new(
+                        st.x / st_avg * (-(st.x - st_avg) * t).exp(),
+                        st.y / st_avg * (-(st.y - st_avg) * t).exp(),
+                        st.z / st_avg * (-(st.z - st_avg) * t).exp(),
+                    );
+                    let ss = med.sigma_s();
+                    let albedo = Spectrum::new(safe_div(ss.x, st.x), safe_div(ss.y, st.y), safe_div(ss.z, st.z));
+                    let p = mean(albedo).min(1.0);
+                    if kind == MapKind::Caustic || !(p > 0.0) || rng.f32() >= p {
+                        break;
+                    }
+                    let new_power = power * ratio * albedo / p;
+                    if !is_finite3(new_power) || new_power.max_element() <= 0.0 {
+                        break;
+                    }
+                    power = new_power;
+                    let x = ray.o + d * t;
+                    if kind == MapKind::Volume && interactions > 0 {
+                        out.push(RawPhoton { p: x, power, d, first: false });
+                    }
+                    interactions += 1;
+                    let (wi, _) = med.phase().sample(-d, rng.vec2());
+                    ray = Ray { o: x, d: wi, t_max: f32::INFINITY };
+                    continue;
+                }
+                if !dist.is_finite() {
+                    break;
+                }
+                power *= Spectrum::new(
+                    (-(st.x - st_avg) * dist).exp(),
+                    (-(st.y - st_avg) * dist).exp(),
+                    (-(st.z - st_avg) * dist).exp(),
+                );
+            }
+        }
+        let Some(hit) = hit else { break };
         let mut si = scene.accel.interaction(&ray, &hit);
-        let Some(mat) = scene.materials.get(si.material as usize) else {
-            break;
-        };
+        let Some(mat) = scene.materials.get(si.material as usize) else { break };
+        if mat.is_null() {
+            scene.update_stack(&mut stack, &si, ray.d);
+            ray = si.spawn_ray(ray.d);
+            crossings += 1;
+            continue;
+        }
         let frame0 = Frame::from_normal_tangent(si.ns, si.dpdu);
         let mut bsdf = mat.bsdf(frame0, si.uv, &scene.textures);
         if bsdf.flags() & LobeFlags::TRANSMISSION == 0 && si.ng.dot(si.wo) < 0.0 {
             si.ng = -si.ng;
             si.ns = -si.ns;
-            bsdf = mat.bsdf(
-                Frame::from_normal_tangent(si.ns, si.dpdu),
-                si.uv,
-                &scene.textures,
-            );
+            bsdf = mat.bsdf(Frame::from_normal_tangent(si.ns, si.dpdu), si.uv, &scene.textures);
         }
         if bsdf.has_non_delta() {
             match kind {
-                MapKind::Global => out.push(RawPhoton {
-                    p: si.p,
-                    power,
-                    d: ray.d,
-                    first: bounce == 0,
-                }),
+                MapKind::Global => out.push(RawPhoton { p: si.p, power, d: ray.d, first: interactions == 0 }),
                 MapKind::Caustic => {
                     // Light -> specular+ -> here: a caustic photon. Its path ends here.
-                    if specular_bounces == bounce && bounce > 0 {
-                        out.push(RawPhoton {
-                            p: si.p,
-                            power,
-                            d: ray.d,
-                            first: false,
-                        });
+                    if specular_bounces == interactions && interactions > 0 {
+                        out.push(RawPhoton { p: si.p, power, d: ray.d, first: false });
                     }
                     break;
                 }
+                MapKind::Volume => {}
             }
         }
         // Russian roulette (Jensen 2001, §6.3): diffuse with probability P_d, specular
@@ -127,9 +159,7 @@ fn trace_path(
         }
         let u_lobe = rng.f32();
         let u = rng.vec2();
-        let Some(bs) = bsdf.sample_component(si.wo, component, u_lobe, u) else {
-            break;
-        };
+        let Some(bs) = bsdf.sample_component(si.wo, component, u_lobe, u) else { break };
         let new_power = power * bs.importance_weight() / p;
         if !is_finite3(new_power) || new_power.max_element() <= 0.0 {
             break;
@@ -140,7 +170,20 @@ fn trace_path(
         } else if kind == MapKind::Caustic {
             break;
         }
+        if bs.flags & LobeFlags::TRANSMISSION != 0 {
+            scene.update_stack(&mut stack, &si, bs.wi);
+        }
+        interactions += 1;
         ray = si.spawn_ray(bs.wi);
+    }
+}
+
+#[inline]
+fn safe_div(a: f32, b: f32) -> f32 {
+    if b > 0.0 {
+        a / b
+    } else {
+        0.0
     }
 }
 
@@ -162,10 +205,12 @@ fn trace_batch(scene: &Scene, params: &TraceParams, b: u64) -> Vec<RawPhoton> {
         };
         if let Some(le) = le {
             if is_finite3(le.weight) && le.weight.max_element() > 0.0 {
+                let start = scene.light_stacks.get(li).copied().unwrap_or_default();
                 trace_path(
                     scene,
                     le,
                     1.0 / pmf,
+                    start,
                     params.kind,
                     params.max_bounces,
                     &mut rng,

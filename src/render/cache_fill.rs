@@ -103,7 +103,8 @@ pub fn fill(
             .par_iter()
             .map_init(KnnScratch::new, |scratch, (idx, si, n, len)| {
                 let mut rng = Rng::derive(s.seed, 0x1D, *idx as u64);
-                let g = gather_hemisphere(scene, ctx.maps, si, *n, rays, &mut rng, scratch);
+                let stack = scene.medium_stack_at(si.p + *n * (1e-4 * scene.radius));
+                let g = gather_hemisphere(scene, ctx.maps, si, *n, rays, &stack, &mut rng, scratch);
                 let fp = (len * pixel_angle).max(1e-6);
                 let r_min = (R_MIN_PIXELS * fp / a).min(r_cap);
                 let r_max = (R_MAX_PIXELS * fp / a).min(r_cap).max(r_min);

@@ -6,11 +6,13 @@ use super::aov::{Term, TermMask};
 use super::film::TermRadiance;
 use super::irradiance_cache::IrradianceCache;
 use super::photons::PhotonMaps;
+use super::terms::volume::{self, MarchSettings};
 use super::terms::{caustic, direct, emission, indirect, specular};
 use crate::geometry::{Ray, SurfaceInteraction};
 use crate::materials::bsdf::{Bsdf, LobeFlags};
 use crate::materials::Material;
 use crate::math::{is_finite3, Frame, Spectrum};
+use crate::media::MediumStack;
 use crate::photon::KnnScratch;
 use crate::sampling::Rng;
 use crate::scene::{Scene, SceneHit};
@@ -31,6 +33,7 @@ pub struct EyeCtx<'a> {
     pub maps: &'a PhotonMaps,
     pub cache: Option<&'a IrradianceCache>,
     pub settings: EyeSettings,
+    pub march: MarchSettings,
 }
 
 /// The BSDF at a hit, with opaque surfaces shaded on the side the ray came from (two-sided,
@@ -54,10 +57,7 @@ pub fn shading_bsdf(scene: &Scene, mat: &Material, si: &mut SurfaceInteraction) 
 }
 
 /// Indirect light reflected at a non-specular point.
-pub fn indirect_at(
-    ctx: &EyeCtx,
-    si: &SurfaceInteraction,
-    bsdf: &Bsdf,
+pub fn indirect_at(ctx: &EyeCtx, si: &SurfaceInteraction, bsdf: &Bsdf, stack: &MediumStack,
     rng: &mut Rng,
     scratch: &mut KnnScratch,
 ) -> Spectrum {
@@ -70,13 +70,13 @@ pub fn indirect_at(
         let e = match ctx.cache.and_then(|c| c.lookup(si.p, n)) {
             Some(e) => e,
             None => {
-                indirect::gather_hemisphere(ctx.scene, ctx.maps, si, n, rays, rng, scratch)
+                indirect::gather_hemisphere(ctx.scene, ctx.maps, si, n, rays, stack, rng, scratch)
                     .irradiance
             }
         };
         return bsdf.eval(si.wo, n) * e;
     }
-    indirect::gather_bsdf(ctx.scene, ctx.maps, si, bsdf, rays, rng, scratch)
+    indirect::gather_bsdf(ctx.scene, ctx.maps, si, bsdf, rays, stack, rng, scratch)
 }
 
 /// Radiance along `ray`, per term. Non-finite estimates are dropped (counted by the caller).
@@ -93,61 +93,63 @@ pub fn trace(ctx: &EyeCtx, mut ray: Ray, rng: &mut Rng, scratch: &mut KnnScratch
             out.add(t, l);
         }
     };
+    let mut stack = scene.camera_stack;
+    let mut crossings = 0u32;
     loop {
-        match scene.intersect(&ray) {
+        let hit = scene.intersect(&ray);
+        // Participating medium between the ray origin and the hit: in-scattered light, and
+        // attenuation of whatever lies behind.
+        if let Some(m) = stack.current(scene.world_medium) {
+            let len = ray.d.length();
+            let dist = match &hit {
+                SceneHit::Surface(si) => si.t * len,
+                SceneHit::Light { t, .. } => *t * len,
+                SceneHit::Miss => f32::INFINITY,
+            };
+            let tr = if wants(Term::Volume, bounces) {
+                let (lv, tr) = volume::march(scene, ctx.maps, m, &stack, ray.o, ray.d / len, dist, &ctx.march, rng, scratch);
+                add(&mut out, Term::Volume, bounces, beta * lv);
+                tr
+            } else {
+                scene.media[m as usize].transmittance(dist)
+            };
+            beta *= tr;
+            if beta.max_element() <= 0.0 {
+                break;
+            }
+        }
+        match hit {
             SceneHit::Miss => {
-                add(
-                    &mut out,
-                    Term::Emission,
-                    bounces,
-                    beta * emission::background(scene, ray.d),
-                );
+                add(&mut out, Term::Emission, bounces, beta * emission::background(scene, ray.d));
                 break;
             }
             SceneHit::Light { index, p, .. } => {
-                add(
-                    &mut out,
-                    Term::Emission,
-                    bounces,
-                    beta * scene.light_le(index, p, ray.d),
-                );
+                add(&mut out, Term::Emission, bounces, beta * scene.light_le(index, p, ray.d));
                 break;
             }
             SceneHit::Surface(mut si) => {
-                let Some(mat) = scene.materials.get(si.material as usize) else {
-                    break;
-                };
-                add(
-                    &mut out,
-                    Term::Emission,
-                    bounces,
-                    beta * emission::surface_emission(scene, &si),
-                );
+                let Some(mat) = scene.materials.get(si.material as usize) else { break };
+                if mat.is_null() {
+                    // An invisible medium boundary: cross it and go on.
+                    crossings += 1;
+                    if crossings > 64 {
+                        break;
+                    }
+                    scene.update_stack(&mut stack, &si, ray.d);
+                    ray = si.spawn_ray(ray.d);
+                    continue;
+                }
+                add(&mut out, Term::Emission, bounces, beta * emission::surface_emission(scene, &si));
                 let bsdf = shading_bsdf(scene, mat, &mut si);
                 if bsdf.has_non_delta() {
                     if wants(Term::Direct, bounces) {
-                        add(
-                            &mut out,
-                            Term::Direct,
-                            bounces,
-                            beta * direct::estimate(scene, &si, &bsdf, rng),
-                        );
+                        add(&mut out, Term::Direct, bounces, beta * direct::estimate(scene, &si, &bsdf, &stack, rng));
                     }
                     if wants(Term::Caustic, bounces) {
-                        add(
-                            &mut out,
-                            Term::Caustic,
-                            bounces,
-                            beta * caustic::estimate(ctx.maps, &si, &bsdf, scratch),
-                        );
+                        add(&mut out, Term::Caustic, bounces, beta * caustic::estimate(ctx.maps, &si, &bsdf, scratch));
                     }
                     if wants(Term::Indirect, bounces) {
-                        add(
-                            &mut out,
-                            Term::Indirect,
-                            bounces,
-                            beta * indirect_at(ctx, &si, &bsdf, rng, scratch),
-                        );
+                        add(&mut out, Term::Indirect, bounces, beta * indirect_at(ctx, &si, &bsdf, &stack, rng, scratch));
                     }
                 }
                 if bsdf.flags() & LobeFlags::SPECULAR == 0 || bounces >= s.max_specular_depth {
@@ -155,9 +157,7 @@ pub fn trace(ctx: &EyeCtx, mut ray: Ray, rng: &mut Rng, scratch: &mut KnnScratch
                 }
                 let u_lobe = rng.f32();
                 let u = rng.vec2();
-                let Some(bs) = bsdf.sample(si.wo, u_lobe, u) else {
-                    break;
-                };
+                let Some(bs) = bsdf.sample(si.wo, u_lobe, u) else { break };
                 if !bs.is_delta() {
                     break; // the non-delta part was estimated above
                 }
@@ -166,6 +166,9 @@ pub fn trace(ctx: &EyeCtx, mut ray: Ray, rng: &mut Rng, scratch: &mut KnnScratch
                 match specular::continue_chain(beta, bounces, rng.f32()) {
                     Some(b) => beta = b,
                     None => break,
+                }
+                if bs.flags & LobeFlags::TRANSMISSION != 0 {
+                    scene.update_stack(&mut stack, &si, bs.wi);
                 }
                 ray = si.spawn_ray(bs.wi);
             }

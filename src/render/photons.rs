@@ -13,6 +13,7 @@ use std::sync::atomic::AtomicBool;
 pub struct PhotonMaps {
     pub global: Option<PhotonMap>,
     pub caustic: Option<PhotonMap>,
+    pub volume: Option<PhotonMap>,
     pub gather: usize,
     pub global_r2: f32,
     pub caustic_r2: f32,
@@ -70,14 +71,9 @@ pub fn specular_targets(scene: &Scene) -> Vec<Target> {
 
 /// Builds the maps the settings and the scene call for. `need_global` is false when nothing
 /// reads the global map (indirect light disabled).
-pub fn build(
-    scene: &Scene,
-    s: &PhotonSettings,
-    seed: u64,
-    need_global: bool,
-    need_caustic: bool,
-    cancel: Option<&AtomicBool>,
-) -> (PhotonMaps, Vec<MapStats>) {
+/// `need` says which maps the render reads: global, caustic, volume.
+pub fn build(scene: &Scene, s: &PhotonSettings, seed: u64, need: [bool; 3], cancel: Option<&AtomicBool>) -> (PhotonMaps, Vec<MapStats>) {
+    let [need_global, need_caustic, need_volume] = need;
     let max_r = s.max_radius.unwrap_or(0.1 * scene.radius);
     let mut stats = Vec::new();
     let no_lights = scene.lights.is_empty();
@@ -152,9 +148,12 @@ pub fn build(
         &targets,
         Some(caustic_reason.into()),
     );
+    let volume_reason = if scene.has_media() { "the volume term is not rendered" } else { "the scene has no participating media" };
+    let volume = run(MapKind::Volume, need_volume && scene.has_media(), s.volume, &[], Some(volume_reason.into()));
     let maps = PhotonMaps {
         global,
         caustic,
+        volume,
         gather: s.gather,
         global_r2: max_r * max_r,
         caustic_r2: max_r * max_r,

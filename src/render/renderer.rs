@@ -6,6 +6,7 @@
 use super::aov::Term;
 use super::cache_fill;
 use super::eye::{self, EyeCtx, EyeSettings};
+use super::terms::volume::MarchSettings;
 use super::film::{Film, TermRadiance};
 use super::photons::{self, MapStats, PhotonMaps};
 use super::settings::RenderSettings;
@@ -117,7 +118,7 @@ impl<'a> Renderer<'a> {
                     Term::Caustic if maps.caustic.is_none() => {
                         "no caustic photon map (see photon_maps)".into()
                     }
-                    Term::Volume => "the scene has no participating media".into(),
+                    Term::Volume if !self.scene.has_media() => "the scene has no participating media".into(),
                     _ => continue,
                 }
             };
@@ -167,14 +168,8 @@ impl<'a> Renderer<'a> {
         let need_global = s.terms.contains(Term::Indirect) && s.photons.final_gather_rays > 0;
         let need_caustic = s.terms.contains(Term::Caustic);
         let cancel = self.cancel.as_deref();
-        let (maps, map_stats) = photons::build(
-            self.scene,
-            &s.photons,
-            s.seed,
-            need_global,
-            need_caustic,
-            cancel,
-        );
+        let need_volume = s.terms.contains(Term::Volume) && self.scene.has_media();
+        let (maps, map_stats) = photons::build(self.scene, &s.photons, s.seed, [need_global, need_caustic, need_volume], cancel);
         if self.is_cancelled() {
             return Err(Error::Cancelled);
         }
@@ -189,6 +184,11 @@ impl<'a> Renderer<'a> {
                 n => n.div_ceil(s.spp).max(4),
             },
         };
+        let march = MarchSettings {
+            step: s.photons.volume_step.unwrap_or(self.scene.radius / 64.0),
+            gather: s.photons.gather,
+            max_r2: maps.global_r2,
+        };
         // Irradiance cache, filled in deterministic rounds.
         let t1 = Instant::now();
         let cache = if s.photons.irradiance_cache && need_global && maps.global.is_some() {
@@ -197,6 +197,7 @@ impl<'a> Renderer<'a> {
                 maps: &maps,
                 cache: None,
                 settings: eye_settings,
+                march,
             };
             Some(cache_fill::fill(
                 &pre,
@@ -216,6 +217,7 @@ impl<'a> Renderer<'a> {
             maps: &maps,
             cache: cache.as_ref(),
             settings: eye_settings,
+            march,
         };
         let rows_done = AtomicUsize::new(0);
         let non_finite = AtomicUsize::new(0);

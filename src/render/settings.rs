@@ -56,6 +56,7 @@ impl Quality {
         PhotonSettings {
             global,
             caustic,
+            volume: caustic,
             final_gather_rays: fg_rays,
             ..PhotonSettings::default()
         }
@@ -78,6 +79,10 @@ pub struct PhotonSettings {
     pub global: usize,
     /// Photons to store in the caustic map.
     pub caustic: usize,
+    /// Photons to store in the volume map (scenes with participating media).
+    pub volume: usize,
+    /// Ray-marching step in scene units; `None` derives it from the scene size.
+    pub volume_step: Option<f32>,
     /// Photons in each radiance estimate (k nearest).
     pub gather: usize,
     /// Largest search radius in scene units; `None` derives it from the scene size.
@@ -101,6 +106,8 @@ impl Default for PhotonSettings {
         PhotonSettings {
             global: 200_000,
             caustic: 100_000,
+            volume: 100_000,
+            volume_step: None,
             gather: 100,
             max_radius: None,
             final_gather_rays: 256,

@@ -11,6 +11,7 @@ use crate::lights::{
 };
 use crate::materials::{texture::Texture, Material};
 use crate::math::{Bounds3, Spectrum, Transform};
+use crate::media::{Homogeneous, Medium};
 use glam::{Vec2, Vec3};
 use std::collections::HashMap;
 
@@ -33,6 +34,13 @@ pub struct Scene {
     pub center: Vec3,
     pub radius: f32,
     pub triangle_count: usize,
+    pub media: Vec<Medium>,
+    pub world_medium: Option<u32>,
+    /// Interior medium of each instance of the acceleration structure.
+    pub instance_medium: Vec<Option<u32>>,
+    /// Media containing the camera, and each light's position (lights at infinity: none).
+    pub camera_stack: crate::media::MediumStack,
+    pub light_stacks: Vec<crate::media::MediumStack>,
 }
 
 /// What a ray found first.
@@ -63,6 +71,7 @@ impl Scene {
             desc.instances.iter().map(|i| i.mesh).collect();
         let mut meshes = Vec::with_capacity(desc.meshes.len());
         let mut instances = Vec::new();
+        let mut instance_medium = Vec::new();
         for (i, m) in desc.meshes.iter().enumerate() {
             meshes.push(mesh_geom(m));
             let t = Transform::from_rows(&m.transform).unwrap_or_default();
@@ -71,9 +80,11 @@ impl Scene {
                     mesh: i as u32,
                     transform: t,
                 });
+                instance_medium.push(m.interior_medium);
             }
         }
         for inst in &desc.instances {
+            instance_medium.push(desc.meshes[inst.mesh as usize].interior_medium);
             let mesh_t = Transform::from_rows(&desc.meshes[inst.mesh as usize].transform)
                 .unwrap_or_default();
             let t = Transform::from_rows(&inst.transform).unwrap_or_default();
@@ -160,7 +171,7 @@ impl Scene {
             })
             .collect();
 
-        Ok(Scene {
+        let mut scene = Scene {
             accel,
             materials,
             textures,
@@ -176,7 +187,28 @@ impl Scene {
             center,
             radius,
             triangle_count,
-        })
+            media: desc
+                .media
+                .iter()
+                .map(|m| Medium::Homogeneous(Homogeneous::new(Vec3::from(m.sigma_a), Vec3::from(m.sigma_s), m.g)))
+                .collect(),
+            world_medium: desc.world_medium,
+            instance_medium,
+            camera_stack: Default::default(),
+            light_stacks: Vec::new(),
+        };
+        scene.camera_stack = scene.medium_stack_at(scene.camera.position());
+        scene.light_stacks = scene
+            .lights
+            .iter()
+            .map(|l| match l {
+                Light::Point(p) => scene.medium_stack_at(p.position),
+                Light::Area(a) => scene.medium_stack_at(a.center),
+                Light::Triangle(t) => scene.medium_stack_at((t.v[0] + t.v[1] + t.v[2]) / 3.0),
+                _ => Default::default(),
+            })
+            .collect();
+        Ok(scene)
     }
 
     pub fn light_ctx(&self) -> LightCtx<'_> {
@@ -238,6 +270,11 @@ impl Scene {
                 _ => Spectrum::ZERO,
             })
             .sum()
+    }
+
+    /// Whether any ray can travel through a participating medium.
+    pub fn has_media(&self) -> bool {
+        !self.media.is_empty() && (self.world_medium.is_some() || self.instance_medium.iter().any(Option::is_some))
     }
 
     /// Whether any material needs caustic or specular paths.

@@ -4,7 +4,8 @@
 //! directly; light arriving through glass or mirrors is the caustic term's.
 
 use crate::geometry::SurfaceInteraction;
-use crate::materials::bsdf::Bsdf;
+use crate::materials::bsdf::{Bsdf, LobeFlags};
+use crate::media::MediumStack;
 use crate::math::Spectrum;
 use crate::sampling::Rng;
 use crate::scene::{Scene, SceneHit};
@@ -22,7 +23,7 @@ fn power_heuristic(a: f32, b: f32) -> f32 {
 }
 
 /// Direct light reflected at `si` towards `si.wo`.
-pub fn estimate(scene: &Scene, si: &SurfaceInteraction, bsdf: &Bsdf, rng: &mut Rng) -> Spectrum {
+pub fn estimate(scene: &Scene, si: &SurfaceInteraction, bsdf: &Bsdf, stack: &MediumStack, rng: &mut Rng) -> Spectrum {
     let mut l = Spectrum::ZERO;
     let ctx = scene.light_ctx();
     let wo = si.wo;
@@ -42,13 +43,18 @@ pub fn estimate(scene: &Scene, si: &SurfaceInteraction, bsdf: &Bsdf, rng: &mut R
                 } else {
                     si.spawn_ray(ls.wi)
                 };
-                if !scene.accel.occluded(&shadow) {
+                let mut shadow_stack = *stack;
+                if ls.wi.dot(si.ng) * wo.dot(si.ng) < 0.0 {
+                    scene.update_stack(&mut shadow_stack, si, ls.wi);
+                }
+                let tr = scene.transmittance(&shadow, &shadow_stack);
+                if tr.max_element() > 0.0 {
                     let w = if ls.delta {
                         1.0
                     } else {
                         power_heuristic(pmf * ls.pdf, bsdf.pdf(wo, ls.wi))
                     };
-                    l += f * ls.li * (w / (pmf * ls.pdf));
+                    l += f * ls.li * tr * (w / (pmf * ls.pdf));
                 }
             }
         }
@@ -58,7 +64,12 @@ pub fn estimate(scene: &Scene, si: &SurfaceInteraction, bsdf: &Bsdf, rng: &mut R
     if let Some(bs) = bsdf.sample(wo, u_lobe, u_dir) {
         if !bs.is_delta() && bs.pdf > 0.0 {
             let ray = si.spawn_ray(bs.wi);
-            let (le, light_pdf) = match scene.intersect(&ray) {
+            let mut ray_stack = *stack;
+            if bs.flags & LobeFlags::TRANSMISSION != 0 {
+                scene.update_stack(&mut ray_stack, si, bs.wi);
+            }
+            let (hit, tr) = scene.intersect_through(&ray, &mut ray_stack);
+            let (le, light_pdf) = match hit {
                 SceneHit::Light { index, p, n, .. } => {
                     let light = &scene.lights[index as usize];
                     let pdf =
@@ -89,7 +100,7 @@ pub fn estimate(scene: &Scene, si: &SurfaceInteraction, bsdf: &Bsdf, rng: &mut R
                 }
             };
             if le.max_element() > 0.0 {
-                l += bs.weight * le * power_heuristic(bs.pdf, light_pdf);
+                l += bs.weight * le * tr * power_heuristic(bs.pdf, light_pdf);
             }
         }
     }

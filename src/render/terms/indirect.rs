@@ -9,6 +9,7 @@
 use crate::geometry::{Ray, SurfaceInteraction};
 use crate::materials::bsdf::{Bsdf, LobeFlags};
 use crate::math::{Frame, Spectrum, PI};
+use crate::media::MediumStack;
 use crate::photon::map::EstimateFilter;
 use crate::photon::KnnScratch;
 use crate::render::photons::PhotonMaps;
@@ -21,13 +22,8 @@ const GATHER_SPECULAR_DEPTH: u32 = 6;
 
 /// Radiance arriving at the gather point along `ray` from the global map, and the distance to
 /// the first surface (infinite when the ray escapes).
-pub fn gather_radiance(
-    scene: &Scene,
-    maps: &PhotonMaps,
-    mut ray: Ray,
-    rng: &mut Rng,
-    scratch: &mut KnnScratch,
-) -> (Spectrum, f32) {
+pub fn gather_radiance(scene: &Scene, maps: &PhotonMaps, mut ray: Ray, stack: &MediumStack, rng: &mut Rng, scratch: &mut KnnScratch) -> (Spectrum, f32) {
+    let mut stack = *stack;
     let Some(global) = &maps.global else {
         return (Spectrum::ZERO, f32::INFINITY);
     };
@@ -35,9 +31,11 @@ pub fn gather_radiance(
     let mut acc = Spectrum::ZERO;
     let mut first_t = f32::INFINITY;
     for depth in 0..=GATHER_SPECULAR_DEPTH {
-        let SceneHit::Surface(mut si) = scene.intersect(&ray) else {
-            break;
-        };
+        // Through media (and their invisible boundaries) the gathered light is attenuated;
+        // light scattered into the gather ray by the medium is not counted here.
+        let (hit, tr) = if scene.has_media() { scene.intersect_through(&ray, &mut stack) } else { (scene.intersect(&ray), Spectrum::ONE) };
+        beta *= tr;
+        let SceneHit::Surface(mut si) = hit else { break };
         if depth == 0 {
             first_t = si.t * ray.d.length();
         }
@@ -97,7 +95,7 @@ pub fn gather_bsdf(
     maps: &PhotonMaps,
     si: &SurfaceInteraction,
     bsdf: &Bsdf,
-    rays: u32,
+    rays: u32, stack: &MediumStack,
     rng: &mut Rng,
     scratch: &mut KnnScratch,
 ) -> Spectrum {
@@ -109,7 +107,7 @@ pub fn gather_bsdf(
         if bs.is_delta() {
             continue;
         }
-        let (l, _) = gather_radiance(scene, maps, si.spawn_ray(bs.wi), rng, scratch);
+        let (l, _) = gather_radiance(scene, maps, si.spawn_ray(bs.wi), stack, rng, scratch);
         sum += bs.weight * l;
     }
     sum / rays.max(1) as f32
@@ -140,7 +138,7 @@ pub fn gather_hemisphere(
     maps: &PhotonMaps,
     si: &SurfaceInteraction,
     n: Vec3,
-    rays: u32,
+    rays: u32, stack: &MediumStack,
     rng: &mut Rng,
     scratch: &mut KnnScratch,
 ) -> HemisphereGather {
@@ -157,13 +155,7 @@ pub fn gather_hemisphere(
             let cos_t = (1.0 - sin2).max(0.0).sqrt();
             let phi = 2.0 * PI * (k as f32 + u.y) / nn as f32;
             let local = Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t);
-            let (li, t) = gather_radiance(
-                scene,
-                maps,
-                si.spawn_ray(frame.to_world(local)),
-                rng,
-                scratch,
-            );
+            let (li, t) = gather_radiance(scene, maps, si.spawn_ray(frame.to_world(local)), stack, rng, scratch);
             l[j * nn + k] = li;
             r[j * nn + k] = t;
             theta[j * nn + k] = sin_t.asin();

@@ -1,7 +1,7 @@
-//! One file per term of the rendering equation (Jensen 2001, §9.1). `volume` is in the AOV
-//! list and written as zeros until participating media exist.
+//! One file per term of the rendering equation (Jensen 2001, §9.1; media, chapter 10).
 pub mod caustic;
 pub mod direct;
 pub mod emission;
 pub mod indirect;
 pub mod specular;
+pub mod volume;
