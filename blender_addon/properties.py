@@ -30,6 +30,10 @@ class PhotonMapSettings(bpy.types.PropertyGroup):
                          description="Photons to store in the global map")
     caustic_photons: IntProperty(name="Caustic Photons", default=_P["caustic_photons"], min=0,
                                  description="Photons to store in the caustic map")
+    volume_photons: IntProperty(name="Volume Photons", default=_P["volume_photons"], min=0,
+                                description="Photons to store in the volume map (media)")
+    volume_step: FloatProperty(name="Volume Step", default=0.0, min=0.0, subtype="DISTANCE",
+                               description="Ray-marching step through media (0 = from the scene size)")
     gather: IntProperty(name="Gather", default=_P["gather"], min=1,
                         description="Photons per radiance estimate (k nearest)")
     radius: FloatProperty(name="Radius", default=_P["radius"] or 0.0, min=0.0, subtype="DISTANCE",
@@ -52,7 +56,8 @@ def render_settings(s: PhotonMapSettings) -> dict:
     """Keyword arguments of ``photonmap.render`` for these settings."""
     return {
         "quality": s.quality, "spp": s.spp, "photons": s.photons,
-        "caustic_photons": s.caustic_photons, "gather": s.gather,
+        "caustic_photons": s.caustic_photons, "volume_photons": s.volume_photons,
+        "volume_step": s.volume_step if s.volume_step > 0 else None, "gather": s.gather,
         "radius": s.radius if s.radius > 0 else None, "final_gather_rays": s.final_gather_rays,
         "irradiance_cache": s.irradiance_cache, "cache_tolerance": s.cache_tolerance,
         "max_specular_depth": s.max_specular_depth, "seed": s.seed, "threads": s.threads,

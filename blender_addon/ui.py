@@ -49,7 +49,7 @@ class PHOTONMAP_PT_photons(PhotonMapPanel, bpy.types.Panel):
         s = context.scene.photonmap
         layout = self.layout
         layout.use_property_split = True
-        for name in ("photons", "caustic_photons", "gather", "radius"):
+        for name in ("photons", "caustic_photons", "volume_photons", "volume_step", "gather", "radius"):
             layout.prop(s, name)
 
 

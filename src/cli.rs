@@ -66,6 +66,12 @@ pub struct RenderArgs {
     /// Photons to store in the caustic map (overrides the preset).
     #[arg(long)]
     pub caustic_photons: Option<usize>,
+    /// Photons to store in the volume map (scenes with participating media).
+    #[arg(long)]
+    pub volume_photons: Option<usize>,
+    /// Ray-marching step through media, in scene units (default: from the scene size).
+    #[arg(long)]
+    pub volume_step: Option<f32>,
     /// Photons per radiance estimate (k nearest).
     #[arg(long)]
     pub gather: Option<usize>,
@@ -348,6 +354,8 @@ impl RenderArgs {
         let p = &mut s.photons;
         p.global = self.photons.unwrap_or(p.global);
         p.caustic = self.caustic_photons.unwrap_or(p.caustic);
+        p.volume = self.volume_photons.unwrap_or(p.volume);
+        p.volume_step = self.volume_step.or(p.volume_step);
         p.gather = self.gather.unwrap_or(p.gather);
         p.max_radius = self.radius.or(p.max_radius);
         p.final_gather_rays = self.final_gather_rays.unwrap_or(p.final_gather_rays);
@@ -373,6 +381,11 @@ impl RenderArgs {
         if let Some(r) = self.radius {
             if !(r.is_finite() && r > 0.0) {
                 return bad("--radius", "must be a finite number > 0");
+            }
+        }
+        if let Some(v) = self.volume_step {
+            if !(v.is_finite() && v > 0.0) {
+                return bad("--volume-step", "must be a finite number > 0");
             }
         }
         if let Some(t) = self.cache_tolerance {

@@ -199,6 +199,8 @@ def render(
     threads: int = 0,
     photons: int | None = None,
     caustic_photons: int | None = None,
+    volume_photons: int | None = None,
+    volume_step: float | None = None,
     gather: int | None = None,
     radius: float | None = None,
     final_gather_rays: int | None = None,
@@ -220,7 +222,8 @@ def render(
     s = _to_scene(scene)
     raw = _core.render(
         s, quality=quality, spp=spp, seed=seed, threads=threads, photons=photons,
-        caustic_photons=caustic_photons, gather=gather, radius=radius,
+        caustic_photons=caustic_photons, volume_photons=volume_photons, volume_step=volume_step,
+        gather=gather, radius=radius,
         final_gather_rays=final_gather_rays, irradiance_cache=irradiance_cache,
         cache_tolerance=cache_tolerance, max_specular_depth=max_specular_depth, filter=filter,
         progress=progress, cancel=cancel,

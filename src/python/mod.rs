@@ -380,7 +380,7 @@ fn image_bytes<'py>(py: Python<'py>, img: &crate::render::film::Image) -> Bound<
 /// "stats": json}`, images as float32 RGB rows top to bottom; settings as the CLI flags.
 #[pyfunction]
 #[pyo3(signature = (scene, *, quality="medium", spp=None, seed=0, threads=0, photons=None,
-    caustic_photons=None, gather=None, radius=None, final_gather_rays=None,
+    caustic_photons=None, volume_photons=None, volume_step=None, gather=None, radius=None, final_gather_rays=None,
     irradiance_cache=None, cache_tolerance=None, max_specular_depth=None, filter=None,
     progress=None, cancel=None))]
 #[allow(clippy::too_many_arguments)]
@@ -393,6 +393,8 @@ fn render<'py>(
     threads: usize,
     photons: Option<usize>,
     caustic_photons: Option<usize>,
+    volume_photons: Option<usize>,
+    volume_step: Option<f32>,
     gather: Option<usize>,
     radius: Option<f32>,
     final_gather_rays: Option<u32>,
@@ -414,6 +416,8 @@ fn render<'py>(
     a.threads = threads;
     a.photons = photons;
     a.caustic_photons = caustic_photons;
+    a.volume_photons = volume_photons;
+    a.volume_step = volume_step;
     a.gather = gather;
     a.radius = radius;
     a.final_gather_rays = final_gather_rays;
@@ -556,10 +560,11 @@ fn preset(name: &str) -> PyResult<String> {
     let s = q.settings();
     let p = &s.photons;
     Ok(format!(
-        "{{\"spp\": {}, \"photons\": {}, \"caustic_photons\": {}, \"gather\": {}, \"radius\": {}, \"final_gather_rays\": {}, \"irradiance_cache\": {}, \"cache_tolerance\": {}, \"max_specular_depth\": {}}}",
+        "{{\"spp\": {}, \"photons\": {}, \"caustic_photons\": {}, \"volume_photons\": {}, \"gather\": {}, \"radius\": {}, \"final_gather_rays\": {}, \"irradiance_cache\": {}, \"cache_tolerance\": {}, \"max_specular_depth\": {}}}",
         s.spp,
         p.global,
         p.caustic,
+        p.volume,
         p.gather,
         p.max_radius.unwrap_or(0.0),
         p.final_gather_rays,
