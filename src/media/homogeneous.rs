@@ -19,7 +19,12 @@ pub struct Homogeneous {
 
 impl Homogeneous {
     pub fn new(sigma_a: Spectrum, sigma_s: Spectrum, g: f32) -> Self {
-        Homogeneous { sigma_a, sigma_s, sigma_t: sigma_a + sigma_s, phase: HenyeyGreenstein::new(g) }
+        Homogeneous {
+            sigma_a,
+            sigma_s,
+            sigma_t: sigma_a + sigma_s,
+            phase: HenyeyGreenstein::new(g),
+        }
     }
 
     /// exp(-sigma_t d) per channel. The optical depth is formed in f64 and the exponential of
@@ -49,7 +54,12 @@ mod tests {
             for d in [0.0f32, 1e-4, 0.37, 2.0, 1e3] {
                 let t = m.transmittance(d).x;
                 let exact = (-(st as f64) * (d as f64)).exp();
-                assert!(t.is_finite() && (t as f64 - exact).abs() <= 1e-7 * exact.max(1e-30) + f32::MIN_POSITIVE as f64, "{st} {d}: {t} vs {exact}");
+                assert!(
+                    t.is_finite()
+                        && (t as f64 - exact).abs()
+                            <= 1e-7 * exact.max(1e-30) + f32::MIN_POSITIVE as f64,
+                    "{st} {d}: {t} vs {exact}"
+                );
             }
             assert_eq!(m.transmittance(f32::INFINITY).x, 0.0);
         }

@@ -13,7 +13,9 @@ pub struct HenyeyGreenstein {
 
 impl HenyeyGreenstein {
     pub fn new(g: f32) -> Self {
-        HenyeyGreenstein { g: g.clamp(-0.999, 0.999) }
+        HenyeyGreenstein {
+            g: g.clamp(-0.999, 0.999),
+        }
     }
 
     /// Density for `wo`, `wi` both pointing away from the point.
@@ -24,19 +26,20 @@ impl HenyeyGreenstein {
     /// Samples `wi` with density `eval(wo, wi)`; returns (wi, pdf).
     pub fn sample(&self, wo: Vec3, u: Vec2) -> (Vec3, f32) {
         let g = self.g;
-        // cos of the angle to the forward direction -wo.
-        let cos = if g.abs() < 1e-3 {
+        // Cosine between wi and wo (pbrt-v4 SampleHenyeyGreenstein): forward scattering
+        // (g > 0) puts wi near -wo.
+        let cos_wo = if g.abs() < 1e-3 {
             1.0 - 2.0 * u.x
         } else {
             let sq = (1.0 - g * g) / (1.0 + g - 2.0 * g * u.x);
             -(1.0 + g * g - sq * sq) / (2.0 * g)
         }
         .clamp(-1.0, 1.0);
-        let sin = (1.0 - cos * cos).max(0.0).sqrt();
+        let sin = (1.0 - cos_wo * cos_wo).max(0.0).sqrt();
         let phi = 2.0 * PI * u.y;
-        let frame = Frame::from_normal(-wo);
-        let wi = frame.to_world(Vec3::new(sin * phi.cos(), sin * phi.sin(), cos));
-        (wi, hg(cos, g))
+        let wi =
+            Frame::from_normal(wo).to_world(Vec3::new(sin * phi.cos(), sin * phi.sin(), cos_wo));
+        (wi, hg(-cos_wo, g))
     }
 }
 

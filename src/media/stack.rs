@@ -23,7 +23,10 @@ impl MediumStack {
                 self.items[self.len as usize] = medium;
                 self.len += 1;
             }
-        } else if let Some(i) = self.items[..self.len as usize].iter().rposition(|&m| m == medium) {
+        } else if let Some(i) = self.items[..self.len as usize]
+            .iter()
+            .rposition(|&m| m == medium)
+        {
             self.items.copy_within(i + 1..self.len as usize, i);
             self.len -= 1;
         }

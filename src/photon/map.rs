@@ -63,16 +63,25 @@ impl PhotonMap {
     /// that photon lies on the boundary: (k - 1) photons over the disk (or sphere) is the
     /// unbiased k-NN density, so the farthest is left out. With fewer found, the search radius
     /// itself bounds the region and every photon counts.
-    fn nearest<'s>(&self, p: Vec3, k: usize, max_r2: f32, scratch: &'s mut KnnScratch) -> Option<(&'s [super::Neighbor], f32, Option<usize>)> {
+    fn nearest<'s>(
+        &self,
+        p: Vec3,
+        k: usize,
+        max_r2: f32,
+        scratch: &'s mut KnnScratch,
+    ) -> Option<(&'s [super::Neighbor], f32, Option<usize>)> {
         let found = self.tree.knn(p, k, max_r2, scratch);
         if found.is_empty() {
             return None;
         }
         let (r2, skip) = if found.len() >= k && k > 1 {
-            let (i, far) = found
-                .iter()
-                .enumerate()
-                .fold((0, 0.0f32), |acc, (i, nb)| if nb.dist2 > acc.1 { (i, nb.dist2) } else { acc });
+            let (i, far) = found.iter().enumerate().fold((0, 0.0f32), |acc, (i, nb)| {
+                if nb.dist2 > acc.1 {
+                    (i, nb.dist2)
+                } else {
+                    acc
+                }
+            });
             (far, Some(i))
         } else {
             (max_r2, None)
@@ -95,7 +104,9 @@ impl PhotonMap {
         filter: EstimateFilter,
         scratch: &mut KnnScratch,
     ) -> Spectrum {
-        let Some((found, r2, skip)) = self.nearest(p, k, max_r2, scratch) else { return Spectrum::ZERO };
+        let Some((found, r2, skip)) = self.nearest(p, k, max_r2, scratch) else {
+            return Spectrum::ZERO;
+        };
         let r = r2.sqrt();
         let mut sum = Spectrum::ZERO;
         for (i, nb) in found.iter().enumerate() {
@@ -122,8 +133,18 @@ impl PhotonMap {
 
     /// In-scattered radiance at `x` towards `wo` from a volume map (Jensen & Christensen 1998):
     /// sum_p p(wo, wi_p) Phi_p / (4/3 pi r^3), with the k-th photon bounding the sphere.
-    pub fn volume_radiance(&self, x: Vec3, wo: Vec3, phase: &crate::media::HenyeyGreenstein, k: usize, max_r2: f32, scratch: &mut KnnScratch) -> Spectrum {
-        let Some((found, r2, skip)) = self.nearest(x, k, max_r2, scratch) else { return Spectrum::ZERO };
+    pub fn volume_radiance(
+        &self,
+        x: Vec3,
+        wo: Vec3,
+        phase: &crate::media::HenyeyGreenstein,
+        k: usize,
+        max_r2: f32,
+        scratch: &mut KnnScratch,
+    ) -> Spectrum {
+        let Some((found, r2, skip)) = self.nearest(x, k, max_r2, scratch) else {
+            return Spectrum::ZERO;
+        };
         let mut sum = Spectrum::ZERO;
         for (i, nb) in found.iter().enumerate() {
             if Some(i) == skip {

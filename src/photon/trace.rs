@@ -55,9 +55,22 @@ fn mean(c: Spectrum) -> f32 {
 /// collision the photon scatters (Henyey-Greenstein) with probability equal to the mean
 /// albedo, else it is absorbed (Jensen 2001, §10.3).
 #[allow(clippy::too_many_arguments)]
-fn trace_path(scene: &Scene, le: LeSample, scale: f32, start: MediumStack, kind: MapKind, max_bounces: u32, rng: &mut Rng, out: &mut Vec<RawPhoton>) {
+fn trace_path(
+    scene: &Scene,
+    le: LeSample,
+    scale: f32,
+    start: MediumStack,
+    kind: MapKind,
+    max_bounces: u32,
+    rng: &mut Rng,
+    out: &mut Vec<RawPhoton>,
+) {
     let mut power = le.weight * scale;
-    let mut ray = Ray { o: le.o, d: le.d, t_max: f32::INFINITY };
+    let mut ray = Ray {
+        o: le.o,
+        d: le.d,
+        t_max: f32::INFINITY,
+    };
     let mut stack = start;
     let mut interactions = 0u32;
     let mut specular_bounces = 0u32;
@@ -81,7 +94,11 @@ fn trace_path(scene: &Scene, le: LeSample, scale: f32, start: MediumStack, kind:
                         st.z / st_avg * (-(st.z - st_avg) * t).exp(),
                     );
                     let ss = med.sigma_s();
-                    let albedo = Spectrum::new(safe_div(ss.x, st.x), safe_div(ss.y, st.y), safe_div(ss.z, st.z));
+                    let albedo = Spectrum::new(
+                        safe_div(ss.x, st.x),
+                        safe_div(ss.y, st.y),
+                        safe_div(ss.z, st.z),
+                    );
                     let p = mean(albedo).min(1.0);
                     if kind == MapKind::Caustic || !(p > 0.0) || rng.f32() >= p {
                         break;
@@ -93,11 +110,20 @@ fn trace_path(scene: &Scene, le: LeSample, scale: f32, start: MediumStack, kind:
                     power = new_power;
                     let x = ray.o + d * t;
                     if kind == MapKind::Volume && interactions > 0 {
-                        out.push(RawPhoton { p: x, power, d, first: false });
+                        out.push(RawPhoton {
+                            p: x,
+                            power,
+                            d,
+                            first: false,
+                        });
                     }
                     interactions += 1;
                     let (wi, _) = med.phase().sample(-d, rng.vec2());
-                    ray = Ray { o: x, d: wi, t_max: f32::INFINITY };
+                    ray = Ray {
+                        o: x,
+                        d: wi,
+                        t_max: f32::INFINITY,
+                    };
                     continue;
                 }
                 if !dist.is_finite() {
@@ -112,7 +138,9 @@ fn trace_path(scene: &Scene, le: LeSample, scale: f32, start: MediumStack, kind:
         }
         let Some(hit) = hit else { break };
         let mut si = scene.accel.interaction(&ray, &hit);
-        let Some(mat) = scene.materials.get(si.material as usize) else { break };
+        let Some(mat) = scene.materials.get(si.material as usize) else {
+            break;
+        };
         if mat.is_null() {
             scene.update_stack(&mut stack, &si, ray.d);
             ray = si.spawn_ray(ray.d);
@@ -124,15 +152,29 @@ fn trace_path(scene: &Scene, le: LeSample, scale: f32, start: MediumStack, kind:
         if bsdf.flags() & LobeFlags::TRANSMISSION == 0 && si.ng.dot(si.wo) < 0.0 {
             si.ng = -si.ng;
             si.ns = -si.ns;
-            bsdf = mat.bsdf(Frame::from_normal_tangent(si.ns, si.dpdu), si.uv, &scene.textures);
+            bsdf = mat.bsdf(
+                Frame::from_normal_tangent(si.ns, si.dpdu),
+                si.uv,
+                &scene.textures,
+            );
         }
         if bsdf.has_non_delta() {
             match kind {
-                MapKind::Global => out.push(RawPhoton { p: si.p, power, d: ray.d, first: interactions == 0 }),
+                MapKind::Global => out.push(RawPhoton {
+                    p: si.p,
+                    power,
+                    d: ray.d,
+                    first: interactions == 0,
+                }),
                 MapKind::Caustic => {
                     // Light -> specular+ -> here: a caustic photon. Its path ends here.
                     if specular_bounces == interactions && interactions > 0 {
-                        out.push(RawPhoton { p: si.p, power, d: ray.d, first: false });
+                        out.push(RawPhoton {
+                            p: si.p,
+                            power,
+                            d: ray.d,
+                            first: false,
+                        });
                     }
                     break;
                 }
@@ -159,7 +201,9 @@ fn trace_path(scene: &Scene, le: LeSample, scale: f32, start: MediumStack, kind:
         }
         let u_lobe = rng.f32();
         let u = rng.vec2();
-        let Some(bs) = bsdf.sample_component(si.wo, component, u_lobe, u) else { break };
+        let Some(bs) = bsdf.sample_component(si.wo, component, u_lobe, u) else {
+            break;
+        };
         let new_power = power * bs.importance_weight() / p;
         if !is_finite3(new_power) || new_power.max_element() <= 0.0 {
             break;

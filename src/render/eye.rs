@@ -57,7 +57,11 @@ pub fn shading_bsdf(scene: &Scene, mat: &Material, si: &mut SurfaceInteraction) 
 }
 
 /// Indirect light reflected at a non-specular point.
-pub fn indirect_at(ctx: &EyeCtx, si: &SurfaceInteraction, bsdf: &Bsdf, stack: &MediumStack,
+pub fn indirect_at(
+    ctx: &EyeCtx,
+    si: &SurfaceInteraction,
+    bsdf: &Bsdf,
+    stack: &MediumStack,
     rng: &mut Rng,
     scratch: &mut KnnScratch,
 ) -> Spectrum {
@@ -107,7 +111,18 @@ pub fn trace(ctx: &EyeCtx, mut ray: Ray, rng: &mut Rng, scratch: &mut KnnScratch
                 SceneHit::Miss => f32::INFINITY,
             };
             let tr = if wants(Term::Volume, bounces) {
-                let (lv, tr) = volume::march(scene, ctx.maps, m, &stack, ray.o, ray.d / len, dist, &ctx.march, rng, scratch);
+                let (lv, tr) = volume::march(
+                    scene,
+                    ctx.maps,
+                    m,
+                    &stack,
+                    ray.o,
+                    ray.d / len,
+                    dist,
+                    &ctx.march,
+                    rng,
+                    scratch,
+                );
                 add(&mut out, Term::Volume, bounces, beta * lv);
                 tr
             } else {
@@ -120,15 +135,27 @@ pub fn trace(ctx: &EyeCtx, mut ray: Ray, rng: &mut Rng, scratch: &mut KnnScratch
         }
         match hit {
             SceneHit::Miss => {
-                add(&mut out, Term::Emission, bounces, beta * emission::background(scene, ray.d));
+                add(
+                    &mut out,
+                    Term::Emission,
+                    bounces,
+                    beta * emission::background(scene, ray.d),
+                );
                 break;
             }
             SceneHit::Light { index, p, .. } => {
-                add(&mut out, Term::Emission, bounces, beta * scene.light_le(index, p, ray.d));
+                add(
+                    &mut out,
+                    Term::Emission,
+                    bounces,
+                    beta * scene.light_le(index, p, ray.d),
+                );
                 break;
             }
             SceneHit::Surface(mut si) => {
-                let Some(mat) = scene.materials.get(si.material as usize) else { break };
+                let Some(mat) = scene.materials.get(si.material as usize) else {
+                    break;
+                };
                 if mat.is_null() {
                     // An invisible medium boundary: cross it and go on.
                     crossings += 1;
@@ -139,17 +166,37 @@ pub fn trace(ctx: &EyeCtx, mut ray: Ray, rng: &mut Rng, scratch: &mut KnnScratch
                     ray = si.spawn_ray(ray.d);
                     continue;
                 }
-                add(&mut out, Term::Emission, bounces, beta * emission::surface_emission(scene, &si));
+                add(
+                    &mut out,
+                    Term::Emission,
+                    bounces,
+                    beta * emission::surface_emission(scene, &si),
+                );
                 let bsdf = shading_bsdf(scene, mat, &mut si);
                 if bsdf.has_non_delta() {
                     if wants(Term::Direct, bounces) {
-                        add(&mut out, Term::Direct, bounces, beta * direct::estimate(scene, &si, &bsdf, &stack, rng));
+                        add(
+                            &mut out,
+                            Term::Direct,
+                            bounces,
+                            beta * direct::estimate(scene, &si, &bsdf, &stack, rng),
+                        );
                     }
                     if wants(Term::Caustic, bounces) {
-                        add(&mut out, Term::Caustic, bounces, beta * caustic::estimate(ctx.maps, &si, &bsdf, scratch));
+                        add(
+                            &mut out,
+                            Term::Caustic,
+                            bounces,
+                            beta * caustic::estimate(ctx.maps, &si, &bsdf, scratch),
+                        );
                     }
                     if wants(Term::Indirect, bounces) {
-                        add(&mut out, Term::Indirect, bounces, beta * indirect_at(ctx, &si, &bsdf, &stack, rng, scratch));
+                        add(
+                            &mut out,
+                            Term::Indirect,
+                            bounces,
+                            beta * indirect_at(ctx, &si, &bsdf, &stack, rng, scratch),
+                        );
                     }
                 }
                 if bsdf.flags() & LobeFlags::SPECULAR == 0 || bounces >= s.max_specular_depth {
@@ -157,7 +204,9 @@ pub fn trace(ctx: &EyeCtx, mut ray: Ray, rng: &mut Rng, scratch: &mut KnnScratch
                 }
                 let u_lobe = rng.f32();
                 let u = rng.vec2();
-                let Some(bs) = bsdf.sample(si.wo, u_lobe, u) else { break };
+                let Some(bs) = bsdf.sample(si.wo, u_lobe, u) else {
+                    break;
+                };
                 if !bs.is_delta() {
                     break; // the non-delta part was estimated above
                 }

@@ -72,7 +72,13 @@ pub fn specular_targets(scene: &Scene) -> Vec<Target> {
 /// Builds the maps the settings and the scene call for. `need_global` is false when nothing
 /// reads the global map (indirect light disabled).
 /// `need` says which maps the render reads: global, caustic, volume.
-pub fn build(scene: &Scene, s: &PhotonSettings, seed: u64, need: [bool; 3], cancel: Option<&AtomicBool>) -> (PhotonMaps, Vec<MapStats>) {
+pub fn build(
+    scene: &Scene,
+    s: &PhotonSettings,
+    seed: u64,
+    need: [bool; 3],
+    cancel: Option<&AtomicBool>,
+) -> (PhotonMaps, Vec<MapStats>) {
     let [need_global, need_caustic, need_volume] = need;
     let max_r = s.max_radius.unwrap_or(0.1 * scene.radius);
     let mut stats = Vec::new();
@@ -148,8 +154,18 @@ pub fn build(scene: &Scene, s: &PhotonSettings, seed: u64, need: [bool; 3], canc
         &targets,
         Some(caustic_reason.into()),
     );
-    let volume_reason = if scene.has_media() { "the volume term is not rendered" } else { "the scene has no participating media" };
-    let volume = run(MapKind::Volume, need_volume && scene.has_media(), s.volume, &[], Some(volume_reason.into()));
+    let volume_reason = if scene.has_media() {
+        "the volume term is not rendered"
+    } else {
+        "the scene has no participating media"
+    };
+    let volume = run(
+        MapKind::Volume,
+        need_volume && scene.has_media(),
+        s.volume,
+        &[],
+        Some(volume_reason.into()),
+    );
     let maps = PhotonMaps {
         global,
         caustic,

@@ -6,10 +6,10 @@
 use super::aov::Term;
 use super::cache_fill;
 use super::eye::{self, EyeCtx, EyeSettings};
-use super::terms::volume::MarchSettings;
 use super::film::{Film, TermRadiance};
 use super::photons::{self, MapStats, PhotonMaps};
 use super::settings::RenderSettings;
+use super::terms::volume::MarchSettings;
 use crate::error::{Error, Result};
 use crate::geometry::Ray;
 use crate::photon::KnnScratch;
@@ -118,7 +118,9 @@ impl<'a> Renderer<'a> {
                     Term::Caustic if maps.caustic.is_none() => {
                         "no caustic photon map (see photon_maps)".into()
                     }
-                    Term::Volume if !self.scene.has_media() => "the scene has no participating media".into(),
+                    Term::Volume if !self.scene.has_media() => {
+                        "the scene has no participating media".into()
+                    }
                     _ => continue,
                 }
             };
@@ -169,7 +171,13 @@ impl<'a> Renderer<'a> {
         let need_caustic = s.terms.contains(Term::Caustic);
         let cancel = self.cancel.as_deref();
         let need_volume = s.terms.contains(Term::Volume) && self.scene.has_media();
-        let (maps, map_stats) = photons::build(self.scene, &s.photons, s.seed, [need_global, need_caustic, need_volume], cancel);
+        let (maps, map_stats) = photons::build(
+            self.scene,
+            &s.photons,
+            s.seed,
+            [need_global, need_caustic, need_volume],
+            cancel,
+        );
         if self.is_cancelled() {
             return Err(Error::Cancelled);
         }

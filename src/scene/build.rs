@@ -190,7 +190,13 @@ impl Scene {
             media: desc
                 .media
                 .iter()
-                .map(|m| Medium::Homogeneous(Homogeneous::new(Vec3::from(m.sigma_a), Vec3::from(m.sigma_s), m.g)))
+                .map(|m| {
+                    Medium::Homogeneous(Homogeneous::new(
+                        Vec3::from(m.sigma_a),
+                        Vec3::from(m.sigma_s),
+                        m.g,
+                    ))
+                })
                 .collect(),
             world_medium: desc.world_medium,
             instance_medium,
@@ -274,7 +280,8 @@ impl Scene {
 
     /// Whether any ray can travel through a participating medium.
     pub fn has_media(&self) -> bool {
-        !self.media.is_empty() && (self.world_medium.is_some() || self.instance_medium.iter().any(Option::is_some))
+        !self.media.is_empty()
+            && (self.world_medium.is_some() || self.instance_medium.iter().any(Option::is_some))
     }
 
     /// Whether any material needs caustic or specular paths.

@@ -20,7 +20,9 @@ impl Scene {
     }
 
     fn is_null(&self, si: &SurfaceInteraction) -> bool {
-        self.materials.get(si.material as usize).is_some_and(|m| m.is_null())
+        self.materials
+            .get(si.material as usize)
+            .is_some_and(|m| m.is_null())
     }
 
     /// Transmittance along a shadow ray (its `t_max` marks the light): 0 when an opaque
@@ -28,11 +30,19 @@ impl Scene {
     /// invisible boundaries. Without media this is the plain any-hit test.
     pub fn transmittance(&self, ray: &Ray, stack: &MediumStack) -> Spectrum {
         if !self.has_media() {
-            return if self.accel.occluded(ray) { Spectrum::ZERO } else { Spectrum::ONE };
+            return if self.accel.occluded(ray) {
+                Spectrum::ZERO
+            } else {
+                Spectrum::ONE
+            };
         }
         let mut stack = *stack;
         let mut ray = *ray;
-        let target = if ray.t_max.is_finite() { Some(ray.o + ray.d * ray.t_max) } else { None };
+        let target = if ray.t_max.is_finite() {
+            Some(ray.o + ray.d * ray.t_max)
+        } else {
+            None
+        };
         let mut t = Spectrum::ONE;
         for _ in 0..MAX_CROSSINGS {
             let hit = self.accel.intersect(&ray);
@@ -95,10 +105,16 @@ impl Scene {
         }
         let dir = glam::Vec3::new(0.267, 0.534, 0.802).normalize();
         let mut seen: Vec<u32> = Vec::new();
-        let mut ray = Ray { o: p, d: dir, t_max: f32::INFINITY };
+        let mut ray = Ray {
+            o: p,
+            d: dir,
+            t_max: f32::INFINITY,
+        };
         let mut inside: Vec<u32> = Vec::new();
         for _ in 0..1024 {
-            let Some(h) = self.accel.intersect(&ray) else { break };
+            let Some(h) = self.accel.intersect(&ray) else {
+                break;
+            };
             let si = self.accel.interaction(&ray, &h);
             if !seen.contains(&si.instance) {
                 seen.push(si.instance);

@@ -148,7 +148,11 @@ pub fn validate(scene: &SceneDesc) -> Result<()> {
         c.rgb("sigma_s", &m.sigma_s)?;
         for (k, v) in m.sigma_a.iter().chain(m.sigma_s.iter()).enumerate() {
             if *v > 1e8 {
-                let field = if k < 3 { format!("sigma_a/{k}") } else { format!("sigma_s/{}", k - 3) };
+                let field = if k < 3 {
+                    format!("sigma_a/{k}")
+                } else {
+                    format!("sigma_s/{}", k - 3)
+                };
                 return Err(c.err(&field, format!("must be at most 1e8, got {v}")));
             }
         }
@@ -158,7 +162,14 @@ pub fn validate(scene: &SceneDesc) -> Result<()> {
     }
     if let Some(w) = scene.world_medium {
         if w as usize >= scene.media.len() {
-            return Err(Error::scene("/world_medium", "", format!("medium index {w} out of range ({} media)", scene.media.len())));
+            return Err(Error::scene(
+                "/world_medium",
+                "",
+                format!(
+                    "medium index {w} out of range ({} media)",
+                    scene.media.len()
+                ),
+            ));
         }
     }
     for (i, m) in scene.meshes.iter().enumerate() {
@@ -389,7 +400,13 @@ fn validate_mesh(i: usize, m: &MeshDesc, scene: &SceneDesc) -> Result<()> {
     }
     if let Some(mi) = m.interior_medium {
         if mi as usize >= scene.media.len() {
-            return Err(c.err("interior_medium", format!("medium index {mi} out of range ({} media)", scene.media.len())));
+            return Err(c.err(
+                "interior_medium",
+                format!(
+                    "medium index {mi} out of range ({} media)",
+                    scene.media.len()
+                ),
+            ));
         }
     }
     c.matrix("transform", &m.transform)

@@ -5,8 +5,8 @@
 
 use crate::geometry::SurfaceInteraction;
 use crate::materials::bsdf::{Bsdf, LobeFlags};
-use crate::media::MediumStack;
 use crate::math::Spectrum;
+use crate::media::MediumStack;
 use crate::sampling::Rng;
 use crate::scene::{Scene, SceneHit};
 
@@ -23,7 +23,13 @@ fn power_heuristic(a: f32, b: f32) -> f32 {
 }
 
 /// Direct light reflected at `si` towards `si.wo`.
-pub fn estimate(scene: &Scene, si: &SurfaceInteraction, bsdf: &Bsdf, stack: &MediumStack, rng: &mut Rng) -> Spectrum {
+pub fn estimate(
+    scene: &Scene,
+    si: &SurfaceInteraction,
+    bsdf: &Bsdf,
+    stack: &MediumStack,
+    rng: &mut Rng,
+) -> Spectrum {
     let mut l = Spectrum::ZERO;
     let ctx = scene.light_ctx();
     let wo = si.wo;

@@ -22,7 +22,14 @@ const GATHER_SPECULAR_DEPTH: u32 = 6;
 
 /// Radiance arriving at the gather point along `ray` from the global map, and the distance to
 /// the first surface (infinite when the ray escapes).
-pub fn gather_radiance(scene: &Scene, maps: &PhotonMaps, mut ray: Ray, stack: &MediumStack, rng: &mut Rng, scratch: &mut KnnScratch) -> (Spectrum, f32) {
+pub fn gather_radiance(
+    scene: &Scene,
+    maps: &PhotonMaps,
+    mut ray: Ray,
+    stack: &MediumStack,
+    rng: &mut Rng,
+    scratch: &mut KnnScratch,
+) -> (Spectrum, f32) {
     let mut stack = *stack;
     let Some(global) = &maps.global else {
         return (Spectrum::ZERO, f32::INFINITY);
@@ -33,9 +40,15 @@ pub fn gather_radiance(scene: &Scene, maps: &PhotonMaps, mut ray: Ray, stack: &M
     for depth in 0..=GATHER_SPECULAR_DEPTH {
         // Through media (and their invisible boundaries) the gathered light is attenuated;
         // light scattered into the gather ray by the medium is not counted here.
-        let (hit, tr) = if scene.has_media() { scene.intersect_through(&ray, &mut stack) } else { (scene.intersect(&ray), Spectrum::ONE) };
+        let (hit, tr) = if scene.has_media() {
+            scene.intersect_through(&ray, &mut stack)
+        } else {
+            (scene.intersect(&ray), Spectrum::ONE)
+        };
         beta *= tr;
-        let SceneHit::Surface(mut si) = hit else { break };
+        let SceneHit::Surface(mut si) = hit else {
+            break;
+        };
         if depth == 0 {
             first_t = si.t * ray.d.length();
         }
@@ -95,7 +108,8 @@ pub fn gather_bsdf(
     maps: &PhotonMaps,
     si: &SurfaceInteraction,
     bsdf: &Bsdf,
-    rays: u32, stack: &MediumStack,
+    rays: u32,
+    stack: &MediumStack,
     rng: &mut Rng,
     scratch: &mut KnnScratch,
 ) -> Spectrum {
@@ -138,7 +152,8 @@ pub fn gather_hemisphere(
     maps: &PhotonMaps,
     si: &SurfaceInteraction,
     n: Vec3,
-    rays: u32, stack: &MediumStack,
+    rays: u32,
+    stack: &MediumStack,
     rng: &mut Rng,
     scratch: &mut KnnScratch,
 ) -> HemisphereGather {
@@ -155,7 +170,14 @@ pub fn gather_hemisphere(
             let cos_t = (1.0 - sin2).max(0.0).sqrt();
             let phi = 2.0 * PI * (k as f32 + u.y) / nn as f32;
             let local = Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t);
-            let (li, t) = gather_radiance(scene, maps, si.spawn_ray(frame.to_world(local)), stack, rng, scratch);
+            let (li, t) = gather_radiance(
+                scene,
+                maps,
+                si.spawn_ray(frame.to_world(local)),
+                stack,
+                rng,
+                scratch,
+            );
             l[j * nn + k] = li;
             r[j * nn + k] = t;
             theta[j * nn + k] = sin_t.asin();

@@ -74,14 +74,26 @@ pub fn march(
     let b = oc.dot(dir);
     let c = oc.length_squared() - scene.radius * scene.radius;
     let exit = -b + (b * b - c).max(0.0).sqrt();
-    let seg = if dist.is_finite() { dist } else { exit.max(0.0) };
-    let t_total = if dist.is_finite() { med.transmittance(dist) } else { Spectrum::ZERO };
+    let seg = if dist.is_finite() {
+        dist
+    } else {
+        exit.max(0.0)
+    };
+    let t_total = if dist.is_finite() {
+        med.transmittance(dist)
+    } else {
+        Spectrum::ZERO
+    };
     if sigma_s.max_element() <= 0.0 || seg <= 0.0 {
         return (Spectrum::ZERO, t_total);
     }
     // Only the part of the segment with transmittance above the cut-off matters.
     let st_min = sigma_t.min_element();
-    let useful = if st_min > 0.0 { seg.min(-T_CUTOFF.ln() / st_min) } else { seg };
+    let useful = if st_min > 0.0 {
+        seg.min(-T_CUTOFF.ln() / st_min)
+    } else {
+        seg
+    };
     let n = ((useful / s.step.max(1e-12)).ceil() as u32).clamp(1, MAX_STEPS);
     let step = useful / n as f32;
     let st_avg = mean(sigma_t);
@@ -116,19 +128,38 @@ pub fn march(
 
 /// Radiance from the lights arriving at `x` in a medium and scattered towards `wo`, per unit
 /// scattering coefficient: light sampling with transmittance along the shadow ray.
-fn single_scattering(scene: &Scene, stack: &MediumStack, x: Vec3, wo: Vec3, phase: &crate::media::HenyeyGreenstein, rng: &mut Rng) -> Spectrum {
+fn single_scattering(
+    scene: &Scene,
+    stack: &MediumStack,
+    x: Vec3,
+    wo: Vec3,
+    phase: &crate::media::HenyeyGreenstein,
+    rng: &mut Rng,
+) -> Spectrum {
     let ctx = scene.light_ctx();
     let (u_light, u_pos) = (rng.f32(), rng.vec2());
-    let Some((li, pmf, _)) = scene.light_sampler.sample(u_light) else { return Spectrum::ZERO };
-    let Some(ls) = scene.lights[li].sample_li(x, u_pos, &ctx) else { return Spectrum::ZERO };
+    let Some((li, pmf, _)) = scene.light_sampler.sample(u_light) else {
+        return Spectrum::ZERO;
+    };
+    let Some(ls) = scene.lights[li].sample_li(x, u_pos, &ctx) else {
+        return Spectrum::ZERO;
+    };
     let p = phase.eval(wo, ls.wi);
     if !(p > 0.0) {
         return Spectrum::ZERO;
     }
     let shadow = if ls.dist.is_finite() {
-        Ray { o: x, d: ls.p - x, t_max: 1.0 - crate::geometry::SHADOW_EPSILON }
+        Ray {
+            o: x,
+            d: ls.p - x,
+            t_max: 1.0 - crate::geometry::SHADOW_EPSILON,
+        }
     } else {
-        Ray { o: x, d: ls.wi, t_max: f32::INFINITY }
+        Ray {
+            o: x,
+            d: ls.wi,
+            t_max: f32::INFINITY,
+        }
     };
     let tr = scene.transmittance(&shadow, stack);
     ls.li * tr * (p / (pmf * ls.pdf))
