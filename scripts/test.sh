@@ -3,7 +3,7 @@
 # and its tests. Needs the Rust toolchain, Python 3.11 and pip.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cargo test --no-fail-fast
+cargo test --release --no-fail-fast
 
 # Python package: build and install it (pip install . builds the Rust core with maturin), then
 # run its tests. A fresh venv keeps the machine's interpreter clean.
