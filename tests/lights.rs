@@ -271,3 +271,105 @@ fn light_power_matches_monte_carlo_flux() {
         );
     }
 }
+
+/// Photon emission: the directions `sample_le` draws follow each light's emission density
+/// (uniform for point and sphere lights, the cone for spots, cosine about the normal for area
+/// lights, both faces for two-sided emitters), and the mean photon weight is the light's power.
+#[test]
+fn photon_emission_directions_and_flux() {
+    let materials = emissive_materials();
+    let textures: Vec<Texture> = vec![];
+    let c = ctx(&materials, &textures);
+    let spot = SpotShape::new(Vec3::new(0.3, -1.0, 0.2), 1.0, 0.0);
+    let rect_n = match rect_light() {
+        Light::Area(a) => a.n,
+        _ => unreachable!(),
+    };
+    let tri = lights_under_test()
+        .into_iter()
+        .find(|(n, _)| *n == "triangle")
+        .unwrap()
+        .1;
+    let tri_n = match &tri {
+        Light::Triangle(t) => t.n,
+        _ => unreachable!(),
+    };
+    let cases: Vec<(&str, Light, Box<dyn Fn(Vec3) -> f32 + Sync>)> = vec![
+        (
+            "point",
+            Light::Point(PointLight::new(Vec3::ZERO, 7.0, Spectrum::ONE, 0.0, None)),
+            Box::new(|_| 1.0 / (4.0 * PI)),
+        ),
+        (
+            "spot",
+            Light::Point(PointLight::new(
+                Vec3::ZERO,
+                7.0,
+                Spectrum::ONE,
+                0.0,
+                Some(spot),
+            )),
+            {
+                let s = spot;
+                Box::new(move |d: Vec3| {
+                    if d.dot(s.axis) > s.cos_half {
+                        warp::uniform_cone_pdf(s.cos_half)
+                    } else {
+                        0.0
+                    }
+                })
+            },
+        ),
+        (
+            "sphere",
+            Light::Point(PointLight::new(Vec3::ONE, 3.0, Spectrum::ONE, 0.3, None)),
+            Box::new(|_| 1.0 / (4.0 * PI)),
+        ),
+        (
+            "rect",
+            rect_light(),
+            Box::new(move |d: Vec3| d.dot(rect_n).max(0.0) / PI),
+        ),
+        (
+            "disk_two_sided",
+            disk_light(),
+            Box::new(|d: Vec3| d.dot(-Vec3::Y).abs() / (2.0 * PI)),
+        ),
+        (
+            "triangle",
+            tri,
+            Box::new(move |d: Vec3| d.dot(tri_n).abs() / (2.0 * PI)),
+        ),
+    ];
+    let cfg = Chi2Config {
+        samples: 300_000,
+        theta_bins: 20,
+        phi_bins: 40,
+        num_tests: cases.len(),
+        ..Default::default()
+    };
+    for (name, light, pdf) in &cases {
+        let mut rng = Rng::new(1, 0);
+        assert_chi2(
+            name,
+            &cfg,
+            |u| {
+                let s = light.sample_le(Vec2::new(u.x, u.y), rng.vec2(), &c)?;
+                Some((s.d, f32::NAN))
+            },
+            |d| pdf(d),
+        );
+        let n = 200_000;
+        let mut sum = 0.0f64;
+        let mut rng = Rng::new(6, 0);
+        for _ in 0..n {
+            if let Some(s) = light.sample_le(rng.vec2(), rng.vec2(), &c) {
+                sum += photonmap::math::luminance(s.weight) as f64;
+            }
+        }
+        let est = sum / n as f64;
+        let phi = photonmap::math::luminance(light.power(&c)) as f64;
+        eprintln!("{name}: power {phi:.4}, mean photon weight {est:.4}");
+        assert!((est / phi - 1.0).abs() < 0.01, "{name}: {est} vs {phi}");
+    }
+}
