@@ -19,9 +19,12 @@ medium and no two surfaces coincide.
 
 fog_glass uses a disk light, not a spot light: light from a point (delta) source that reaches the
 fog through glass can only be found by tracing from the light, so a path tracer (the Mitsuba
-reference) would render the caustics as black. The disk (radius 0.04, emitting down) sits at
-the top of a black square tube, 0.4 long, that limits its light to a cone: fully lit within
-about 11 degrees of the axis (the glass sphere subtends 11.6), penumbra out to 22.
+reference) would render the caustics as black. The disk (radius 0.12, 40 W, emitting down) sits
+at the top of a black square tube (half-width 0.2, 0.6 long) that limits its light to a cone:
+fully lit within about 7.6 degrees of the axis, penumbra out to 28 degrees; the glass sphere
+(radius 0.35, 1.7 below the light) subtends 11.6 degrees. Its paraxial image of the lamp lies
+about 0.76 below the sphere's centre (ball-lens focal length n r / 2(n-1) = 0.525), i.e. in the
+fog above the floor.
 """
 import math
 import os

@@ -29,6 +29,20 @@ References
     cornell_spheres_direct_specular  `direct_specular` below: our direct + specular + emission
     cornell_diffuse_full             Mitsuba `path`, max_depth=-1, rr_depth=5: all light
     cornell_spheres_full             Mitsuba `path`, max_depth=-1, rr_depth=5: all light
+    fog_spot_single                  Mitsuba `volpath`, max_depth=2: emission, direct light on
+                                     surfaces and single scattering in media
+    fog_spot_full                    Mitsuba `volpath`, max_depth=-1, rr_depth=64: all light
+    fog_glass_full                   Mitsuba `volpath`, max_depth=-1, rr_depth=64: all light
+    thick_sphere_full                Mitsuba `volpath`, max_depth=-1, rr_depth=64: all light
+
+Mitsuba counts depth in scattering events along the camera path, surface and medium alike (null
+surfaces, i.e. medium boundaries, do not count). With max_depth=2: depth 1 is what the camera
+ray meets (an emitter seen directly, possibly through null boundaries, attenuated by the media
+on the way); at the first real event, a surface bounce or a scattering in a medium, next-event
+estimation to the lights (shadow rays pass null boundaries and are attenuated by transmittance)
+and the MIS-weighted emitter hit of the sampled direction form depth 2. So max_depth=2 is
+emission + direct light on surfaces + single scattering in media, with transmittance on every
+segment; no light that has scattered twice.
 
 The `direct_specular` integrator computes exactly the sum of our `direct`, `specular` and
 `emission` terms, i.e. everything except `indirect` and `caustic`:
