@@ -29,6 +29,20 @@ References
     cornell_spheres_direct_specular  `direct_specular` below: our direct + specular + emission
     cornell_diffuse_full             Mitsuba `path`, max_depth=-1, rr_depth=5: all light
     cornell_spheres_full             Mitsuba `path`, max_depth=-1, rr_depth=5: all light
+    fog_spot_single                  Mitsuba `volpath`, max_depth=2: emission, direct light on
+                                     surfaces and single scattering in media
+    fog_spot_full                    Mitsuba `volpath`, max_depth=-1, rr_depth=64: all light
+    fog_glass_full                   Mitsuba `volpath`, max_depth=-1, rr_depth=64: all light
+    thick_sphere_full                Mitsuba `volpath`, max_depth=-1, rr_depth=64: all light
+
+Mitsuba counts depth in scattering events along the camera path, surface and medium alike (null
+surfaces, i.e. medium boundaries, do not count). With max_depth=2: depth 1 is what the camera
+ray meets (an emitter seen directly, possibly through null boundaries, attenuated by the media
+on the way); at the first real event, a surface bounce or a scattering in a medium, next-event
+estimation to the lights (shadow rays pass null boundaries and are attenuated by transmittance)
+and the MIS-weighted emitter hit of the sampled direction form depth 2. So max_depth=2 is
+emission + direct light on surfaces + single scattering in media, with transmittance on every
+segment; no light that has scattered twice.
 
 The `direct_specular` integrator computes exactly the sum of our `direct`, `specular` and
 `emission` terms, i.e. everything except `indirect` and `caustic`:
@@ -65,6 +79,11 @@ if "DRJIT_LIBLLVM_PATH" not in os.environ and os.path.exists(LLVM19):
 import drjit as dr  # noqa: E402
 import mitsuba as mi  # noqa: E402
 
+SPP_FOG_SPOT_SINGLE = 16384
+SPP_FOG_SPOT_FULL = 8192
+SPP_FOG_GLASS_FULL = 8192
+SPP_THICK_SPHERE_FULL = 8192
+
 # name -> (scene, integrator dict, total spp, batches)
 REFERENCES = {
     "cornell_diffuse_direct": (
@@ -89,6 +108,31 @@ REFERENCES = {
         "tests/data/scenes/cornell_spheres.json",
         {"type": "path", "max_depth": -1, "rr_depth": 5},
         16384,
+        16,
+    ),
+    # Participating media (scripts/make_media_scenes.py).
+    "fog_spot_single": (
+        "tests/data/scenes/fog_spot.json",
+        {"type": "volpath", "max_depth": 2},
+        SPP_FOG_SPOT_SINGLE,
+        16,
+    ),
+    "fog_spot_full": (
+        "tests/data/scenes/fog_spot.json",
+        {"type": "volpath", "max_depth": -1, "rr_depth": 64},
+        SPP_FOG_SPOT_FULL,
+        16,
+    ),
+    "fog_glass_full": (
+        "tests/data/scenes/fog_glass.json",
+        {"type": "volpath", "max_depth": -1, "rr_depth": 64},
+        SPP_FOG_GLASS_FULL,
+        16,
+    ),
+    "thick_sphere_full": (
+        "tests/data/scenes/thick_sphere.json",
+        {"type": "volpath", "max_depth": -1, "rr_depth": 64},
+        SPP_THICK_SPHERE_FULL,
         16,
     ),
 }
@@ -155,14 +199,21 @@ def bsdf_of(m, where):
         col = color_value(m.get("color", [1, 1, 1]), where + "/color")
         s = float(m.get("strength", 1.0))
         return {"type": "diffuse", "reflectance": rgb([0, 0, 0])}, [c * s for c in col]
+    if t == "null":
+        # An invisible medium boundary: Mitsuba's `null` BSDF (rays pass, media switch).
+        return {"type": "null"}, None
     raise Unsupported(f"{where}: material type {t!r} has no exact Mitsuba equivalent here")
 
 
-def make_mesh(name, P, N, F, bsdf, radiance):
+def make_mesh(name, P, N, F, bsdf, radiance, interior=None, exterior=None):
     props = mi.Properties()
     props["bsdf"] = mi.load_dict(bsdf)
     if radiance is not None:
         props["emitter"] = mi.load_dict({"type": "area", "radiance": rgb(radiance)})
+    if interior is not None:
+        props["interior"] = interior
+    if exterior is not None:
+        props["exterior"] = exterior
     mesh = mi.Mesh(name, len(P), len(F), props=props, has_vertex_normals=N is not None)
     params = mi.traverse(mesh)
     params["vertex_positions"] = mi.Float(np.ravel(P).astype(np.float32))
@@ -173,8 +224,8 @@ def make_mesh(name, P, N, F, bsdf, radiance):
     return mesh
 
 
-def mesh_objects(ir, mats):
-    """Meshes (and instances) with their transforms applied, split per material."""
+def mesh_placements(ir):
+    """Meshes (and instances) in world space: list of (mesh index, name, P, N, F)."""
     meshes = ir.get("meshes", [])
     instances = ir.get("instances", [])
     prototypes = {inst["mesh"] for inst in instances}
@@ -183,8 +234,8 @@ def mesh_objects(ir, mats):
     for j, inst in enumerate(instances):
         placements.append((inst["mesh"], mat(inst.get("transform", np.eye(4))),
                            inst.get("name") or f"instance{j}"))
-    out = {}
-    for k, (i, outer, name) in enumerate(placements):
+    out = []
+    for i, outer, name in placements:
         m = meshes[i]
         M = outer @ mat(m.get("transform", np.eye(4)))
         P = np.array(m["positions"], dtype=np.float64)
@@ -196,6 +247,131 @@ def mesh_objects(ir, mats):
         F = np.array(m["indices"], dtype=np.int64)
         if np.linalg.det(M[:3, :3]) < 0:
             F = F[:, ::-1]  # keep the geometric normal on the same side as the shading normal
+        out.append((i, name, P, N, F))
+    return out
+
+
+# ----------------------------------------------------------------------------------------
+# Media
+# ----------------------------------------------------------------------------------------
+
+
+def medium_object(md):
+    """Our homogeneous medium -> Mitsuba `homogeneous`: sigma_t = sigma_a + sigma_s and
+    albedo = sigma_s / sigma_t per RGB channel, HG phase function with our g.
+
+    Mitsuba parses an `rgb` sigma_t as a reflectance, which must lie in [0, 1]; so sigma_t is
+    passed as scale * (sigma_t / scale) with scale = the largest channel of sigma_t."""
+    sa = np.array(md["sigma_a"], dtype=np.float64)
+    ss = np.array(md["sigma_s"], dtype=np.float64)
+    st = sa + ss
+    albedo = np.where(st > 0, ss / np.where(st > 0, st, 1), 0.0)
+    scale = float(st.max()) if st.max() > 0 else 1.0
+    return mi.load_dict({
+        "type": "homogeneous",
+        "sigma_t": rgb(st / scale),
+        "albedo": rgb(albedo),
+        "scale": scale,
+        "phase": {"type": "hg", "g": float(md.get("g", 0.0))},
+    })
+
+
+def points_inside(P, F, Q):
+    """Parity test: which points Q (n x 3) lie inside the closed triangle mesh (P, F)."""
+    d = np.array([0.5773502692, 0.5773502691, 0.5773502693])  # not along any axis or face
+    d = d + np.array([1e-3, -2e-3, 3e-3])
+    d /= np.linalg.norm(d)
+    v0, v1, v2 = P[F[:, 0]], P[F[:, 1]], P[F[:, 2]]
+    e1, e2 = v1 - v0, v2 - v0
+    h = np.cross(d, e2)
+    a = np.einsum("ij,ij->i", e1, h)
+    ok = np.abs(a) > 1e-12
+    f = np.where(ok, 1.0 / np.where(ok, a, 1.0), 0.0)
+    inside = np.zeros(len(Q), dtype=bool)
+    for k, q in enumerate(Q):
+        s = q - v0
+        u = f * np.einsum("ij,ij->i", s, h)
+        qv = np.cross(s, e1)
+        v = f * (qv @ d)
+        t = f * np.einsum("ij,ij->i", e2, qv)
+        hits = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 1e-9)
+        inside[k] = bool(np.count_nonzero(hits) & 1)
+    return inside
+
+
+def transmits(m):
+    """Whether light can pass into the inside of a surface with material m."""
+    t = m["type"]
+    return t == "dielectric" or (t == "principled" and float(m.get("transmission", 0.0)) > 0)
+
+
+def media_assignment(ir, placements):
+    """Per placement (interior, exterior) medium indices into ir["media"] (None = vacuum), and
+    the camera's medium.
+
+    Rules (our IR: the medium along a ray is that of the innermost enclosing mesh medium, else the
+    world medium). Mitsuba instead switches media at each crossing to the crossed shape's
+    `interior` or `exterior`, so each shape that a ray can cross gets both:
+      * a mesh with `interior_medium`: interior = that medium;
+      * a mesh without one whose material transmits (dielectric): interior = vacuum (clear
+        glass; the medium around it does not continue inside);
+      * exterior = the medium of the innermost medium mesh that contains the whole mesh (every
+        vertex inside by a ray-parity test), else `world_medium`;
+      * opaque meshes without `interior_medium` get no media: Mitsuba keeps the ray's current
+        medium when it reflects off them, which is right on whichever side they are;
+      * a medium or glass mesh that partly overlaps a medium mesh is refused (Mitsuba has no
+        "entered last wins" stack).
+    """
+    mats = ir.get("materials", [])
+    meshes = ir.get("meshes", [])
+    world = ir.get("world_medium")
+    media_meshes = [k for k, (i, *_rest) in enumerate(placements)
+                    if meshes[i].get("interior_medium") is not None]
+    volume = {}
+    for k in media_meshes:
+        P = placements[k][2]
+        volume[k] = float(np.prod(P.max(axis=0) - P.min(axis=0)))
+
+    def enclosing(Q, skip):
+        best = None
+        for k in media_meshes:
+            if k == skip:
+                continue
+            _, name, P, _, F = placements[k]
+            inside = points_inside(P, F, Q)
+            if inside.all():
+                if best is None or volume[k] < volume[best]:
+                    best = k
+            elif inside.any():
+                raise Unsupported(f"a mesh partly overlaps the medium mesh {name!r}")
+        return None if best is None else meshes[placements[best][0]]["interior_medium"]
+
+    out = []
+    for k, (i, name, P, _, F) in enumerate(placements):
+        m = meshes[i]
+        ids = m.get("material_indices") or [m.get("material", 0)]
+        has_medium = m.get("interior_medium") is not None
+        crossable = has_medium or any(transmits(mats[j]) for j in set(ids))
+        if not crossable:
+            out.append((None, None, False))
+            continue
+        outer = enclosing(P, k)
+        out.append((m.get("interior_medium"), world if outer is None else outer, True))
+    cam = mat(ir.get("camera", {}).get("transform", np.eye(4)))[:3, 3]
+    cam_outer = enclosing(cam[None, :], None)
+    return out, world if cam_outer is None else cam_outer
+
+
+def mesh_objects(ir, mats, media):
+    """Meshes (and instances) with their transforms applied, split per material, with their
+    media (see media_assignment); also returns the camera's medium index."""
+    meshes = ir.get("meshes", [])
+    placements = mesh_placements(ir)
+    assignment, cam_medium = media_assignment(ir, placements)
+    out = {}
+    for k, (i, name, P, N, F) in enumerate(placements):
+        m = meshes[i]
+        interior, exterior, crossable = assignment[k]
         per_tri = m.get("material_indices")
         mat_ids = np.array(per_tri) if per_tri is not None else np.full(len(F), m.get("material", 0))
         for mid in np.unique(mat_ids):
@@ -205,9 +381,11 @@ def mesh_objects(ir, mats):
             remap[used] = np.arange(len(used))
             bsdf, radiance = mats[int(mid)]
             key = f"{k:03d}_{name}_{mid}"
-            out[key] = make_mesh(key, P[used], None if N is None else N[used], remap[sel], bsdf,
-                                 radiance)
-    return out
+            out[key] = make_mesh(
+                key, P[used], None if N is None else N[used], remap[sel], bsdf, radiance,
+                interior=media[interior] if crossable and interior is not None else None,
+                exterior=media[exterior] if crossable and exterior is not None else None)
+    return out, cam_medium
 
 
 def world_area_scale(M):
@@ -263,12 +441,32 @@ def light_objects(ir):
             out[f"light{i}"] = {"type": "directional",
                                 "direction": [float(v) for v in l["direction"]],
                                 "irradiance": rgb(col * l["irradiance"])}
+        elif t == "spot":
+            if float(l.get("blend", 0.0)) != 0.0:
+                raise Unsupported(f"{where}: spot lights with blend > 0 are not translated "
+                                  "(Blender's smoothstep blend differs from Mitsuba's linear "
+                                  "falloff in angle); use blend 0, a hard cone")
+            if float(l.get("radius", 0.0)) != 0.0:
+                raise Unsupported(f"{where}: spot lights with a radius are not translated")
+            pos = np.array(l["position"], dtype=np.float64)
+            d = np.array(l["direction"], dtype=np.float64)
+            d /= np.linalg.norm(d)
+            up = [0.0, 1.0, 0.0] if abs(d[1]) < 0.9 else [1.0, 0.0, 0.0]  # any; the cone is round
+            half = math.degrees(0.5 * float(l["cone_angle"]))
+            out[f"light{i}"] = {
+                "type": "spot",
+                "to_world": mi.ScalarTransform4f().look_at(origin=pos.tolist(),
+                                                           target=(pos + d).tolist(), up=up),
+                "intensity": rgb(col * l["power"] / (4 * math.pi)),
+                "cutoff_angle": half,
+                "beam_width": half,  # full intensity up to the cutoff: a hard edge (blend 0)
+            }
         else:
-            raise Unsupported(f"{where}: light type {t!r} is not translated (spot falloff differs)")
+            raise Unsupported(f"{where}: light type {t!r} is not translated")
     return out
 
 
-def camera_object(ir, spp):
+def camera_object(ir, spp, medium=None):
     cam = ir.get("camera", {})
     film = ir.get("film", {"width": 256, "height": 256})
     w, h = int(film["width"]), int(film["height"])
@@ -296,7 +494,7 @@ def camera_object(ir, spp):
                                               up=up.tolist())
     near = max(float(cam.get("near", 1e-3)), 1e-4)
     far = min(float(cam.get("far", 1e30)), 1e7)
-    return {
+    cam_dict = {
         "type": "perspective",
         "fov": math.degrees(fov),
         "fov_axis": "x" if horizontal else "y",
@@ -310,6 +508,9 @@ def camera_object(ir, spp):
             "rfilter": {"type": "box"},  # 1-pixel box: a pixel is the mean of its samples
         },
     }
+    if medium is not None:
+        cam_dict["medium"] = medium
+    return cam_dict
 
 
 def translate(ir, spp):
@@ -323,8 +524,11 @@ def translate(ir, spp):
     if ir.get("textures"):
         raise Unsupported("/textures: textures are not translated")
     mats = [bsdf_of(m, f"/materials/{i}") for i, m in enumerate(ir.get("materials", []))]
-    scene = {"type": "scene", "camera": camera_object(ir, spp)}
-    scene.update(mesh_objects(ir, mats))
+    media = [medium_object(md) for md in ir.get("media", [])]
+    shapes, cam_medium = mesh_objects(ir, mats, media)
+    scene = {"type": "scene",
+             "camera": camera_object(ir, spp, None if cam_medium is None else media[cam_medium])}
+    scene.update(shapes)
     scene.update(light_objects(ir))
     env = ir.get("environment")
     if env is not None:
