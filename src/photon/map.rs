@@ -30,6 +30,9 @@ impl MapKind {
 
 /// User flag (see `Photon::user_flags`) of a photon stored at its first surface hit.
 pub const FLAG_FIRST_HIT: u16 = 1;
+/// User flag of a photon whose last event before this surface was scattering in a medium: the
+/// light a participating medium sends straight to the surface.
+pub const FLAG_FROM_MEDIUM: u16 = 2;
 
 /// Density-estimation filter (Jensen 2001, §7.2.2).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -91,7 +94,8 @@ impl PhotonMap {
 
     /// Reflected radiance at `p` towards `wo` (Jensen 2001, eq. 7.6):
     /// L = sum_p f(wo, wi_p) Phi_p / (pi r^2), over the `k` nearest photons within `max_r2`,
-    /// counting only photons that arrived on the side of `n` (the side `wo` is on).
+    /// counting only photons that arrived on the side of `n` (the side `wo` is on) and carry
+    /// every user flag in `only` (0: all photons).
     #[allow(clippy::too_many_arguments)]
     pub fn radiance(
         &self,
@@ -102,6 +106,7 @@ impl PhotonMap {
         k: usize,
         max_r2: f32,
         filter: EstimateFilter,
+        only: u16,
         scratch: &mut KnnScratch,
     ) -> Spectrum {
         let Some((found, r2, skip)) = self.nearest(p, k, max_r2, scratch) else {
@@ -114,6 +119,9 @@ impl PhotonMap {
                 continue;
             }
             let ph = self.tree.get(nb.index);
+            if ph.user_flags() & only != only {
+                continue;
+            }
             let wi = ph.incoming();
             if wi.dot(n) <= 0.0 {
                 continue;

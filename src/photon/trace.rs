@@ -6,12 +6,12 @@
 //! until the map holds its target number of photons (Jensen shoots until N are stored) or the
 //! emission cap is reached. The result does not depend on the thread count.
 
-use super::map::{MapKind, PhotonMap, FLAG_FIRST_HIT};
+use super::map::{MapKind, PhotonMap, FLAG_FIRST_HIT, FLAG_FROM_MEDIUM};
 use super::{Photon, PhotonKdTree};
 use crate::geometry::Ray;
 use crate::lights::{LeSample, Light, Target};
 use crate::materials::bsdf::{Component, LobeFlags};
-use crate::math::{is_finite3, Frame, Spectrum};
+use crate::math::{is_finite3, Spectrum};
 use crate::media::MediumStack;
 use crate::sampling::Rng;
 use crate::scene::Scene;
@@ -29,6 +29,7 @@ struct RawPhoton {
     power: Spectrum,
     d: Vec3,
     first: bool,
+    from_medium: bool,
 }
 
 pub struct TraceParams<'a> {
@@ -75,6 +76,7 @@ fn trace_path(
     let mut interactions = 0u32;
     let mut specular_bounces = 0u32;
     let mut crossings = 0u32;
+    let mut last_scatter = false;
     while interactions < max_bounces && crossings < 4 * max_bounces + 16 {
         let hit = scene.accel.intersect(&ray);
         let dir_len = ray.d.length();
@@ -110,14 +112,10 @@ fn trace_path(
                     power = new_power;
                     let x = ray.o + d * t;
                     if kind == MapKind::Volume && interactions > 0 {
-                        out.push(RawPhoton {
-                            p: x,
-                            power,
-                            d,
-                            first: false,
-                        });
+                        out.push(RawPhoton { p: x, power, d, first: false, from_medium: true });
                     }
                     interactions += 1;
+                    last_scatter = true;
                     let (wi, _) = med.phase().sample(-d, rng.vec2());
                     ray = Ray {
                         o: x,
@@ -147,17 +145,7 @@ fn trace_path(
             crossings += 1;
             continue;
         }
-        let frame0 = Frame::from_normal_tangent(si.ns, si.dpdu);
-        let mut bsdf = mat.bsdf(frame0, si.uv, &scene.textures);
-        if bsdf.flags() & LobeFlags::TRANSMISSION == 0 && si.ng.dot(si.wo) < 0.0 {
-            si.ng = -si.ng;
-            si.ns = -si.ns;
-            bsdf = mat.bsdf(
-                Frame::from_normal_tangent(si.ns, si.dpdu),
-                si.uv,
-                &scene.textures,
-            );
-        }
+        let bsdf = crate::render::eye::shading_bsdf(scene, mat, &mut si);
         if bsdf.has_non_delta() {
             match kind {
                 MapKind::Global => out.push(RawPhoton {
@@ -165,16 +153,12 @@ fn trace_path(
                     power,
                     d: ray.d,
                     first: interactions == 0,
+                    from_medium: last_scatter,
                 }),
                 MapKind::Caustic => {
                     // Light -> specular+ -> here: a caustic photon. Its path ends here.
                     if specular_bounces == interactions && interactions > 0 {
-                        out.push(RawPhoton {
-                            p: si.p,
-                            power,
-                            d: ray.d,
-                            first: false,
-                        });
+                        out.push(RawPhoton { p: si.p, power, d: ray.d, first: false, from_medium: false });
                     }
                     break;
                 }
@@ -218,6 +202,7 @@ fn trace_path(
             scene.update_stack(&mut stack, &si, bs.wi);
         }
         interactions += 1;
+        last_scatter = false;
         ray = si.spawn_ray(bs.wi);
     }
 }
@@ -300,9 +285,7 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
         .iter()
         .filter_map(|r| {
             let mut ph = Photon::new(r.p, r.power * inv, r.d).ok()?;
-            if r.first {
-                ph.set_user_flags(FLAG_FIRST_HIT);
-            }
+            ph.set_user_flags(if r.first { FLAG_FIRST_HIT } else { 0 } | if r.from_medium { FLAG_FROM_MEDIUM } else { 0 });
             Some(ph)
         })
         .collect();

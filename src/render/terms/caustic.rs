@@ -26,6 +26,7 @@ pub fn estimate(
             maps.gather,
             maps.caustic_r2,
             EstimateFilter::Cone { k: CONE_K },
+            0,
             scratch,
         ),
         None => Spectrum::ZERO,

@@ -55,20 +55,7 @@ pub fn gather_radiance(
         let Some(mat) = scene.materials.get(si.material as usize) else {
             break;
         };
-        let mut bsdf = mat.bsdf(
-            Frame::from_normal_tangent(si.ns, si.dpdu),
-            si.uv,
-            &scene.textures,
-        );
-        if bsdf.flags() & LobeFlags::TRANSMISSION == 0 && si.ng.dot(si.wo) < 0.0 {
-            si.ng = -si.ng;
-            si.ns = -si.ns;
-            bsdf = mat.bsdf(
-                Frame::from_normal_tangent(si.ns, si.dpdu),
-                si.uv,
-                &scene.textures,
-            );
-        }
+        let bsdf = crate::render::eye::shading_bsdf(scene, mat, &mut si);
         if bsdf.has_non_delta() {
             acc += beta
                 * global.radiance(
@@ -79,6 +66,7 @@ pub fn gather_radiance(
                     maps.gather,
                     maps.global_r2,
                     EstimateFilter::Constant,
+                    0,
                     scratch,
                 );
         }
