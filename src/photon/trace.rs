@@ -112,7 +112,13 @@ fn trace_path(
                     power = new_power;
                     let x = ray.o + d * t;
                     if kind == MapKind::Volume && interactions > 0 {
-                        out.push(RawPhoton { p: x, power, d, first: false, from_medium: true });
+                        out.push(RawPhoton {
+                            p: x,
+                            power,
+                            d,
+                            first: false,
+                            from_medium: true,
+                        });
                     }
                     interactions += 1;
                     last_scatter = true;
@@ -158,7 +164,13 @@ fn trace_path(
                 MapKind::Caustic => {
                     // Light -> specular+ -> here: a caustic photon. Its path ends here.
                     if specular_bounces == interactions && interactions > 0 {
-                        out.push(RawPhoton { p: si.p, power, d: ray.d, first: false, from_medium: false });
+                        out.push(RawPhoton {
+                            p: si.p,
+                            power,
+                            d: ray.d,
+                            first: false,
+                            from_medium: false,
+                        });
                     }
                     break;
                 }
@@ -285,7 +297,10 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
         .iter()
         .filter_map(|r| {
             let mut ph = Photon::new(r.p, r.power * inv, r.d).ok()?;
-            ph.set_user_flags(if r.first { FLAG_FIRST_HIT } else { 0 } | if r.from_medium { FLAG_FROM_MEDIUM } else { 0 });
+            ph.set_user_flags(
+                if r.first { FLAG_FIRST_HIT } else { 0 }
+                    | if r.from_medium { FLAG_FROM_MEDIUM } else { 0 },
+            );
             Some(ph)
         })
         .collect();

@@ -81,17 +81,31 @@ pub fn indirect_at(
         };
         return bsdf.eval(si.wo, n) * e + from_media(ctx, si, bsdf, scratch);
     }
-    indirect::gather_bsdf(ctx.scene, ctx.maps, si, bsdf, rays, stack, rng, scratch) + from_media(ctx, si, bsdf, scratch)
+    indirect::gather_bsdf(ctx.scene, ctx.maps, si, bsdf, rays, stack, rng, scratch)
+        + from_media(ctx, si, bsdf, scratch)
 }
 
 /// Light that participating media scatter straight onto the surface: the global map's photons
 /// whose last event was a scattering in a medium. Final-gather rays count only light from
 /// surfaces (attenuated by the media they cross), so the two parts do not overlap.
-fn from_media(ctx: &EyeCtx, si: &SurfaceInteraction, bsdf: &Bsdf, scratch: &mut KnnScratch) -> Spectrum {
+fn from_media(
+    ctx: &EyeCtx,
+    si: &SurfaceInteraction,
+    bsdf: &Bsdf,
+    scratch: &mut KnnScratch,
+) -> Spectrum {
     match &ctx.maps.global {
-        Some(g) if ctx.scene.has_media() => {
-            g.radiance(si.p, si.ng, si.wo, bsdf, ctx.maps.gather, ctx.maps.global_r2, EstimateFilter::Constant, FLAG_FROM_MEDIUM, scratch)
-        }
+        Some(g) if ctx.scene.has_media() => g.radiance(
+            si.p,
+            si.ng,
+            si.wo,
+            bsdf,
+            ctx.maps.gather,
+            ctx.maps.global_r2,
+            EstimateFilter::Constant,
+            FLAG_FROM_MEDIUM,
+            scratch,
+        ),
         _ => Spectrum::ZERO,
     }
 }
