@@ -223,3 +223,36 @@ def scenes_dir():
 
     return Path(scenes.__file__).resolve().parent / "data"
 
+
+
+def test_mixed_volume_shaders_blend_and_inside_out_boundaries_warn(photonmap_scene, addon):
+    def build():
+        sc = scenes.empty_scene()
+        m = bpy.data.materials.new("mixed")
+        m.use_nodes = True
+        nt = m.node_tree
+        nt.nodes.clear()
+        out = nt.nodes.new("ShaderNodeOutputMaterial")
+        scatter = nt.nodes.new("ShaderNodeVolumeScatter")
+        scatter.inputs["Density"].default_value = 2.0
+        scatter.inputs["Color"].default_value = (1.0, 0.5, 0.25, 1.0)
+        absorb = nt.nodes.new("ShaderNodeVolumeAbsorption")
+        absorb.inputs["Density"].default_value = 4.0
+        absorb.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+        mix = nt.nodes.new("ShaderNodeMixShader")
+        mix.inputs[0].default_value = 0.25
+        nt.links.new(scatter.outputs[0], mix.inputs[1])
+        nt.links.new(absorb.outputs[0], mix.inputs[2])
+        nt.links.new(mix.outputs[0], out.inputs["Volume"])
+        ob = scenes.cube("inside out", (0, 0, 0), 1.0, m)
+        for p in ob.data.polygons:
+            p.flip()
+        scenes.camera((0, -5, 0), (90, 0, 0))
+        return sc
+
+    photonmap_scene(build)
+    res = _export(addon)
+    (m,) = res.ir["media"]
+    assert m["sigma_s"] == pytest.approx([0.75 * 2.0, 0.75 * 1.0, 0.75 * 0.5])
+    assert m["sigma_a"] == pytest.approx([0.25 * 4.0] * 3)
+    assert any("'inside out'" in w and "inwards" in w for w in res.warnings), res.warnings
