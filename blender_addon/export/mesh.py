@@ -62,7 +62,8 @@ def mesh_arrays(mesh, check_closed: bool = False) -> dict | None:
     return out
 
 
-def export_mesh(obj, name: str, slot_materials: list[int], shape: dict | None = None) -> dict | None:
+def export_mesh(obj, name: str, slot_materials: list[int],
+                shape: dict | None = None) -> dict | None:
     """The IR mesh of the evaluated object ``obj`` (transform left to the caller), with
     ``slot_materials[i]`` the IR material of slot i. A ``shape`` dict receives ``closed`` and
     ``volume`` (see ``mesh_arrays``): the checks a medium's boundary needs."""
