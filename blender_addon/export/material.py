@@ -13,7 +13,9 @@ Follows the node tree from the active Material Output's Surface socket:
 
 Image Texture nodes (through Reroutes) on colour inputs, and on Metallic/Roughness of the
 Principled BSDF, become IR textures on the mesh UVs. Any other node tree becomes grey diffuse
-with a warning naming the material; volume shaders are skipped with a warning.
+with a warning naming the material. A material with a Volume shader and no Surface shader
+becomes `null` (an invisible boundary: Cycles' pass-through surface); its volume becomes an IR
+medium (volume.py).
 """
 
 from __future__ import annotations
@@ -114,13 +116,12 @@ class MaterialExporter:
             self.warn(f"material '{name}': no Material Output; renders grey diffuse")
             return dict(GREY, name=name)
         vol = out.inputs.get("Volume")
-        if vol is not None and vol.is_linked:
-            self.warn(f"material '{name}': volumes are not supported yet; the volume is skipped")
         surf, _ = _source(out.inputs["Surface"])
         if surf is None:
             if vol is not None and vol.is_linked:
-                # A volume-only material: Cycles' surface is then a pass-through.
-                return {"type": "dielectric", "name": name, "ior": 1.0}
+                # A volume-only material: Cycles' surface is then a pass-through (the volume
+                # itself becomes an IR medium, see volume.py).
+                return {"type": "null", "name": name}
             return {"type": "diffuse", "name": name, "color": [0.0, 0.0, 0.0]}
         kind = surf.bl_idname
         try:

@@ -15,8 +15,10 @@ def matrix_rows(m) -> list:
     return [[float(m[r][c]) for c in range(4)] for r in range(4)]
 
 
-def mesh_arrays(mesh) -> dict | None:
-    """positions, indices, normals, uvs and slot indices (per triangle) of an evaluated mesh."""
+def mesh_arrays(mesh, check_closed: bool = False) -> dict | None:
+    """positions, indices, normals, uvs and slot indices (per triangle) of an evaluated mesh;
+    with ``check_closed``, also ``closed`` (every edge shared by exactly two triangles) and
+    ``volume`` (signed, positive when the winding faces outwards)."""
     mesh.calc_loop_triangles()
     n_tri = len(mesh.loop_triangles)
     if n_tri == 0:
@@ -43,6 +45,15 @@ def mesh_arrays(mesh) -> dict | None:
         "normals": normals.reshape(-1, 3),
         "slots": slots,
     }
+    if check_closed:
+        tri_verts = loop_vert[tri_loops].reshape(-1, 3).astype(np.int64)
+        edges = np.sort(np.concatenate([tri_verts[:, [0, 1]], tri_verts[:, [1, 2]],
+                                        tri_verts[:, [2, 0]]]), axis=1)
+        _, counts = np.unique(edges[:, 0] * (len(mesh.vertices) + 1) + edges[:, 1],
+                              return_counts=True)
+        out["closed"] = bool(np.all(counts == 2))
+        p = co.reshape(-1, 3).astype(np.float64)[tri_verts]
+        out["volume"] = float(np.einsum("ij,ij->", p[:, 0], np.cross(p[:, 1], p[:, 2])) / 6.0)
     uv = mesh.uv_layers.active
     if uv is not None:
         uvs = np.empty(n_loops * 2, dtype=np.float32)
@@ -51,18 +62,22 @@ def mesh_arrays(mesh) -> dict | None:
     return out
 
 
-def export_mesh(obj, name: str, slot_materials: list[int]) -> dict | None:
+def export_mesh(obj, name: str, slot_materials: list[int],
+                shape: dict | None = None) -> dict | None:
     """The IR mesh of the evaluated object ``obj`` (transform left to the caller), with
-    ``slot_materials[i]`` the IR material of slot i."""
+    ``slot_materials[i]`` the IR material of slot i. A ``shape`` dict receives ``closed`` and
+    ``volume`` (see ``mesh_arrays``): the checks a medium's boundary needs."""
     mesh = obj.to_mesh()
     try:
         if mesh is None:
             return None
-        a = mesh_arrays(mesh)
+        a = mesh_arrays(mesh, check_closed=shape is not None)
     finally:
         obj.to_mesh_clear()
     if a is None:
         return None
+    if shape is not None:
+        shape.update(closed=a.pop("closed"), volume=a.pop("volume"))
     d = {"name": name, "positions": a["positions"], "indices": a["indices"],
          "normals": a["normals"]}
     if "uvs" in a:

@@ -1,6 +1,11 @@
 """Depsgraph -> scene IR: walks ``depsgraph.object_instances`` and hands each Blender ID to its
 converter. Each unique mesh is exported once; repeated placements (linked duplicates,
-collection instances, particles, geometry-node instances) become IR instances of it."""
+collection instances, particles, geometry-node instances) become IR instances of it.
+
+Volumes: a mesh whose material has a Volume shader becomes the closed boundary of an IR medium
+(``interior_medium``; its surface is ``null`` when the material has no Surface shader), and the
+World's Volume shader becomes ``world_medium`` (volume.py). Volume objects (OpenVDB grids) are
+skipped with a warning: the core has homogeneous media only."""
 
 from __future__ import annotations
 
@@ -11,6 +16,7 @@ from .image import ImageCache
 from .light import export_light
 from .material import MaterialExporter
 from .mesh import export_mesh, matrix_rows
+from .volume import material_volume_socket, read_volume, world_volume_socket
 from .world import export_world
 
 GEOMETRY = {"MESH", "CURVE", "SURFACE", "FONT", "META"}
@@ -38,6 +44,32 @@ class _Materials:
         return self.index[key]
 
 
+class _Media:
+    """IR media of materials' Volume shaders, one per material."""
+
+    def __init__(self, ir_media):
+        self.ir = ir_media
+        self.index: dict = {}
+        self.issues: dict = {}
+
+    def get(self, mat) -> int | None:
+        """The IR medium of ``mat``'s volume, None when it has none (``issues_of`` says why)."""
+        key = None if mat is None else mat.name_full
+        if key not in self.index:
+            sock = material_volume_socket(mat)
+            medium, issues = (None, []) if sock is None else read_volume(sock)
+            self.issues[key] = issues
+            if medium is None:
+                self.index[key] = None
+            else:
+                self.ir.append(dict(medium, name=mat.name))
+                self.index[key] = len(self.ir) - 1
+        return self.index[key]
+
+    def issues_of(self, mat) -> list:
+        return self.issues.get(None if mat is None else mat.name_full, [])
+
+
 def export_scene(depsgraph, camera: dict | None = None, window: Window | None = None) -> ExportResult:
     """The IR of the evaluated scene. ``camera``/``window`` replace the scene camera and the
     render window (the viewport passes its own view)."""
@@ -53,6 +85,8 @@ def export_scene(depsgraph, camera: dict | None = None, window: Window | None = 
     ir = {"materials": [], "textures": [], "meshes": [], "instances": [], "lights": []}
     images = ImageCache(ir["textures"], warn)
     materials = _Materials(ir["materials"], MaterialExporter(images, warn))
+    ir["media"] = []
+    media = _Media(ir["media"])
 
     meshes: dict = {}  # key -> (ir mesh, [world matrices])
     for inst in depsgraph.object_instances:
@@ -65,11 +99,15 @@ def export_scene(depsgraph, camera: dict | None = None, window: Window | None = 
                     ir["lights"].append(light)
             continue
         if kind == "VOLUME":
-            warn(f"object '{obj.name}': volumes are not supported yet; skipped")
+            if inst.show_self:
+                warn(f"object '{obj.name}': Volume objects (OpenVDB grids) are not supported; "
+                     f"skipped")
             continue
         if kind not in GEOMETRY or not inst.show_self:
             continue
-        slots = [materials.get(s.material) for s in obj.material_slots]
+        mats = [s.material for s in obj.material_slots]
+        slots = [materials.get(m) for m in mats]
+        medium = _object_medium(obj, mats, media, warn)
         if kind == "MESH" and obj.data is not None:
             key = ("mesh", obj.data.as_pointer(), tuple(slots))
         else:
@@ -77,7 +115,11 @@ def export_scene(depsgraph, camera: dict | None = None, window: Window | None = 
         entry = meshes.get(key)
         if entry is None:
             name = obj.name if kind != "MESH" else f"{obj.name} ({obj.data.name})"
-            m = export_mesh(obj, name, slots or [materials.get(None)])
+            shape = {} if medium is not None else None
+            m = export_mesh(obj, name, slots or [materials.get(None)], shape)
+            if m is not None and medium is not None:
+                m["interior_medium"] = medium
+                _check_boundary(obj, shape, inst.matrix_world, warn)
             entry = meshes[key] = (m, [])
         if entry[0] is not None:
             entry[1].append(inst.matrix_world.copy())
@@ -101,6 +143,16 @@ def export_scene(depsgraph, camera: dict | None = None, window: Window | None = 
     env = export_world(scene.world, images, warn)
     if env is not None:
         ir["environment"] = env
+    sock = world_volume_socket(scene.world)
+    if sock is not None:
+        medium, issues = read_volume(sock)
+        for msg in issues:
+            warn(f"world '{scene.world.name}': {msg}")
+        if medium is not None:
+            ir["media"].append(dict(medium, name=f"world '{scene.world.name}'"))
+            ir["world_medium"] = len(ir["media"]) - 1
+    if not ir["media"]:
+        del ir["media"]
     win = window or render_window(scene)
     if camera is None:
         cam = scene.camera.evaluated_get(depsgraph) if scene.camera else None
@@ -110,6 +162,35 @@ def export_scene(depsgraph, camera: dict | None = None, window: Window | None = 
     counts = {
         "meshes": len(ir["meshes"]), "instances": n_inst, "lights": len(ir["lights"]),
         "materials": len(ir["materials"]), "textures": len(ir["textures"]),
+        "media": len(ir.get("media", [])),
         "triangles": sum(len(m["indices"]) for m in ir["meshes"]),
     }
     return ExportResult(ir=ir, window=win, warnings=warnings, counts=counts)
+
+
+def _object_medium(obj, mats, media, warn) -> int | None:
+    """The IR medium inside ``obj``: that of its first material with a volume."""
+    found = []
+    for mat in mats:
+        m = media.get(mat)
+        for msg in media.issues_of(mat):
+            warn(f"object '{obj.name}' (material '{mat.name}'): {msg}")
+        if m is not None and m not in found:
+            found.append(m)
+    if len(found) > 1:
+        warn(f"object '{obj.name}': materials with different volumes; the core has one medium "
+             f"per mesh, uses that of its first volume material")
+    return found[0] if found else None
+
+
+def _check_boundary(obj, shape, matrix_world, warn) -> None:
+    if not shape:
+        return
+    if matrix_world.determinant() < 0:  # a mirroring placement turns the winding inside out
+        shape["volume"] = -shape["volume"]
+    if not shape["closed"]:
+        warn(f"object '{obj.name}': its volume needs a closed mesh (every edge shared by two "
+             f"faces); rays may leave the medium wrongly")
+    elif shape["volume"] < 0:
+        warn(f"object '{obj.name}': its normals point inwards; a volume's boundary needs them "
+             f"outwards (Recalculate Outside)")

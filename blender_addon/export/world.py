@@ -1,5 +1,6 @@
 """World -> IR environment: Background colour x strength, or an Environment Texture
-(equirectangular; Blender's orientation is the IR's)."""
+(equirectangular; Blender's orientation is the IR's). The World's Volume shader becomes the
+IR's ``world_medium`` (scene.py, volume.py)."""
 
 from __future__ import annotations
 
@@ -17,9 +18,6 @@ def export_world(world, images, warn) -> dict | None:
     out = next((n for n in outs if n.is_active_output), outs[0] if outs else None)
     if out is None:
         return None
-    vol = out.inputs.get("Volume")
-    if vol is not None and vol.is_linked:
-        warn(f"world '{world.name}': volumes are not supported yet; the world volume is skipped")
     bg, _ = _source(out.inputs["Surface"])
     if bg is None:
         return None

@@ -112,3 +112,50 @@ def sun_floor():
 
 
 SCENES = {"area": cornell_area, "point": cornell_point, "sun": sun_floor}
+
+
+def volume_material(name, kind="ShaderNodeVolumePrincipled", surface=None, **inputs):
+    """A material whose Volume output is fed by the node ``kind`` (inputs set by socket name,
+    underscores for spaces), with an optional surface shader node ``surface``."""
+    m = bpy.data.materials.new(name)
+    m.use_nodes = True
+    nt = m.node_tree
+    nt.nodes.clear()
+    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    vol = nt.nodes.new(kind)
+    for key, value in inputs.items():
+        sock = vol.inputs[key.replace("_", " ")]
+        sock.default_value = (*value, 1.0) if isinstance(value, tuple) and len(value) == 3 \
+            else value
+    nt.links.new(vol.outputs[0], out.inputs["Volume"])
+    if surface is not None:
+        s = nt.nodes.new(surface)
+        nt.links.new(s.outputs[0], out.inputs["Surface"])
+    return m
+
+
+def cube(name, center, size, mat):
+    """A closed cube (outward normals) of edge ``size``."""
+    bpy.ops.mesh.primitive_cube_add(size=size, location=center)
+    ob = bpy.context.object
+    ob.name = name
+    ob.data.materials.append(mat)
+    return ob
+
+
+def fog_spot():
+    """A spot light shining down through a fog cube onto a white floor, seen from the side; the
+    spot is outside the frame. Fog: Principled Volume, density 1, colour 0.8, anisotropy 0."""
+    sc = empty_scene()
+    white = diffuse("white", (0.8, 0.8, 0.8))
+    quad("floor", [(-3, -3, 0), (3, -3, 0), (3, 3, 0), (-3, 3, 0)], white)
+    quad("back", [(-3, 3, 0), (3, 3, 0), (3, 3, 3), (-3, 3, 3)], white)
+    fog = volume_material("fog", Density=1.0, Color=(0.8, 0.8, 0.8))
+    cube("fog", (0, 0, 0.75), 1.5, fog)
+    light("SPOT", (0, 0, 3.2), energy=300.0, spot_size=math.radians(50), spot_blend=0.2,
+          shadow_soft_size=0.0)
+    camera((0, -6, 1.5), (82, 0, 0), lens=30.0)
+    return sc
+
+
+SCENES["fog"] = fog_spot
