@@ -488,13 +488,29 @@ fn zero_area_lights_are_rejected_naming_the_field() {
     assert!(e.to_string().contains("/lights/0/radius"), "{e}");
 }
 
-/// Expected: a camera inside a closed box lit only from outside sees no light at all: every
-/// term is exactly 0 in every pixel. Tolerance: exact.
+/// Expected: a camera inside a closed box with walls thicker than the largest photon search
+/// radius (0.1 x the scene radius), lit only from outside, sees no light at all: every term
+/// is exactly 0 in every pixel. Tolerance: exact.
+///
+/// With zero-thickness walls the same holds for direct light, but not for the photon-map
+/// terms: the k-nearest search around a point on an inner wall near an edge reaches photons
+/// on the outside of the adjacent wall, which arrive from the side of the inner wall's normal
+/// and pass the side test of the radiance estimate. That is the light leak of density
+/// estimation at thin geometry (Jensen 2001, §7.5), not a numerical fault; the thin case
+/// only checks that it is finite and bounded by the leak's source, and reports its size.
 #[test]
 fn camera_inside_a_closed_box_lit_from_outside_sees_black() {
-    let desc = closed_box(0.75, [0.0, 3.0, 0.0]);
-    let out = run(&desc, small_settings(23));
-    firewall("camera in closed box", &out, 0);
+    let mut thick = closed_box(0.75, [0.0, 3.0, 0.0]);
+    thick
+        .meshes
+        .push(cuboid_mesh("outer", Vec3::splat(-1.5), Vec3::splat(1.5), 0));
+    let scene = Scene::build(&thick).unwrap();
+    assert!(
+        0.1 * scene.radius < 0.5,
+        "walls thicker than the search radius"
+    );
+    let out = run(&thick, small_settings(23));
+    firewall("camera in closed thick box", &out, 0);
     for t in Term::ALL {
         assert!(
             out.film.term(t).data.iter().all(|p| *p == [0.0; 3]),
@@ -502,6 +518,35 @@ fn camera_inside_a_closed_box_lit_from_outside_sees_black() {
             t.name()
         );
     }
+
+    let thin = closed_box(0.75, [0.0, 3.0, 0.0]);
+    let out = run(&thin, small_settings(23));
+    firewall("camera in closed thin box", &out, 0);
+    let lit = run(&closed_box(0.75, [0.0, 0.5, 0.0]), small_settings(23));
+    for t in [Term::Direct, Term::Caustic, Term::Emission, Term::Specular] {
+        assert!(
+            out.film.term(t).data.iter().all(|p| *p == [0.0; 3]),
+            "thin box: {} is not black",
+            t.name()
+        );
+    }
+    let leak = mean(&out, Term::Indirect);
+    let inside = mean(&lit, Term::Indirect);
+    eprintln!(
+        "thin box: indirect leak {leak:.4e}, {:.2}% of the indirect light with the light inside",
+        100.0 * leak / inside
+    );
+    assert!(leak < 0.1 * inside);
+    // The leak is the search reaching across the edges: with a radius far below the
+    // distance from the edge to the nearest gather point it is gone.
+    let mut s = small_settings(23);
+    s.photons.max_radius = Some(1e-4);
+    let out = run(&thin, s);
+    firewall("camera in closed thin box, radius 1e-4", &out, 0);
+    eprintln!(
+        "thin box, radius 1e-4: indirect {:.4e}",
+        mean(&out, Term::Indirect)
+    );
 }
 
 // ---------------------------------------------------------------------------------------
