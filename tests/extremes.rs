@@ -543,10 +543,7 @@ fn camera_inside_a_closed_box_lit_from_outside_sees_black() {
     s.photons.max_radius = Some(1e-4);
     let out = run(&thin, s);
     firewall("camera in closed thin box, radius 1e-4", &out, 0);
-    eprintln!(
-        "thin box, radius 1e-4: indirect {:.4e}",
-        mean(&out, Term::Indirect)
-    );
+    assert_eq!(mean(&out, Term::Indirect), 0.0, "thin box, radius 1e-4");
 }
 
 // ---------------------------------------------------------------------------------------
