@@ -87,6 +87,11 @@ pub struct RenderArgs {
     /// Irradiance-cache error tolerance (Ward's a; smaller is more accurate and slower).
     #[arg(long)]
     pub cache_tolerance: Option<f32>,
+    /// Largest memory the photon maps and the BVH may take, in bytes or with a binary suffix
+    /// (`512M`, `8G`); checked against an estimate before the photon pass (default: the
+    /// available memory, MemAvailable in /proc/meminfo; no limit where that cannot be read).
+    #[arg(long, value_name = "BYTES_OR_SIZE", value_parser = crate::render::settings::parse_bytes)]
+    pub memory_limit: Option<u64>,
     /// USD: camera prim path to render through (default: the first camera found).
     #[arg(long, value_name = "PRIM")]
     pub camera: Option<String>,
@@ -361,6 +366,9 @@ impl RenderArgs {
         p.final_gather_rays = self.final_gather_rays.unwrap_or(p.final_gather_rays);
         p.irradiance_cache = self.irradiance_cache.unwrap_or(p.irradiance_cache);
         p.cache_tolerance = self.cache_tolerance.unwrap_or(p.cache_tolerance);
+        s.memory_limit = self
+            .memory_limit
+            .or_else(crate::render::settings::available_memory);
         s
     }
 

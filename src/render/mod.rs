@@ -9,5 +9,5 @@ mod renderer;
 pub mod settings;
 pub mod terms;
 
-pub use renderer::{ProgressFn, RenderOutput, RenderStats, Renderer, SkippedTerm};
+pub use renderer::{MemoryEstimate, ProgressFn, RenderOutput, RenderStats, Renderer, SkippedTerm};
 pub use settings::{PhotonSettings, Quality, RenderSettings};

@@ -8,7 +8,7 @@ use super::cache_fill;
 use super::eye::{self, EyeCtx, EyeSettings};
 use super::film::{Film, TermRadiance};
 use super::photons::{self, MapStats, PhotonMaps};
-use super::settings::RenderSettings;
+use super::settings::{RenderSettings, BYTES_PER_PHOTON, BYTES_PER_TRIANGLE};
 use super::terms::volume::MarchSettings;
 use crate::error::{Error, Result};
 use crate::geometry::Ray;
@@ -54,6 +54,27 @@ pub struct RenderStats {
     pub non_finite_samples: u64,
     /// Approximate bytes held by the render (film and scene geometry).
     pub memory_bytes: u64,
+    /// The estimate checked against the memory limit before the photon pass.
+    pub memory_estimate: MemoryEstimate,
+    /// Bytes per stored photon in the estimate.
+    pub bytes_per_photon: u64,
+    /// Bytes per triangle of the BVH in the estimate.
+    pub bytes_per_triangle: u64,
+}
+
+/// Memory that the photon maps and the BVH of a render take, estimated before the photon
+/// pass from the stored-photon targets of the maps that will be built.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct MemoryEstimate {
+    /// Photons stored over every map that will be built.
+    pub photons: u64,
+    /// `photons * BYTES_PER_PHOTON`.
+    pub photon_bytes: u64,
+    pub triangles: u64,
+    /// `triangles * BYTES_PER_TRIANGLE`.
+    pub bvh_bytes: u64,
+    /// `photon_bytes + bvh_bytes`.
+    pub total_bytes: u64,
 }
 
 pub struct RenderOutput {
@@ -144,6 +165,46 @@ impl<'a> Renderer<'a> {
         }
     }
 
+    /// Which maps the render reads: global, caustic, volume.
+    fn needed_maps(&self) -> [bool; 3] {
+        let s = &self.settings;
+        let need_global = s.terms.contains(Term::Indirect) && s.photons.final_gather_rays > 0;
+        let need_caustic = s.terms.contains(Term::Caustic);
+        let need_volume = s.terms.contains(Term::Volume) && self.scene.has_media();
+        [need_global, need_caustic, need_volume]
+    }
+
+    /// The memory the photon maps (stored targets of every map that will be built, at
+    /// `BYTES_PER_PHOTON`) and the BVH (`BYTES_PER_TRIANGLE`) take.
+    pub fn memory_estimate(&self) -> MemoryEstimate {
+        let p = &self.settings.photons;
+        let [need_global, need_caustic, need_volume] = self.needed_maps();
+        let photons = if self.scene.lights.is_empty() {
+            0
+        } else {
+            let caustic =
+                need_caustic && p.caustic > 0 && !photons::specular_targets(self.scene).is_empty();
+            [
+                (need_global, p.global),
+                (caustic, p.caustic),
+                (need_volume, p.volume),
+            ]
+            .iter()
+            .filter(|(built, _)| *built)
+            .fold(0u64, |acc, (_, n)| acc.saturating_add(*n as u64))
+        };
+        let triangles = self.scene.triangle_count as u64;
+        let photon_bytes = photons.saturating_mul(BYTES_PER_PHOTON);
+        let bvh_bytes = triangles.saturating_mul(BYTES_PER_TRIANGLE);
+        MemoryEstimate {
+            photons,
+            photon_bytes,
+            triangles,
+            bvh_bytes,
+            total_bytes: photon_bytes.saturating_add(bvh_bytes),
+        }
+    }
+
     pub fn render(self) -> Result<RenderOutput> {
         let s = &self.settings;
         if s.spp == 0 {
@@ -152,14 +213,34 @@ impl<'a> Renderer<'a> {
                 message: "must be at least 1".into(),
             });
         }
+        let estimate = self.memory_estimate();
+        if let Some(limit) = s.memory_limit {
+            if estimate.total_bytes > limit {
+                return Err(Error::InvalidSetting {
+                    setting: "--memory-limit".into(),
+                    message: format!(
+                        "the render needs an estimated {} bytes ({} photons x {} B = {} B for \
+                         the photon maps, {} triangles x {} B = {} B for the BVH), over the \
+                         limit of {limit} bytes; store fewer photons or raise the limit",
+                        estimate.total_bytes,
+                        estimate.photons,
+                        BYTES_PER_PHOTON,
+                        estimate.photon_bytes,
+                        estimate.triangles,
+                        BYTES_PER_TRIANGLE,
+                        estimate.bvh_bytes
+                    ),
+                });
+            }
+        }
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(s.threads)
             .build()
             .map_err(|e| Error::Internal(format!("thread pool: {e}")))?;
-        pool.install(|| self.render_in_pool(pool.current_num_threads()))
+        pool.install(|| self.render_in_pool(pool.current_num_threads(), estimate))
     }
 
-    fn render_in_pool(&self, threads: usize) -> Result<RenderOutput> {
+    fn render_in_pool(&self, threads: usize, estimate: MemoryEstimate) -> Result<RenderOutput> {
         let s = &self.settings;
         let (w, h) = (self.scene.width, self.scene.height);
         let mut seconds = std::collections::BTreeMap::new();
@@ -167,10 +248,8 @@ impl<'a> Renderer<'a> {
         // First pass: photons.
         self.report(0.0, "photons");
         let t0 = Instant::now();
-        let need_global = s.terms.contains(Term::Indirect) && s.photons.final_gather_rays > 0;
-        let need_caustic = s.terms.contains(Term::Caustic);
+        let [need_global, need_caustic, need_volume] = self.needed_maps();
         let cancel = self.cancel.as_deref();
-        let need_volume = s.terms.contains(Term::Volume) && self.scene.has_media();
         let (maps, map_stats) = photons::build(
             self.scene,
             &s.photons,
@@ -316,6 +395,9 @@ impl<'a> Renderer<'a> {
             memory_bytes: (w * h * Term::COUNT * 12) as u64
                 + self.scene.triangle_count as u64 * 64
                 + photon_bytes,
+            memory_estimate: estimate,
+            bytes_per_photon: BYTES_PER_PHOTON,
+            bytes_per_triangle: BYTES_PER_TRIANGLE,
         };
         Ok(RenderOutput { film, stats })
     }
