@@ -62,6 +62,13 @@ def area_power(L: float, area: float, normalize: bool) -> float:
     return L * math.pi if normalize else L * math.pi * area
 
 
+def _blender_authored(prim) -> bool:
+    """Written by Blender's USD exporter (its layer doc, or its `userProperties:blender:*`)."""
+    doc = prim.GetStage().GetRootLayer().documentation or ""
+    return doc.startswith("Blender") or any(
+        n.startswith("userProperties:blender:") for n in prim.GetPropertyNames())
+
+
 def read_light(prim, world: np.ndarray, time, diag, up_axis: str, textures):
     """(kind, IR light dict or environment dict), or None for unsupported lights (warned)."""
     t = prim.GetTypeName()
@@ -127,6 +134,10 @@ def read_light(prim, world: np.ndarray, time, diag, up_axis: str, textures):
                          "power": power, "color": color.tolist()}
     if t == "DistantLight":
         angle = float(_get(prim, "angle", 0.53, time))
+        if _blender_authored(prim):
+            diag.note(prim, f"read per UsdLux: irradiance {L:g}, angular diameter {angle:g} deg; "
+                            f"Blender's exporter writes a sun of strength S and angle A as intensity "
+                            f"S/4 and angle A/2 (in Blender: strength {4 * L:g}, angle {2 * angle:g} deg)")
         return "light", {"type": "distant", "name": name, "direction": forward.tolist(),
                          "irradiance": L, "color": color.tolist(),
                          "angle": math.radians(max(0.0, angle))}
