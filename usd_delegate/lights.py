@@ -7,6 +7,9 @@ light's world-space area. An IR area light of area A and radiance L has power P 
 sphere light of radius r has P = L*4*pi^2*r^2. Distant lights: irradiance = intensity *
 2^exposure. Inputs are read with or without the ``inputs:`` prefix (old files).
 
+Blender's exporter writes a sun of strength S and angle A as intensity S/4 and angle A/2
+(UsdLux's `angle` is the angular diameter); such lights are read per UsdLux and noted.
+
 | UsdLux | IR |
 |---|---|
 | RectLight (width x height, emits along -Z) | `rect` |
