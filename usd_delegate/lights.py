@@ -7,6 +7,9 @@ light's world-space area. An IR area light of area A and radiance L has power P 
 sphere light of radius r has P = L*4*pi^2*r^2. Distant lights: irradiance = intensity *
 2^exposure. Inputs are read with or without the ``inputs:`` prefix (old files).
 
+Blender's exporter writes a sun of strength S and angle A as intensity S/4 and angle A/2
+(UsdLux's `angle` is the angular diameter); such lights are read per UsdLux and noted.
+
 | UsdLux | IR |
 |---|---|
 | RectLight (width x height, emits along -Z) | `rect` |
@@ -60,6 +63,13 @@ def area_power(L: float, area: float, normalize: bool) -> float:
     """IR power of an emitter of world-space area A and radiance L (divided by A when
     normalize is on): P = L pi A, so P = L pi with normalize (for any area, even zero)."""
     return L * math.pi if normalize else L * math.pi * area
+
+
+def _blender_authored(prim) -> bool:
+    """Written by Blender's USD exporter (its layer doc, or its `userProperties:blender:*`)."""
+    doc = prim.GetStage().GetRootLayer().documentation or ""
+    return doc.startswith("Blender") or any(
+        n.startswith("userProperties:blender:") for n in prim.GetPropertyNames())
 
 
 def read_light(prim, world: np.ndarray, time, diag, up_axis: str, textures):
@@ -127,6 +137,10 @@ def read_light(prim, world: np.ndarray, time, diag, up_axis: str, textures):
                          "power": power, "color": color.tolist()}
     if t == "DistantLight":
         angle = float(_get(prim, "angle", 0.53, time))
+        if _blender_authored(prim):
+            diag.note(prim, f"read per UsdLux: irradiance {L:g}, angular diameter {angle:g} deg; "
+                            f"Blender's exporter writes a sun of strength S and angle A as intensity "
+                            f"S/4 and angle A/2 (in Blender: strength {4 * L:g}, angle {2 * angle:g} deg)")
         return "light", {"type": "distant", "name": name, "direction": forward.tolist(),
                          "irradiance": L, "color": color.tolist(),
                          "angle": math.radians(max(0.0, angle))}
