@@ -192,11 +192,8 @@ def test_fog_scene_renders_a_volume_pass(photonmap_scene, reports, tmp_path):
     np.testing.assert_allclose(comb, total, rtol=1e-4, atol=1e-5)
 
 
-@pytest.mark.xfail(strict=False, reason=(
-    "measured 0.864 at 'high' (0.890 at 'final' with 1M volume photons): the core's light "
-    "scattered out of media onto surfaces is short; the same scene without the fog is 1.004 and "
-    "the exported coefficients are Cycles' (see the export tests)"))
 def test_fog_brightness_matches_cycles(photonmap_scene, tmp_path, record_property):
+    """Image mean against Cycles' within FOG_TOLERANCE; measured 1.035 at 'high'."""
     import OpenImageIO as oiio
 
     ref = scenes_dir() / "cycles_fog.exr"
