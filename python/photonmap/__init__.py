@@ -108,6 +108,25 @@ def _jsonable(value: Any) -> Any:
     return value
 
 
+def _medium(m: Any, i: int) -> Any:
+    """A medium dict whose `density` may be a numpy array shaped (nz, ny, nx) (x fastest, as
+    the IR), or a dict with such an array as `data`: flattened, with `resolution` filled in."""
+    if not isinstance(m, Mapping) or m.get("density") is None:
+        return m
+    grid = m["density"]
+    if isinstance(grid, np.ndarray):
+        grid = {"data": grid}
+    if not isinstance(grid, Mapping):
+        raise SceneError(f"invalid scene at /media/{i}/density: expected an array or a dict")
+    data = np.asarray(grid.get("data", []), dtype=np.float32)
+    out = dict(grid)
+    if data.ndim == 3 and "resolution" not in grid:
+        nz, ny, nx = data.shape
+        out["resolution"] = [nx, ny, nz]
+    out["data"] = data.reshape(-1)
+    return {**m, "density": out}
+
+
 class Scene:
     """Constructors of the core's validated scene (``photonmap._core.Scene``)."""
 
@@ -118,6 +137,8 @@ class Scene:
         if not isinstance(ir, Mapping):
             raise SceneError(f"invalid scene at /: expected a dict, got {type(ir).__name__}")
         rest = {k: v for k, v in ir.items() if k != "meshes"}
+        if "media" in rest:
+            rest["media"] = [_medium(m, i) for i, m in enumerate(rest["media"] or [])]
         meshes_in = ir.get("meshes", []) or []
         meshes, buffers = [], []
         for i, m in enumerate(meshes_in):

@@ -12,7 +12,7 @@ use crate::geometry::Ray;
 use crate::lights::{LeSample, Light, Target};
 use crate::materials::bsdf::{Component, LobeFlags};
 use crate::math::{is_finite3, Spectrum};
-use crate::media::MediumStack;
+use crate::media::{Medium, MediumStack};
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use glam::Vec3;
@@ -83,61 +83,35 @@ fn trace_path(
         let dist = hit.as_ref().map_or(f32::INFINITY, |h| h.t * dir_len);
         if let Some(m) = stack.current(scene.world_medium) {
             let med = &scene.media[m as usize];
-            let st = med.sigma_t();
-            let st_avg = mean(st);
-            if st_avg > 0.0 {
-                let t = -(1.0 - rng.f32()).ln() / st_avg;
-                let d = ray.d / dir_len;
-                if t < dist {
-                    // Collision at distance t.
-                    let ratio = Spectrum::new(
-                        st.x / st_avg * (-(st.x - st_avg) * t).exp(),
-                        st.y / st_avg * (-(st.y - st_avg) * t).exp(),
-                        st.z / st_avg * (-(st.z - st_avg) * t).exp(),
-                    );
-                    let ss = med.sigma_s();
-                    let albedo = Spectrum::new(
-                        safe_div(ss.x, st.x),
-                        safe_div(ss.y, st.y),
-                        safe_div(ss.z, st.z),
-                    );
-                    let p = mean(albedo).min(1.0);
+            let d = ray.d / dir_len;
+            match free_flight(med, ray.o, d, dist, rng) {
+                Flight::Collide { t, weight } => {
+                    // Scatter with probability P = mean expected throughput, else absorbed.
+                    let p = mean(weight).min(1.0);
                     if kind == MapKind::Caustic || !(p > 0.0) || rng.f32() >= p {
                         break;
                     }
-                    let new_power = power * ratio * albedo / p;
+                    let new_power = power * weight / p;
                     if !is_finite3(new_power) || new_power.max_element() <= 0.0 {
                         break;
                     }
                     power = new_power;
                     let x = ray.o + d * t;
                     if kind == MapKind::Volume && interactions > 0 {
-                        out.push(RawPhoton {
-                            p: x,
-                            power,
-                            d,
-                            first: false,
-                            from_medium: true,
-                        });
+                        out.push(RawPhoton { p: x, power, d, first: false, from_medium: true });
                     }
                     interactions += 1;
                     last_scatter = true;
                     let (wi, _) = med.phase().sample(-d, rng.vec2());
-                    ray = Ray {
-                        o: x,
-                        d: wi,
-                        t_max: f32::INFINITY,
-                    };
+                    ray = Ray { o: x, d: wi, t_max: f32::INFINITY };
                     continue;
                 }
-                if !dist.is_finite() {
-                    break;
+                Flight::Pass { weight } => {
+                    if !dist.is_finite() {
+                        break;
+                    }
+                    power *= weight;
                 }
-                power *= Spectrum::new(
-                    (-(st.x - st_avg) * dist).exp(),
-                    (-(st.y - st_avg) * dist).exp(),
-                    (-(st.z - st_avg) * dist).exp(),
-                );
             }
         }
         let Some(hit) = hit else { break };
@@ -216,6 +190,47 @@ fn trace_path(
         interactions += 1;
         last_scatter = false;
         ray = si.spawn_ray(bs.wi);
+    }
+}
+
+/// The outcome of a photon's flight through a medium up to the next surface at `dist`.
+enum Flight {
+    /// A real collision at `t`; `weight` is the per-channel throughput of reaching and
+    /// scattering there, relative to the density the distance was drawn with.
+    Collide { t: f32, weight: Spectrum },
+    /// No collision before the surface; `weight` corrects the per-channel transmittance.
+    Pass { weight: Spectrum },
+}
+
+/// Free-flight sampling: homogeneous media draw the distance from the channel-mean extinction
+/// and correct each channel by the ratio of densities; grids use delta tracking against their
+/// maximum density (grey extinction, so no correction).
+fn free_flight(med: &Medium, o: Vec3, d: Vec3, dist: f32, rng: &mut Rng) -> Flight {
+    match med {
+        Medium::Homogeneous(h) => {
+            let st = h.sigma_t;
+            let st_avg = mean(st);
+            if !(st_avg > 0.0) {
+                return Flight::Pass { weight: Spectrum::ONE };
+            }
+            let t = -(1.0 - rng.f32()).ln() / st_avg;
+            let rel = |s: f32, x: f32| (-(s - st_avg) * x).exp();
+            if t < dist {
+                let ratio = Spectrum::new(st.x / st_avg * rel(st.x, t), st.y / st_avg * rel(st.y, t), st.z / st_avg * rel(st.z, t));
+                let albedo = Spectrum::new(safe_div(h.sigma_s.x, st.x), safe_div(h.sigma_s.y, st.y), safe_div(h.sigma_s.z, st.z));
+                Flight::Collide { t, weight: ratio * albedo }
+            } else {
+                Flight::Pass { weight: Spectrum::new(rel(st.x, dist), rel(st.y, dist), rel(st.z, dist)) }
+            }
+        }
+        Medium::Grid(g) => match g.sample_collision(o, d, dist, rng) {
+            Some((t, _)) => {
+                let st = g.sigma_t;
+                let albedo = Spectrum::new(safe_div(g.sigma_s.x, st), safe_div(g.sigma_s.y, st), safe_div(g.sigma_s.z, st));
+                Flight::Collide { t, weight: albedo }
+            }
+            None => Flight::Pass { weight: Spectrum::ONE },
+        },
     }
 }
 

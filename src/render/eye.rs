@@ -153,7 +153,7 @@ pub fn trace(ctx: &EyeCtx, mut ray: Ray, rng: &mut Rng, scratch: &mut KnnScratch
                 add(&mut out, Term::Volume, bounces, beta * lv);
                 tr
             } else {
-                scene.media[m as usize].transmittance(dist)
+                scene.media[m as usize].transmittance_along(ray.o, ray.d / len, dist)
             };
             beta *= tr;
             if beta.max_element() <= 0.0 {

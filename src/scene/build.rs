@@ -11,7 +11,7 @@ use crate::lights::{
 };
 use crate::materials::{texture::Texture, Material};
 use crate::math::{Bounds3, Spectrum, Transform};
-use crate::media::{Homogeneous, Medium};
+use crate::media::{GridMedium, Homogeneous, Medium};
 use glam::{Vec2, Vec3};
 use std::collections::HashMap;
 
@@ -187,17 +187,7 @@ impl Scene {
             center,
             radius,
             triangle_count,
-            media: desc
-                .media
-                .iter()
-                .map(|m| {
-                    Medium::Homogeneous(Homogeneous::new(
-                        Vec3::from(m.sigma_a),
-                        Vec3::from(m.sigma_s),
-                        m.g,
-                    ))
-                })
-                .collect(),
+            media: desc.media.iter().map(medium_from_desc).collect(),
             world_medium: desc.world_medium,
             instance_medium,
             camera_stack: Default::default(),
@@ -287,6 +277,17 @@ impl Scene {
     /// Whether any material needs caustic or specular paths.
     pub fn has_specular(&self) -> bool {
         self.materials.iter().any(|m| m.has_specular())
+    }
+}
+
+fn medium_from_desc(m: &MediumDesc) -> Medium {
+    let (sa, ss) = (Vec3::from(m.sigma_a), Vec3::from(m.sigma_s));
+    match &m.density {
+        None => Medium::Homogeneous(Homogeneous::new(sa, ss, m.g)),
+        Some(grid) => {
+            let t = Transform::from_rows(&grid.transform).unwrap_or_default();
+            Medium::Grid(GridMedium::new(sa, ss, m.g, grid.resolution, grid.data.clone(), t))
+        }
     }
 }
 

@@ -74,7 +74,8 @@ pub struct SceneDesc {
     pub world_medium: Option<u32>,
 }
 
-/// A homogeneous participating medium (coefficients per unit length of scene units).
+/// A participating medium (coefficients per unit length of scene units), homogeneous or
+/// scaled by a density grid.
 ///
 /// | field | meaning |
 /// |---|---|
@@ -95,6 +96,24 @@ pub struct MediumDesc {
     pub sigma_s: Rgb,
     #[serde(default)]
     pub g: f32,
+    /// Heterogeneous medium: the coefficients are multiplied by this density grid (zero
+    /// outside it). Its extinction `sigma_a + sigma_s` must be grey (the same in R, G, B);
+    /// the albedo may be coloured.
+    #[serde(default)]
+    pub density: Option<DensityGridDesc>,
+}
+
+/// A dense 3D grid of densities over the unit cube [0,1]^3 of its `transform`
+/// (grid-to-world), looked up trilinearly between voxel centres.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct DensityGridDesc {
+    /// Voxels along x, y, z.
+    pub resolution: [u32; 3],
+    /// `x * y * z` non-negative densities, x varying fastest, then y, then z.
+    pub data: Vec<f32>,
+    #[serde(default = "identity")]
+    pub transform: Matrix,
 }
 
 /// Output image size in pixels.

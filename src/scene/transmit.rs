@@ -51,7 +51,7 @@ impl Scene {
                 None => ray.t_max * ray.d.length(),
             };
             if let Some(m) = stack.current(self.world_medium) {
-                t *= self.media[m as usize].transmittance(seg);
+                t *= self.media[m as usize].transmittance_along(ray.o, ray.d.normalize(), seg);
             }
             let Some(h) = hit else { return t };
             let si = self.accel.interaction(&ray, &h);
@@ -80,7 +80,7 @@ impl Scene {
                 SceneHit::Miss => f32::INFINITY,
             };
             if let Some(m) = stack.current(self.world_medium) {
-                t *= self.media[m as usize].transmittance(seg);
+                t *= self.media[m as usize].transmittance_along(ray.o, ray.d.normalize(), seg);
             }
             match hit {
                 SceneHit::Surface(si) if self.is_null(&si) => {

@@ -50,6 +50,13 @@ fn one_minus_exp_over(s: f32, x: f32) -> f32 {
     }
 }
 
+/// exp(-sigma_t d) per channel, formed in f64 so huge optical depths give 0, not NaN.
+#[inline]
+fn exp_neg(sigma_t: Spectrum, d: f32) -> Spectrum {
+    let f = |s: f32| (-(s as f64) * d as f64).exp() as f32;
+    Spectrum::new(f(sigma_t.x), f(sigma_t.y), f(sigma_t.z))
+}
+
 /// Light scattered towards `-dir` along `[0, dist)` from `o` inside `medium`, and the
 /// transmittance over the segment.
 #[allow(clippy::too_many_arguments)]
@@ -66,46 +73,37 @@ pub fn march(
     scratch: &mut KnnScratch,
 ) -> (Spectrum, Spectrum) {
     let med = &scene.media[medium as usize];
-    let sigma_t = med.sigma_t();
-    let sigma_s = med.sigma_s();
     // An unbounded segment (world fog, ray escaping): beyond the scene's bounding sphere no
     // light source but those at infinity remains; march to the far side of the sphere.
     let oc = o - scene.center;
     let b = oc.dot(dir);
     let c = oc.length_squared() - scene.radius * scene.radius;
     let exit = -b + (b * b - c).max(0.0).sqrt();
-    let seg = if dist.is_finite() {
-        dist
-    } else {
-        exit.max(0.0)
-    };
-    let t_total = if dist.is_finite() {
-        med.transmittance(dist)
-    } else {
-        Spectrum::ZERO
-    };
-    if sigma_s.max_element() <= 0.0 || seg <= 0.0 {
+    let seg = if dist.is_finite() { dist } else { exit.max(0.0) };
+    let t_total = if dist.is_finite() { med.transmittance_along(o, dir, dist) } else { Spectrum::ZERO };
+    if seg <= 0.0 {
         return (Spectrum::ZERO, t_total);
     }
-    // Only the part of the segment with transmittance above the cut-off matters.
-    let st_min = sigma_t.min_element();
-    let useful = if st_min > 0.0 {
-        seg.min(-T_CUTOFF.ln() / st_min)
-    } else {
-        seg
+    // In a homogeneous medium only the part of the segment with transmittance above the
+    // cut-off matters; a grid's march stops when the accumulated transmittance falls below it.
+    let useful = match med {
+        crate::media::Medium::Homogeneous(h) if h.sigma_t.min_element() > 0.0 => seg.min(-T_CUTOFF.ln() / h.sigma_t.min_element()),
+        _ => seg,
     };
     let n = ((useful / s.step.max(1e-12)).ceil() as u32).clamp(1, MAX_STEPS);
     let step = useful / n as f32;
-    let st_avg = mean(sigma_t);
     let phase = med.phase();
     let wo = -dir;
     let mut l = Spectrum::ZERO;
+    let mut t_start = Spectrum::ONE;
     for i in 0..n {
-        let t0 = i as f32 * step;
-        let t_start = med.transmittance(t0);
         if t_start.max_element() < T_CUTOFF {
             break;
         }
+        let t0 = i as f32 * step;
+        // Extinction of this step, taken at its middle (constant for homogeneous media).
+        let (_, sigma_t) = med.coefficients_at(o + dir * (t0 + 0.5 * step));
+        let st_avg = mean(sigma_t);
         // A point in the step, with density proportional to exp(-st_avg s).
         let u = rng.f32();
         let (s_in, inv_pdf) = if st_avg * step < 1e-4 {
@@ -115,13 +113,18 @@ pub fn march(
             let s_in = -((1.0 - u * (1.0 - (-st_avg * step).exp())).max(1e-30)).ln() / st_avg;
             (s_in.min(step), norm * (st_avg * s_in).exp())
         };
-        let weight = t_start * med.transmittance(s_in) * inv_pdf;
         let x = o + dir * (t0 + s_in);
-        let mut inscatter = sigma_s * single_scattering(scene, stack, x, wo, &phase, rng);
+        let (sigma_s, _) = med.coefficients_at(x);
+        let weight = t_start * exp_neg(sigma_t, s_in) * inv_pdf;
+        let mut inscatter = Spectrum::ZERO;
+        if sigma_s.max_element() > 0.0 {
+            inscatter += sigma_s * single_scattering(scene, stack, x, wo, &phase, rng);
+        }
         if let Some(vm) = &maps.volume {
             inscatter += vm.volume_radiance(x, wo, &phase, s.gather, s.max_r2, scratch);
         }
         l += weight * inscatter;
+        t_start *= exp_neg(sigma_t, step);
     }
     (l, t_total)
 }
