@@ -274,10 +274,6 @@ impl Scene {
             && (self.world_medium.is_some() || self.instance_medium.iter().any(Option::is_some))
     }
 
-    /// Whether any material needs caustic or specular paths.
-    pub fn has_specular(&self) -> bool {
-        self.materials.iter().any(|m| m.has_specular())
-    }
 }
 
 fn medium_from_desc(m: &MediumDesc) -> Medium {
