@@ -64,6 +64,8 @@ fn wall_time_is_within_five_percent_of_the_budget() {
              photons {}/{}",
             bs.actual_seconds, bs.planned_seconds, bs.passes, bs.photons_global, bs.photons_caustic
         );
+        eprintln!("  {:?} cache records {}", out.stats.seconds, out.stats.irradiance_cache_records
+        );
         assert!(
             (wall - budget).abs() <= tolerance,
             "budget {budget} s took {wall:.3} s (tolerance {tolerance} s): {bs:?}"
@@ -106,6 +108,7 @@ fn recorded_plan_reproduces_the_image_bit_for_bit() {
     explicit.photons.global = bs.photons_global;
     explicit.photons.caustic = bs.photons_caustic;
     explicit.photons.volume = bs.photons_volume;
+    explicit.photons.final_gather_rays = bs.final_gather_rays;
     let (b, _) = render(&scene, explicit);
     assert!(b.stats.time_budget.is_none());
     assert_eq!(a.stats.spp, b.stats.spp);

@@ -2,9 +2,11 @@
 //!
 //! **Plan.** A calibration photon pass (a fixed fraction of the preset's stored-photon
 //! targets, so it is itself deterministic) measures the seconds per stored photon on this
-//! machine. The photon counts are then scaled, keeping the preset's ratios between the
-//! global, caustic and volume maps, so that the photon pass takes `PHOTON_SHARE` of the
-//! budget. The irradiance cache is filled as usual and timed.
+//! machine, and a calibration fill of the irradiance cache with those maps and
+//! `CALIBRATION_GATHER_RAYS` rays per record measures the cost of a gather ray and the number
+//! of records. The photon counts and the final-gathering rays are then scaled by one factor,
+//! keeping the preset's ratios, so that calibration, photon pass and cache take `MAPS_SHARE`
+//! of the budget.
 //!
 //! **Enforce.** The camera pass is progressive in whole passes over the image, one sample
 //! per pixel per pass. Sample `k` of a pixel takes its film position from point `k` of the
@@ -15,13 +17,20 @@
 //! pass, still fits in the budget less a margin.
 //!
 //! The plan depends on timing; it is recorded in the stats (`time_budget`) and a render with
-//! the same photon counts, `spp = passes`, `progressive = true` and the same
+//! the same photon counts and `final_gather_rays`, `spp = passes`, `progressive = true` and the same
 //! `gather_rays_per_sample` is bit-identical to it.
 
 use serde::Serialize;
 
-/// Fraction of the budget the photon pass is planned to take.
-pub const PHOTON_SHARE: f64 = 0.25;
+/// Fraction of the budget the calibration, the photon pass and the irradiance cache are
+/// planned to take together; the camera passes fill the rest.
+pub const MAPS_SHARE: f64 = 0.6;
+
+/// Final-gathering rays per record in the calibration fill of the irradiance cache.
+pub const CALIBRATION_GATHER_RAYS: u32 = 8;
+
+/// Fewest final-gathering rays per cache record in a budgeted plan.
+pub const MIN_GATHER_RAYS: u32 = 16;
 
 /// Fraction of the preset's stored-photon targets traced for calibration.
 pub const CALIBRATION_FRACTION: f64 = 0.02;
@@ -55,6 +64,10 @@ pub struct BudgetStats {
     pub photons_global: usize,
     pub photons_caustic: usize,
     pub photons_volume: usize,
+    /// Irradiance-cache records of the calibration fill.
+    pub calibration_cache_records: u64,
+    /// Final-gathering rays per irradiance-cache record chosen (the preset's, scaled).
+    pub final_gather_rays: u32,
     /// Camera passes run; equal to the samples per pixel.
     pub passes: u32,
     pub spp: u32,

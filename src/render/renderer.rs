@@ -279,7 +279,7 @@ impl<'a> Renderer<'a> {
             cal.global = budget::scale_count(p.global, budget::CALIBRATION_FRACTION);
             cal.caustic = budget::scale_count(p.caustic, budget::CALIBRATION_FRACTION);
             cal.volume = budget::scale_count(p.volume, budget::CALIBRATION_FRACTION);
-            let (_, cal_stats) = photons::build(
+            let (cal_maps, cal_stats) = photons::build(
                 self.scene,
                 &cal,
                 s.seed ^ 0xCA1B_4A7E,
@@ -290,16 +290,56 @@ impl<'a> Renderer<'a> {
                 return Err(Error::Cancelled);
             }
             let stored: u64 = cal_stats.iter().filter(|m| m.built).map(|m| m.stored).sum();
-            let secs = t.elapsed().as_secs_f64();
+            let photon_secs = t.elapsed().as_secs_f64();
+            let preset_photons = preset_total as f64;
+            // A bigger map costs more per photon (kd-tree balancing, cache misses): about in
+            // proportion to log n.
+            let log_ratio = |n: f64| (n.max(2.0).ln() / (stored.max(2) as f64).ln()).max(1.0);
             if stored > 0 {
-                stats.seconds_per_photon = secs / stored as f64;
-                let photons = budget::PHOTON_SHARE * budget_seconds / stats.seconds_per_photon;
-                scale = photons / preset_total as f64;
-                if let Some(limit) = s.memory_limit {
-                    let bvh = self.scene.triangle_count as u64 * BYTES_PER_TRIANGLE;
-                    let room = limit.saturating_sub(bvh) / BYTES_PER_PHOTON;
-                    scale = scale.min(room as f64 / preset_total as f64);
-                }
+                stats.seconds_per_photon = photon_secs / stored as f64;
+            }
+            // Irradiance cache: fill it with the calibration maps and a few gather rays to
+            // count the records and time a gather ray.
+            let mut cache_preset = 0.0;
+            let fg = s.photons.final_gather_rays;
+            if need[0] && s.photons.irradiance_cache && cal_maps.global.is_some() && fg > 0 {
+                let tc = Instant::now();
+                let mut cal_settings = s.clone();
+                cal_settings.photons.final_gather_rays = budget::CALIBRATION_GATHER_RAYS;
+                let ctx = EyeCtx {
+                    scene: self.scene,
+                    maps: &cal_maps,
+                    cache: None,
+                    settings: EyeSettings {
+                        terms: s.terms,
+                        max_specular_depth: s.max_specular_depth,
+                        final_gather_rays: budget::CALIBRATION_GATHER_RAYS,
+                        gather_rays_per_sample: budget::CALIBRATION_GATHER_RAYS,
+                    },
+                    march: MarchSettings {
+                        step: s.photons.volume_step.unwrap_or(self.scene.radius / 64.0),
+                        gather: s.photons.gather,
+                        max_r2: cal_maps.global_r2,
+                    },
+                };
+                let cache = cache_fill::fill(&ctx, &cal_settings, &|_| {}, &|| {
+                    self.is_cancelled()
+                })?;
+                let secs = tc.elapsed().as_secs_f64();
+                stats.calibration_cache_records = cache.len() as u64;
+                cache_preset = secs * fg as f64 / budget::CALIBRATION_GATHER_RAYS as f64
+                    * log_ratio(p.global as f64);
+            }
+            let photon_preset =
+                stats.seconds_per_photon * preset_photons * log_ratio(preset_photons);
+            let room = (budget_seconds * budget::MAPS_SHARE - t.elapsed().as_secs_f64()).max(0.0);
+            if photon_preset + cache_preset > 0.0 {
+                scale = room / (photon_preset + cache_preset);
+            }
+            if let Some(limit) = s.memory_limit {
+                let bvh = self.scene.triangle_count as u64 * BYTES_PER_TRIANGLE;
+                let fit = limit.saturating_sub(bvh) / BYTES_PER_PHOTON;
+                scale = scale.min(fit as f64 / preset_photons);
             }
         }
         let spp_equivalent = (s.spp as f64 * scale).max(1.0);
@@ -307,6 +347,10 @@ impl<'a> Renderer<'a> {
         p.global = budget::scale_count(p.global, scale);
         p.caustic = budget::scale_count(p.caustic, scale);
         p.volume = budget::scale_count(p.volume, scale);
+        if p.final_gather_rays > 0 {
+            p.final_gather_rays = ((p.final_gather_rays as f64 * scale).round() as u32)
+                .max(budget::MIN_GATHER_RAYS);
+        }
         s.progressive = true;
         let gather = s.gather_rays_per_sample.unwrap_or(match p.final_gather_rays {
             0 => 0,
@@ -318,6 +362,7 @@ impl<'a> Renderer<'a> {
         stats.photons_caustic = p.caustic;
         stats.photons_volume = p.volume;
         stats.gather_rays_per_sample = gather;
+        stats.final_gather_rays = p.final_gather_rays;
         Ok(s)
     }
 
