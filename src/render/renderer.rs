@@ -336,6 +336,10 @@ impl<'a> Renderer<'a> {
             if photon_preset + cache_preset > 0.0 {
                 scale = room / (photon_preset + cache_preset);
             }
+            // Final-gathering rays grow with the plan only up to the preset's.
+            if scale > 1.0 && photon_preset > 0.0 {
+                scale = ((room - cache_preset) / photon_preset).max(1.0);
+            }
             if let Some(limit) = s.memory_limit {
                 let bvh = self.scene.triangle_count as u64 * BYTES_PER_TRIANGLE;
                 let fit = limit.saturating_sub(bvh) / BYTES_PER_PHOTON;
@@ -348,7 +352,7 @@ impl<'a> Renderer<'a> {
         p.caustic = budget::scale_count(p.caustic, scale);
         p.volume = budget::scale_count(p.volume, scale);
         if p.final_gather_rays > 0 {
-            p.final_gather_rays = ((p.final_gather_rays as f64 * scale).round() as u32)
+            p.final_gather_rays = ((p.final_gather_rays as f64 * scale.min(1.0)).round() as u32)
                 .max(budget::MIN_GATHER_RAYS);
         }
         s.progressive = true;
