@@ -48,6 +48,9 @@ class PhotonMapSettings(bpy.types.PropertyGroup):
     max_specular_depth: IntProperty(name="Max Specular Depth", default=_P["max_specular_depth"],
                                     min=0, soft_max=64,
                                     description="Perfectly specular bounces followed from the eye")
+    time_budget: FloatProperty(name="Time Budget", default=0.0, min=0.0,
+                               description="Seconds the whole render should take; photon counts "
+                               "and camera passes are planned to fill it (0 = off)")
     seed: IntProperty(name="Seed", default=0, min=0, description="Random seed")
     threads: IntProperty(name="Threads", default=0, min=0, description="Worker threads (0 = all)")
 
@@ -61,6 +64,7 @@ def render_settings(s: PhotonMapSettings) -> dict:
         "radius": s.radius if s.radius > 0 else None, "final_gather_rays": s.final_gather_rays,
         "irradiance_cache": s.irradiance_cache, "cache_tolerance": s.cache_tolerance,
         "max_specular_depth": s.max_specular_depth, "seed": s.seed, "threads": s.threads,
+        "time_budget": s.time_budget if s.time_budget > 0 else None,
     }
 
 

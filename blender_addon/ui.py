@@ -38,6 +38,7 @@ class PHOTONMAP_PT_quality(PhotonMapPanel, bpy.types.Panel):
         layout.use_property_split = True
         layout.prop(s, "quality")
         layout.prop(s, "spp")
+        layout.prop(s, "time_budget")
         layout.prop(s, "seed")
         layout.prop(s, "threads")
 

@@ -92,6 +92,11 @@ pub struct RenderArgs {
     /// available memory, MemAvailable in /proc/meminfo; no limit where that cannot be read).
     #[arg(long, value_name = "BYTES_OR_SIZE", value_parser = crate::render::settings::parse_bytes)]
     pub memory_limit: Option<u64>,
+    /// Seconds the whole render should take (photon pass, irradiance cache, camera pass);
+    /// photon counts and camera passes are planned to fill it, and the plan is written to the
+    /// stats (`time_budget`). 0 = off.
+    #[arg(long, value_name = "SECONDS", value_parser = parse_time_budget)]
+    pub time_budget: Option<f64>,
     /// USD: camera prim path to render through (default: the first camera found).
     #[arg(long, value_name = "PRIM")]
     pub camera: Option<String>,
@@ -117,6 +122,15 @@ pub struct RenderArgs {
     /// No progress output.
     #[arg(long)]
     pub quiet: bool,
+}
+
+fn parse_time_budget(s: &str) -> std::result::Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{s}` is not a number of seconds (0 = off)"))?;
+    crate::render::budget::check_budget(v)?;
+    Ok(v)
 }
 
 fn parse_quality(s: &str) -> std::result::Result<Quality, String> {
@@ -369,6 +383,7 @@ impl RenderArgs {
         s.memory_limit = self
             .memory_limit
             .or_else(crate::render::settings::available_memory);
+        s.time_budget = self.time_budget.filter(|b| *b > 0.0);
         s
     }
 

@@ -229,6 +229,7 @@ def render(
     cache_tolerance: float | None = None,
     max_specular_depth: int | None = None,
     filter: str | None = None,
+    time_budget: float | None = None,
     progress: Callable[[float, str], Any] | None = None,
     cancel: CancelToken | None = None,
 ) -> dict:
@@ -238,7 +239,8 @@ def render(
     "stats": dict}``; ``combined`` is the sum of the terms. Settings mean what the CLI flags of
     the same names mean. The GIL is released while rendering; ``progress(fraction, phase)`` is
     called from the calling thread; Ctrl-C or ``cancel.cancel()`` raise within ~50 ms
-    (KeyboardInterrupt, RenderCancelled).
+    (KeyboardInterrupt, RenderCancelled). ``time_budget`` (seconds; None or 0 = off) plans
+    photon counts and camera passes to fill it; the plan is in ``stats["time_budget"]``.
     """
     s = _to_scene(scene)
     raw = _core.render(
@@ -247,7 +249,7 @@ def render(
         gather=gather, radius=radius,
         final_gather_rays=final_gather_rays, irradiance_cache=irradiance_cache,
         cache_tolerance=cache_tolerance, max_specular_depth=max_specular_depth, filter=filter,
-        progress=progress, cancel=cancel,
+        time_budget=time_budget, progress=progress, cancel=cancel,
     )
     h, w = raw["height"], raw["width"]
 

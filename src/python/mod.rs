@@ -382,7 +382,7 @@ fn image_bytes<'py>(py: Python<'py>, img: &crate::render::film::Image) -> Bound<
 #[pyo3(signature = (scene, *, quality="medium", spp=None, seed=0, threads=0, photons=None,
     caustic_photons=None, volume_photons=None, volume_step=None, gather=None, radius=None, final_gather_rays=None,
     irradiance_cache=None, cache_tolerance=None, max_specular_depth=None, filter=None,
-    progress=None, cancel=None))]
+    time_budget=None, progress=None, cancel=None))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
@@ -402,6 +402,7 @@ fn render<'py>(
     cache_tolerance: Option<f32>,
     max_specular_depth: Option<u32>,
     filter: Option<&str>,
+    time_budget: Option<f64>,
     progress: Option<Bound<'py, PyAny>>,
     cancel: Option<&CancelToken>,
 ) -> PyResult<Bound<'py, PyDict>> {
@@ -433,6 +434,15 @@ fn render<'py>(
             ))
         })?;
     }
+    if let Some(b) = time_budget {
+        crate::render::budget::check_budget(b).map_err(|message| {
+            to_py(crate::error::Error::InvalidSetting {
+                setting: "time_budget".into(),
+                message,
+            })
+        })?;
+    }
+    a.time_budget = time_budget;
     a.check().map_err(to_py)?;
     let flag = cancel
         .map(|c| c.flag.clone())

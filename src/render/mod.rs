@@ -1,5 +1,6 @@
 //! The second pass: camera rays, the terms, and the film.
 pub mod aov;
+pub mod budget;
 mod cache_fill;
 pub mod eye;
 pub mod film;

@@ -4,6 +4,7 @@
 //! and pixels are independent (see `film`), so the output is bit-identical for any thread count.
 
 use super::aov::Term;
+use super::budget::{self, BudgetStats};
 use super::cache_fill;
 use super::eye::{self, EyeCtx, EyeSettings};
 use super::film::{Film, TermRadiance};
@@ -60,6 +61,9 @@ pub struct RenderStats {
     pub bytes_per_photon: u64,
     /// Bytes per triangle of the BVH in the estimate.
     pub bytes_per_triangle: u64,
+    /// The plan of a render to a time budget, and how it went; absent without a budget.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time_budget: Option<BudgetStats>,
 }
 
 /// Memory that the photon maps and the BVH of a render take, estimated before the photon
@@ -206,7 +210,14 @@ impl<'a> Renderer<'a> {
     }
 
     pub fn render(self) -> Result<RenderOutput> {
+        let start = Instant::now();
         let s = &self.settings;
+        if let Some(b) = s.time_budget {
+            budget::check_budget(b).map_err(|message| Error::InvalidSetting {
+                setting: "--time-budget".into(),
+                message,
+            })?;
+        }
         if s.spp == 0 {
             return Err(Error::InvalidSetting {
                 setting: "spp".into(),
@@ -237,19 +248,158 @@ impl<'a> Renderer<'a> {
             .num_threads(s.threads)
             .build()
             .map_err(|e| Error::Internal(format!("thread pool: {e}")))?;
-        pool.install(|| self.render_in_pool(pool.current_num_threads(), estimate))
+        pool.install(|| self.render_in_pool(pool.current_num_threads(), estimate, start))
     }
 
-    fn render_in_pool(&self, threads: usize, estimate: MemoryEstimate) -> Result<RenderOutput> {
-        let s = &self.settings;
+    /// Plans a budgeted render: a calibration photon pass measures the seconds per stored
+    /// photon, then the photon targets are scaled (keeping their ratios) so that the photon
+    /// pass takes `budget::PHOTON_SHARE` of the budget. Returns the settings to render with.
+    fn plan_budget(
+        &self,
+        budget_seconds: f64,
+        need: [bool; 3],
+        stats: &mut BudgetStats,
+    ) -> Result<RenderSettings> {
+        let mut s = self.settings.clone();
+        let t = Instant::now();
+        let p = &s.photons;
+        let targets = [
+            (need[0], p.global),
+            (need[1], p.caustic),
+            (need[2], p.volume),
+        ];
+        let preset_total: usize = targets
+            .iter()
+            .filter(|(n, _)| *n)
+            .map(|(_, c)| *c)
+            .sum();
+        let mut scale = 1.0;
+        if preset_total > 0 && !self.scene.lights.is_empty() {
+            let mut cal = p.clone();
+            cal.global = budget::scale_count(p.global, budget::CALIBRATION_FRACTION);
+            cal.caustic = budget::scale_count(p.caustic, budget::CALIBRATION_FRACTION);
+            cal.volume = budget::scale_count(p.volume, budget::CALIBRATION_FRACTION);
+            let (cal_maps, cal_stats) = photons::build(
+                self.scene,
+                &cal,
+                s.seed ^ 0xCA1B_4A7E,
+                need,
+                self.cancel.as_deref(),
+            );
+            if self.is_cancelled() {
+                return Err(Error::Cancelled);
+            }
+            let stored: u64 = cal_stats.iter().filter(|m| m.built).map(|m| m.stored).sum();
+            let photon_secs = t.elapsed().as_secs_f64();
+            let preset_photons = preset_total as f64;
+            // A bigger map costs more per photon (kd-tree balancing, cache misses): about in
+            // proportion to log n.
+            let log_ratio = |n: f64| (n.max(2.0).ln() / (stored.max(2) as f64).ln()).max(1.0);
+            if stored > 0 {
+                stats.seconds_per_photon = photon_secs / stored as f64;
+            }
+            // Irradiance cache: fill it with the calibration maps and a few gather rays to
+            // count the records and time a gather ray.
+            let mut cache_preset = 0.0;
+            let fg = s.photons.final_gather_rays;
+            if need[0] && s.photons.irradiance_cache && cal_maps.global.is_some() && fg > 0 {
+                let tc = Instant::now();
+                let mut cal_settings = s.clone();
+                cal_settings.photons.final_gather_rays = budget::CALIBRATION_GATHER_RAYS;
+                let ctx = EyeCtx {
+                    scene: self.scene,
+                    maps: &cal_maps,
+                    cache: None,
+                    settings: EyeSettings {
+                        terms: s.terms,
+                        max_specular_depth: s.max_specular_depth,
+                        final_gather_rays: budget::CALIBRATION_GATHER_RAYS,
+                        gather_rays_per_sample: budget::CALIBRATION_GATHER_RAYS,
+                    },
+                    march: MarchSettings {
+                        step: s.photons.volume_step.unwrap_or(self.scene.radius / 64.0),
+                        gather: s.photons.gather,
+                        max_r2: cal_maps.global_r2,
+                    },
+                };
+                let cache = cache_fill::fill(&ctx, &cal_settings, &|_| {}, &|| {
+                    self.is_cancelled()
+                })?;
+                let secs = tc.elapsed().as_secs_f64();
+                stats.calibration_cache_records = cache.len() as u64;
+                cache_preset = secs * fg as f64 / budget::CALIBRATION_GATHER_RAYS as f64
+                    * log_ratio(p.global as f64);
+            }
+            let photon_preset =
+                stats.seconds_per_photon * preset_photons * log_ratio(preset_photons);
+            let room = (budget_seconds * budget::MAPS_SHARE - t.elapsed().as_secs_f64()).max(0.0);
+            if photon_preset + cache_preset > 0.0 {
+                scale = room / (photon_preset + cache_preset);
+            }
+            // Final-gathering rays grow with the plan only up to the preset's.
+            if scale > 1.0 && photon_preset > 0.0 {
+                scale = ((room - cache_preset) / photon_preset).max(1.0);
+            }
+            if let Some(limit) = s.memory_limit {
+                let bvh = self.scene.triangle_count as u64 * BYTES_PER_TRIANGLE;
+                let fit = limit.saturating_sub(bvh) / BYTES_PER_PHOTON;
+                scale = scale.min(fit as f64 / preset_photons);
+            }
+        }
+        let spp_equivalent = (s.spp as f64 * scale).max(1.0);
+        let p = &mut s.photons;
+        p.global = budget::scale_count(p.global, scale);
+        p.caustic = budget::scale_count(p.caustic, scale);
+        p.volume = budget::scale_count(p.volume, scale);
+        if p.final_gather_rays > 0 {
+            p.final_gather_rays = ((p.final_gather_rays as f64 * scale.min(1.0)).round() as u32)
+                .max(budget::MIN_GATHER_RAYS);
+        }
+        s.progressive = true;
+        let gather = s.gather_rays_per_sample.unwrap_or(match p.final_gather_rays {
+            0 => 0,
+            n => ((n as f64 / spp_equivalent).ceil() as u32).max(4),
+        });
+        s.gather_rays_per_sample = Some(gather);
+        stats.calibration_seconds = t.elapsed().as_secs_f64();
+        stats.photons_global = p.global;
+        stats.photons_caustic = p.caustic;
+        stats.photons_volume = p.volume;
+        stats.gather_rays_per_sample = gather;
+        stats.final_gather_rays = p.final_gather_rays;
+        Ok(s)
+    }
+
+    fn render_in_pool(
+        &self,
+        threads: usize,
+        estimate: MemoryEstimate,
+        start: Instant,
+    ) -> Result<RenderOutput> {
         let (w, h) = (self.scene.width, self.scene.height);
         let mut seconds = std::collections::BTreeMap::new();
+        let [need_global, need_caustic, need_volume] = self.needed_maps();
+        let cancel = self.cancel.as_deref();
+
+        let budget_seconds = self.settings.time_budget.filter(|b| *b > 0.0);
+        let mut budget_stats = budget_seconds.map(|b| BudgetStats {
+            budget_seconds: b,
+            ..BudgetStats::default()
+        });
+        let planned;
+        let s = match (budget_seconds, budget_stats.as_mut()) {
+            (Some(b), Some(bs)) => {
+                self.report(0.0, "planning");
+                planned = self.plan_budget(b, [need_global, need_caustic, need_volume], bs)?;
+                seconds.insert("calibration".to_string(), bs.calibration_seconds);
+                &planned
+            }
+            _ => &self.settings,
+        };
 
         // First pass: photons.
         self.report(0.0, "photons");
         let t0 = Instant::now();
-        let [need_global, need_caustic, need_volume] = self.needed_maps();
-        let cancel = self.cancel.as_deref();
         let (maps, map_stats) = photons::build(
             self.scene,
             &s.photons,
@@ -266,10 +416,12 @@ impl<'a> Renderer<'a> {
             terms: s.terms,
             max_specular_depth: s.max_specular_depth,
             final_gather_rays: s.photons.final_gather_rays,
-            gather_rays_per_sample: match s.photons.final_gather_rays {
-                0 => 0,
-                n => n.div_ceil(s.spp).max(4),
-            },
+            gather_rays_per_sample: s.gather_rays_per_sample.unwrap_or(
+                match s.photons.final_gather_rays {
+                    0 => 0,
+                    n => n.div_ceil(s.spp).max(4),
+                },
+            ),
         };
         let march = MarchSettings {
             step: s.photons.volume_step.unwrap_or(self.scene.radius / 64.0),
@@ -278,6 +430,7 @@ impl<'a> Renderer<'a> {
         };
         // Irradiance cache, filled in deterministic rounds.
         let t1 = Instant::now();
+        let photon_planned_seconds = t0.elapsed().as_secs_f64();
         let cache = if s.photons.irradiance_cache && need_global && maps.global.is_some() {
             let pre = EyeCtx {
                 scene: self.scene,
@@ -306,8 +459,118 @@ impl<'a> Renderer<'a> {
             settings: eye_settings,
             march,
         };
-        let rows_done = AtomicUsize::new(0);
         let non_finite = AtomicUsize::new(0);
+        let cache_seconds = t1.elapsed().as_secs_f64();
+        let (film, spp) = if s.progressive || budget_seconds.is_some() {
+            let deadline = budget_seconds.map(|b| {
+                b - budget::MARGIN_FRACTION * b - budget::MARGIN_SECONDS
+            });
+            let (film, passes, per_pass) =
+                self.progressive_passes(&ctx, s, start, deadline, &non_finite)?;
+            if let Some(bs) = budget_stats.as_mut() {
+                bs.passes = passes;
+                bs.spp = passes;
+                bs.seconds_per_pass = per_pass;
+                bs.planned_seconds = bs.calibration_seconds
+                    + photon_planned_seconds.max(0.0)
+                    + cache_seconds
+                    + passes as f64 * per_pass;
+            }
+            (film, passes)
+        } else {
+            (self.single_pass(&ctx, s, &non_finite)?, s.spp)
+        };
+        seconds.insert("render".to_string(), t2.elapsed().as_secs_f64());
+        let photon_bytes: u64 = map_stats.iter().map(|m| m.memory_bytes).sum();
+        let stats = RenderStats {
+            version: env!("CARGO_PKG_VERSION"),
+            seed: s.seed,
+            width: w,
+            height: h,
+            spp,
+            threads,
+            triangles: self.scene.triangle_count,
+            lights: self.scene.lights.len(),
+            seconds,
+            camera_rays: (w * h) as u64 * spp as u64,
+            photons_stored: map_stats
+                .iter()
+                .filter(|m| m.built)
+                .map(|m| (m.map.to_string(), m.stored))
+                .collect(),
+            photon_maps: map_stats,
+            irradiance_cache_records: cache.as_ref().map_or(0, |c| c.len() as u64),
+            skipped: self.skipped_terms(&maps),
+            non_finite_samples: non_finite.load(Ordering::Relaxed) as u64,
+            memory_bytes: (w * h * Term::COUNT * 12) as u64
+                + self.scene.triangle_count as u64 * 64
+                + photon_bytes,
+            memory_estimate: estimate,
+            bytes_per_photon: BYTES_PER_PHOTON,
+            bytes_per_triangle: BYTES_PER_TRIANGLE,
+            time_budget: None,
+        };
+        let mut stats = stats;
+        if let Some(mut bs) = budget_stats {
+            bs.actual_seconds = start.elapsed().as_secs_f64();
+            if bs.actual_seconds > 1.05 * bs.budget_seconds {
+                bs.too_small = true;
+                bs.note = Some(format!(
+                    "the budget of {} s is too small for this scene and machine: the smallest \
+                     render (calibration, {} stored photons, the irradiance cache and one \
+                     camera pass) took {:.3} s",
+                    bs.budget_seconds,
+                    bs.photons_global + bs.photons_caustic + bs.photons_volume,
+                    bs.actual_seconds
+                ));
+            }
+            stats.time_budget = Some(bs);
+        }
+        Ok(RenderOutput { film, stats })
+    }
+
+    /// Traces sample `u` (in [0,1)^2, warped by the filter) of pixel (x, y) into `acc`.
+    #[allow(clippy::too_many_arguments)]
+    fn sample_pixel(
+        &self,
+        ctx: &EyeCtx,
+        s: &RenderSettings,
+        x: usize,
+        y: usize,
+        u: Vec2,
+        rng: &mut Rng,
+        scratch: &mut KnnScratch,
+        acc: &mut TermRadiance,
+        non_finite: &AtomicUsize,
+    ) {
+        let offset = s.filter.sample(u);
+        let film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
+        let cr = self.scene.camera.generate_ray(film, rng.vec2());
+        let ray = Ray {
+            o: cr.o,
+            d: cr.d,
+            t_max: cr.t_max,
+        };
+        let l = eye::trace(ctx, ray, rng, scratch);
+        for t in Term::ALL {
+            let v = l.0[t.index()];
+            if v.is_finite() {
+                acc.0[t.index()] += v;
+            } else {
+                non_finite.fetch_add(1, Ordering::Relaxed);
+            }
+        }
+    }
+
+    /// The camera pass in one go: `spp` samples per pixel, stratified over an nx-by-ny grid.
+    fn single_pass(
+        &self,
+        ctx: &EyeCtx,
+        s: &RenderSettings,
+        non_finite: &AtomicUsize,
+    ) -> Result<Film> {
+        let (w, h) = (self.scene.width, self.scene.height);
+        let rows_done = AtomicUsize::new(0);
         let nx = (s.spp as f32).sqrt().floor().max(1.0) as u32;
         let ny = s.spp.div_ceil(nx);
         let rows: Vec<Option<Vec<TermRadiance>>> = {
@@ -330,23 +593,9 @@ impl<'a> Renderer<'a> {
                                 (cx as f32 + j.x) / nx as f32,
                                 (cy as f32 + j.y) / ny as f32,
                             );
-                            let offset = s.filter.sample(u);
-                            let film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
-                            let cr = self.scene.camera.generate_ray(film, rng.vec2());
-                            let ray = Ray {
-                                o: cr.o,
-                                d: cr.d,
-                                t_max: cr.t_max,
-                            };
-                            let l = eye::trace(&ctx, ray, &mut rng, scratch);
-                            for t in Term::ALL {
-                                let v = l.0[t.index()];
-                                if v.is_finite() {
-                                    acc.0[t.index()] += v;
-                                } else {
-                                    non_finite.fetch_add(1, Ordering::Relaxed);
-                                }
-                            }
+                            self.sample_pixel(
+                                ctx, s, x, y, u, &mut rng, scratch, &mut acc, non_finite,
+                            );
                         }
                         let inv = 1.0 / s.spp as f32;
                         for v in acc.0.iter_mut() {
@@ -370,35 +619,103 @@ impl<'a> Renderer<'a> {
                 film.set_pixel(x, y, px);
             }
         }
-        seconds.insert("render".to_string(), t2.elapsed().as_secs_f64());
-        let photon_bytes: u64 = map_stats.iter().map(|m| m.memory_bytes).sum();
-        let stats = RenderStats {
-            version: env!("CARGO_PKG_VERSION"),
-            seed: s.seed,
-            width: w,
-            height: h,
-            spp: s.spp,
-            threads,
-            triangles: self.scene.triangle_count,
-            lights: self.scene.lights.len(),
-            seconds,
-            camera_rays: (w * h) as u64 * s.spp as u64,
-            photons_stored: map_stats
-                .iter()
-                .filter(|m| m.built)
-                .map(|m| (m.map.to_string(), m.stored))
-                .collect(),
-            photon_maps: map_stats,
-            irradiance_cache_records: cache.as_ref().map_or(0, |c| c.len() as u64),
-            skipped: self.skipped_terms(&maps),
-            non_finite_samples: non_finite.load(Ordering::Relaxed) as u64,
-            memory_bytes: (w * h * Term::COUNT * 12) as u64
-                + self.scene.triangle_count as u64 * 64
-                + photon_bytes,
-            memory_estimate: estimate,
-            bytes_per_photon: BYTES_PER_PHOTON,
-            bytes_per_triangle: BYTES_PER_TRIANGLE,
-        };
-        Ok(RenderOutput { film, stats })
+        Ok(film)
+    }
+
+    /// The camera pass in whole passes over the image, one sample per pixel each: sample `k`
+    /// of a pixel is point `k` of the Sobol (0,2)-sequence, digitally shifted per pixel, and
+    /// the pixel's random stream continues across passes, so the image after `k` passes is
+    /// the same however many follow. Without a deadline it runs `spp` passes; with one (seconds
+    /// since `start`) it adds passes while the next, at the mean time per pass so far, ends
+    /// before it (at least one pass). Returns the film, the passes run and the mean seconds
+    /// per pass.
+    fn progressive_passes(
+        &self,
+        ctx: &EyeCtx,
+        s: &RenderSettings,
+        start: Instant,
+        deadline: Option<f64>,
+        non_finite: &AtomicUsize,
+    ) -> Result<(Film, u32, f64)> {
+        use rayon::prelude::*;
+        struct PixelState {
+            rng: Rng,
+            shift: (u32, u32),
+            acc: TermRadiance,
+        }
+        let (w, h) = (self.scene.width, self.scene.height);
+        let mut pixels: Vec<PixelState> = (0..w * h)
+            .into_par_iter()
+            .map(|i| {
+                let mut rng = Rng::new(s.seed, i as u64);
+                let shift = (rng.next_u32(), rng.next_u32());
+                PixelState {
+                    rng,
+                    shift,
+                    acc: TermRadiance::default(),
+                }
+            })
+            .collect();
+        let t = Instant::now();
+        let mut passes: u32 = 0;
+        loop {
+            match deadline {
+                Some(d) if passes > 0 => {
+                    let per_pass = t.elapsed().as_secs_f64() / passes as f64;
+                    if start.elapsed().as_secs_f64() + per_pass > d || passes == u32::MAX {
+                        break;
+                    }
+                    self.report(
+                        (start.elapsed().as_secs_f64() / d).min(1.0) as f32,
+                        "render",
+                    );
+                }
+                None if passes >= s.spp => break,
+                None => self.report(passes as f32 / s.spp as f32, "render"),
+                _ => {}
+            }
+            let k = passes;
+            pixels
+                .par_chunks_mut(w.max(1))
+                .enumerate()
+                .for_each_init(KnnScratch::new, |scratch, (y, row)| {
+                    if self.is_cancelled() {
+                        return;
+                    }
+                    for (x, px) in row.iter_mut().enumerate() {
+                        let (sx, sy) = budget::sobol02(k);
+                        let u = Vec2::new(
+                            budget::to_unit(sx ^ px.shift.0),
+                            budget::to_unit(sy ^ px.shift.1),
+                        );
+                        self.sample_pixel(
+                            ctx,
+                            s,
+                            x,
+                            y,
+                            u,
+                            &mut px.rng,
+                            scratch,
+                            &mut px.acc,
+                            non_finite,
+                        );
+                    }
+                });
+            if self.is_cancelled() {
+                return Err(Error::Cancelled);
+            }
+            passes += 1;
+        }
+        self.report(1.0, "render");
+        let per_pass = t.elapsed().as_secs_f64() / passes.max(1) as f64;
+        let mut film = Film::new(w, h);
+        let inv = 1.0 / passes as f32;
+        for (i, px) in pixels.iter_mut().enumerate() {
+            for v in px.acc.0.iter_mut() {
+                *v *= inv;
+            }
+            film.set_pixel(i % w, i / w, &px.acc);
+        }
+        Ok((film, passes, per_pass))
     }
 }

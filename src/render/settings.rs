@@ -132,6 +132,17 @@ pub struct RenderSettings {
     /// Largest number of bytes the photon maps and the BVH may take, checked against an
     /// estimate before anything is allocated; `None` = no limit.
     pub memory_limit: Option<u64>,
+    /// Seconds the whole render (photon pass, irradiance cache, camera pass) should take;
+    /// the renderer plans photon counts and camera passes to fill it (see `budget`).
+    /// `None` = off: the counts and `spp` are used as given.
+    pub time_budget: Option<f64>,
+    /// Camera pass in `spp` whole passes over the image, one sample per pixel each, placed on
+    /// the Sobol (0,2)-sequence; the image after `k` passes does not depend on how many
+    /// follow. Budgeted renders always use it; set it with the recorded plan to reproduce one.
+    pub progressive: bool,
+    /// Final-gathering rays per camera sample where the cache is not used; `None` derives
+    /// it from `final_gather_rays / spp` (at least 4).
+    pub gather_rays_per_sample: Option<u32>,
 }
 
 impl Default for RenderSettings {
@@ -145,6 +156,9 @@ impl Default for RenderSettings {
             terms: TermMask::ALL,
             photons: PhotonSettings::default(),
             memory_limit: None,
+            time_budget: None,
+            progressive: false,
+            gather_rays_per_sample: None,
         }
     }
 }

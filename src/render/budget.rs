@@ -1,0 +1,147 @@
+//! Rendering to a time budget (`--time-budget SECONDS`).
+//!
+//! **Plan.** A calibration photon pass (a fixed fraction of the preset's stored-photon
+//! targets, so it is itself deterministic) measures the seconds per stored photon on this
+//! machine, and a calibration fill of the irradiance cache with those maps and
+//! `CALIBRATION_GATHER_RAYS` rays per record measures the cost of a gather ray and the number
+//! of records. The photon counts and the final-gathering rays are then scaled by one factor,
+//! keeping the preset's ratios, so that calibration, photon pass and cache take `MAPS_SHARE`
+//! of the budget.
+//!
+//! **Enforce.** The camera pass is progressive in whole passes over the image, one sample
+//! per pixel per pass. Sample `k` of a pixel takes its film position from point `k` of the
+//! Sobol (0,2)-sequence, digitally shifted per pixel, so every power-of-two prefix of the
+//! passes is stratified, and the pixel's random stream continues from pass to pass. The image
+//! after `K` passes therefore depends only on `K` (and the photon counts and seed), never on
+//! how long a pass took. Passes are added while the next one, at the measured time per
+//! pass, still fits in the budget less a margin.
+//!
+//! The plan depends on timing; it is recorded in the stats (`time_budget`) and a render with
+//! the same photon counts and `final_gather_rays`, `spp = passes`, `progressive = true` and the same
+//! `gather_rays_per_sample` is bit-identical to it.
+
+use serde::Serialize;
+
+/// Fraction of the budget the calibration, the photon pass and the irradiance cache are
+/// planned to take together; the camera passes fill the rest.
+pub const MAPS_SHARE: f64 = 0.6;
+
+/// Final-gathering rays per record in the calibration fill of the irradiance cache.
+pub const CALIBRATION_GATHER_RAYS: u32 = 8;
+
+/// Fewest final-gathering rays per cache record in a budgeted plan.
+pub const MIN_GATHER_RAYS: u32 = 16;
+
+/// Fraction of the preset's stored-photon targets traced for calibration.
+pub const CALIBRATION_FRACTION: f64 = 0.02;
+
+/// Fewest photons stored per map in the calibration pass and in a budgeted plan.
+pub const MIN_PHOTONS: usize = 1_000;
+
+/// Seconds kept free at the end of the budget for writing out the film, as a fraction of
+/// the budget, plus a fixed part.
+pub const MARGIN_FRACTION: f64 = 0.01;
+pub const MARGIN_SECONDS: f64 = 0.005;
+
+/// What a budgeted render planned and what it did. `photons`, `spp` and
+/// `gather_rays_per_sample` reproduce the image with `progressive = true`.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct BudgetStats {
+    /// The budget, in seconds.
+    pub budget_seconds: f64,
+    /// The time the plan predicted for the whole render (calibration, photons, cache and
+    /// the camera passes it ran).
+    pub planned_seconds: f64,
+    /// The wall time of the whole render.
+    pub actual_seconds: f64,
+    /// Time spent measuring before the real photon pass.
+    pub calibration_seconds: f64,
+    /// Measured seconds per stored photon (calibration pass).
+    pub seconds_per_photon: f64,
+    /// Measured seconds per camera pass (one sample per pixel), mean over the passes run.
+    pub seconds_per_pass: f64,
+    /// Stored-photon targets chosen: global, caustic, volume.
+    pub photons_global: usize,
+    pub photons_caustic: usize,
+    pub photons_volume: usize,
+    /// Irradiance-cache records of the calibration fill.
+    pub calibration_cache_records: u64,
+    /// Final-gathering rays per irradiance-cache record chosen (the preset's, scaled).
+    pub final_gather_rays: u32,
+    /// Camera passes run; equal to the samples per pixel.
+    pub passes: u32,
+    pub spp: u32,
+    pub gather_rays_per_sample: u32,
+    /// True when the budget could not hold even the smallest render (minimum photons and
+    /// one pass); the render then still completes that smallest render.
+    pub too_small: bool,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
+}
+
+/// Point `i` of the Sobol (0,2)-sequence in 32-bit fixed point: the first coordinate is the
+/// van der Corput radical inverse, the second uses the Pascal-matrix generator.
+pub fn sobol02(i: u32) -> (u32, u32) {
+    let x = i.reverse_bits();
+    let mut y = 0u32;
+    let mut v = 1u32 << 31;
+    let mut i = i;
+    while i != 0 {
+        if i & 1 != 0 {
+            y ^= v;
+        }
+        i >>= 1;
+        v ^= v >> 1;
+    }
+    (x, y)
+}
+
+/// Fixed point to [0, 1).
+#[inline]
+pub fn to_unit(v: u32) -> f32 {
+    ((v >> 8) as f32) * (1.0 / (1u32 << 24) as f32)
+}
+
+/// Scales photon targets by `scale`, keeping their ratios; a map with a zero target stays
+/// at zero, others store at least `MIN_PHOTONS`.
+pub fn scale_count(n: usize, scale: f64) -> usize {
+    if n == 0 {
+        return 0;
+    }
+    ((n as f64 * scale).round() as usize).max(MIN_PHOTONS)
+}
+
+/// Checks a budget value.
+pub fn check_budget(seconds: f64) -> Result<(), String> {
+    if !seconds.is_finite() || seconds < 0.0 {
+        return Err(format!(
+            "`{seconds}` is not a time budget: expected a finite number of seconds >= 0 (0 = off)"
+        ));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sobol_prefixes_are_stratified() {
+        // Every power-of-two prefix of length 2^m puts one point in each elementary
+        // interval of area 2^-m, e.g. in each cell of the 2^a x 2^(m-a) grid.
+        for m in 0..=8u32 {
+            let n = 1u32 << m;
+            for a in 0..=m {
+                let mut seen = vec![false; n as usize];
+                for i in 0..n {
+                    let (x, y) = sobol02(i);
+                    let cx = if a == 0 { 0 } else { x >> (32 - a) };
+                    let cy = if m - a == 0 { 0 } else { y >> (32 - (m - a)) };
+                    let cell = (cx << (m - a)) | cy;
+                    assert!(!seen[cell as usize], "m={m} a={a} i={i}");
+                    seen[cell as usize] = true;
+                }
+            }
+        }
+    }
+}
