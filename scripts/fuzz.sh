@@ -23,7 +23,7 @@ command -v cargo-fuzz > /dev/null || cargo install cargo-fuzz
 for t in "${TARGETS[@]}"; do
     mkdir -p "fuzz/corpus/$t"
     RUSTC_BOOTSTRAP=1 cargo fuzz run -O --target-dir "$TARGET_DIR" "$t" -- \
-        -max_total_time="$SECS" -timeout=10 -rss_limit_mb=3072 -max_len=8192 \
+        -max_total_time="$SECS" -timeout=10 -rss_limit_mb=3072 -max_len=8192 -len_control=0 \
         -print_final_stats=1 ${PAR[@]+"${PAR[@]}"}
 done
 

@@ -173,3 +173,23 @@ def test_every_number_replaced_by_a_bad_value(tmp_path, value):
     for a, b in spans[:: max(1, len(spans) // 40)]:
         path.write_text(BASE[:a] + value + BASE[b:])
         import_or_documented_error(path)
+
+
+# Inputs the fuzzing found, each once a TypeError or a pxr Tf.ErrorException out of the
+# importer: a primvar of an unknown type, and a translate op whose type name is unknown.
+FOUND = {
+    "unknown_primvar_type": ("texCoord2f[] primvars:st", "texCoordnanf[] primvars:st",
+                             "/World/Walls: primvars:st"),
+    "unknown_xform_op_type": ("double3 xformOp:translate = (0.3", "double0 xformOp:translate = (0.3",
+                              "/World/Box: Invalid combination of opType"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(FOUND))
+def test_found_inputs_raise_import_error_naming_the_prim(tmp_path, case):
+    old, new, message = FOUND[case]
+    assert old in BASE
+    path = tmp_path / f"{case}.usda"
+    path.write_text(BASE.replace(old, new, 1))
+    with pytest.raises(usd_delegate.UsdImportError, match=re.escape(message)):
+        usd_delegate.load_stage(str(path))
