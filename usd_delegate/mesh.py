@@ -124,7 +124,11 @@ def _primvar(mesh, name, time, diag, prim):
     if vals is None:
         return None
     idx = pv.GetIndices(time) if pv.IsIndexed() else None
-    return np.array(vals, dtype=np.float64), (np.array(idx, np.int64) if idx is not None else None), pv.GetInterpolation()
+    try:
+        values = np.array(vals, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise diag.error(prim, f"primvars:{name} of type `{pv.GetTypeName()}` is not numeric") from None
+    return values, (np.array(idx, np.int64) if idx is not None else None), pv.GetInterpolation()
 
 
 def _expand(values, indices, interp, n_points, n_faces, n_corners, what, prim, diag):

@@ -44,19 +44,22 @@ class ImportResult:
         return conv(self.ir)
 
 
+def _tf_detail(e) -> str:
+    """The message of the first error in a ``Tf.ErrorException``."""
+    for ln in str(e).splitlines():
+        if " : '" in ln:
+            detail = ln.split(" : '", 1)[1].rstrip("'").strip()
+            return detail.replace("pxrInternal_v0_", "").split("__pxrReserved__::")[-1]
+    return str(e).strip().splitlines()[-1] if str(e).strip() else "USD error"
+
+
 def open_stage(path: str):
     if not os.path.isfile(path):
         raise UsdImportError(f"{path}: no such file")
     try:
         stage = Usd.Stage.Open(path)
     except Tf.ErrorException as e:
-        detail = ""
-        for ln in str(e).splitlines():
-            if " : '" in ln:
-                detail = ln.split(" : '", 1)[1].rstrip("'").strip()
-                detail = detail.replace("pxrInternal_v0_", "").split("__pxrReserved__::")[-1]
-                break
-        raise UsdImportError(f"{path}: cannot open the stage: {detail}") from None
+        raise UsdImportError(f"{path}: cannot open the stage: {_tf_detail(e)}") from None
     if stage is None:
         raise UsdImportError(f"{path}: cannot open the stage")
     return stage
@@ -73,6 +76,15 @@ def load_stage(path, frame=None, camera=None, purposes=("render",), strict=False
 
 def import_stage(stage, frame=None, camera=None, purposes=("render",), strict=False,
                  width=None) -> ImportResult:
+    """The IR of an open stage; malformed data (USD errors included) raises UsdImportError."""
+    where = [None]
+    try:
+        return _import_stage(stage, frame, camera, purposes, strict, width, where)
+    except Tf.ErrorException as e:
+        raise Diagnostics.error(where[0], _tf_detail(e)) from None
+
+
+def _import_stage(stage, frame, camera, purposes, strict, width, where) -> ImportResult:
     diag = Diagnostics(strict)
     time = Usd.TimeCode.Default() if frame is None else Usd.TimeCode(float(frame))
     purposes = [p for p in (purposes or []) if p]
@@ -133,6 +145,7 @@ def import_stage(stage, frame=None, camera=None, purposes=("render",), strict=Fa
     for prim in it:
         if prim.IsPseudoRoot():
             continue
+        where[0] = prim
         stats["prims_read"] += 1
         t = prim.GetTypeName()
         if prim.IsA(UsdGeom.Imageable):
@@ -195,7 +208,9 @@ def import_stage(stage, frame=None, camera=None, purposes=("render",), strict=Fa
 
     # Meshes referenced by instances must be prototypes only: instanced meshes are read once,
     # in prototype space, and drawn only through their instances.
+    where[0] = None
     cam_prim = camera_mod.find_camera(stage, camera, diag)
+    where[0] = cam_prim
     if cam_prim is not None:
         cam, film = camera_mod.read_camera(cam_prim, xcache, time, diag, width)
         stats["camera"] = str(cam_prim.GetPath())

@@ -1,0 +1,99 @@
+//! Inputs found by the fuzz targets of `fuzz/` (see README, "Fuzzing"), replayed the way the
+//! targets run them: JSON text -> `scene_json::from_str` -> build -> an 8x8 render at 1 spp
+//! with ~100 photons per map. None may panic; a render that succeeds has every AOV pixel
+//! finite and >= 0. Files under `tests/data/fuzz/` are JSON scene inputs of the `scene_json`
+//! target (the name says what each one found); the seed corpus of `fuzz/corpus/` runs too.
+
+use photonmap::io::scene_json;
+use photonmap::render::aov::Term;
+use photonmap::render::film::Filter;
+use photonmap::render::{PhotonSettings, RenderOutput, RenderSettings, Renderer};
+use photonmap::scene::desc::FilmDesc;
+use photonmap::scene::{Scene, SceneDesc};
+use std::path::PathBuf;
+
+/// The settings of `fuzz/src/lib.rs`.
+fn tiny_settings() -> RenderSettings {
+    RenderSettings {
+        spp: 1,
+        seed: 7,
+        threads: 1,
+        max_specular_depth: 4,
+        filter: Filter::Box,
+        photons: PhotonSettings {
+            global: 100,
+            caustic: 100,
+            volume: 100,
+            gather: 16,
+            final_gather_rays: 4,
+            max_bounces: 16,
+            ..Default::default()
+        },
+        memory_limit: Some(256 << 20),
+        ..Default::default()
+    }
+}
+
+fn tiny_render(label: &str, desc: &SceneDesc) -> Option<RenderOutput> {
+    let mut desc = desc.clone();
+    desc.film = FilmDesc {
+        width: 8,
+        height: 8,
+    };
+    let scene = Scene::build(&desc).ok()?;
+    let out = Renderer::new(&scene)
+        .settings(tiny_settings())
+        .render()
+        .ok()?;
+    for t in Term::ALL {
+        for (i, p) in out.film.term(t).data.iter().enumerate() {
+            assert!(
+                p.iter().all(|c| c.is_finite() && *c >= 0.0),
+                "{label}: {} pixel {i} = {p:?}",
+                t.name()
+            );
+        }
+    }
+    Some(out)
+}
+
+/// What the `scene_json` target does with one input.
+fn replay(label: &str, bytes: &[u8]) -> Option<RenderOutput> {
+    let text = std::str::from_utf8(bytes).ok()?;
+    let desc = scene_json::from_str(text).ok()?;
+    tiny_render(label, &desc)
+}
+
+fn files(dir: &str, prefix: &str) -> Vec<PathBuf> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(dir);
+    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .map(|d| d.filter_map(|e| e.ok().map(|e| e.path())).collect())
+        .unwrap_or_default();
+    v.retain(|p| {
+        p.file_name()
+            .and_then(|n| n.to_str())
+            .is_some_and(|n| n.starts_with(prefix))
+    });
+    v.sort();
+    v
+}
+
+#[test]
+fn seed_corpus_renders_finite() {
+    let seeds = files("fuzz/corpus/scene_json", "seed_");
+    assert!(seeds.len() >= 5, "{seeds:?}");
+    for p in seeds {
+        let label = p.display().to_string();
+        let bytes = std::fs::read(&p).unwrap();
+        assert!(replay(&label, &bytes).is_some(), "{label} renders");
+    }
+}
+
+#[test]
+fn stored_fuzz_inputs_do_not_panic() {
+    for p in files("tests/data/fuzz", "") {
+        let label = p.display().to_string();
+        let bytes = std::fs::read(&p).unwrap();
+        replay(&label, &bytes);
+    }
+}
