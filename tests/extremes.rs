@@ -611,7 +611,8 @@ fn every_field_scene() -> SceneDesc {
         name: "fog".into(),
         sigma_a: [0.1; 3],
         sigma_s: [0.5; 3],
-        g: 0.2, density: None
+        g: 0.2,
+        density: None,
     });
     desc.meshes.push(MeshDesc {
         name: "card".into(),

@@ -97,7 +97,8 @@ fn slab_scene(sigma_a: f32, sigma_s: f32) -> SceneDesc {
             name: "fog".into(),
             sigma_a: [sigma_a; 3],
             sigma_s: [sigma_s; 3],
-            g: 0.0, density: None
+            g: 0.0,
+            density: None,
         }],
         ..Default::default()
     }
@@ -161,7 +162,8 @@ fn extinction_extremes_stay_finite_thin_is_vacuum_dense_is_dark() {
             name: "fog".into(),
             sigma_a: [0.2 * st; 3],
             sigma_s: [0.8 * st; 3],
-            g: 0.5, density: None
+            g: 0.5,
+            density: None,
         }];
         desc.world_medium = Some(0);
         let t0 = std::time::Instant::now();
@@ -199,7 +201,8 @@ fn extinction_extremes_stay_finite_thin_is_vacuum_dense_is_dark() {
         name: "fog".into(),
         sigma_a: [2e-7; 3],
         sigma_s: [8e-7; 3],
-        g: 0.0, density: None
+        g: 0.0,
+        density: None,
     }];
     desc.world_medium = Some(0);
     let thin = render(&desc, 64, 1, 0);
@@ -249,10 +252,21 @@ fn density_grid_matches_the_homogeneous_medium() {
         grid.media[0].density = Some(DensityGridDesc {
             resolution: res,
             data: vec![rho; (res[0] * res[1] * res[2]) as usize],
-            transform: [[2.0, 0.0, 0.0, -1.0], [0.0, 2.0, 0.0, -1.0], [0.0, 0.0, 40.0, -20.0], [0.0, 0.0, 0.0, 1.0]],
+            transform: [
+                [2.0, 0.0, 0.0, -1.0],
+                [0.0, 2.0, 0.0, -1.0],
+                [0.0, 0.0, 40.0, -20.0],
+                [0.0, 0.0, 0.0, 1.0],
+            ],
         });
-        let a = render_single_scattering(&homogeneous, 16).film.term(Term::Volume).mean();
-        let b = render_single_scattering(&grid, 16).film.term(Term::Volume).mean();
+        let a = render_single_scattering(&homogeneous, 16)
+            .film
+            .term(Term::Volume)
+            .mean();
+        let b = render_single_scattering(&grid, 16)
+            .film
+            .term(Term::Volume)
+            .mean();
         eprintln!("density {rho}: homogeneous {a:?}, grid {b:?}");
         assert!((b.x / a.x - 1.0).abs() < 0.005, "{a:?} vs {b:?}");
     }
@@ -261,13 +275,28 @@ fn density_grid_matches_the_homogeneous_medium() {
 #[test]
 fn density_grid_validation_names_the_field() {
     let mut desc = slab_scene(0.1, 0.5);
-    desc.media[0].density = Some(DensityGridDesc { resolution: [2, 2, 2], data: vec![1.0; 7], transform: photonmap::scene::desc::IDENTITY });
+    desc.media[0].density = Some(DensityGridDesc {
+        resolution: [2, 2, 2],
+        data: vec![1.0; 7],
+        transform: photonmap::scene::desc::IDENTITY,
+    });
     let e = photonmap::scene::validate(&desc).unwrap_err().to_string();
-    assert!(e.contains("/media/0/density/data") && e.contains("expected 2x2x2 = 8"), "{e}");
-    desc.media[0].density = Some(DensityGridDesc { resolution: [2, 2, 2], data: vec![1.0, -1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0], transform: photonmap::scene::desc::IDENTITY });
+    assert!(
+        e.contains("/media/0/density/data") && e.contains("expected 2x2x2 = 8"),
+        "{e}"
+    );
+    desc.media[0].density = Some(DensityGridDesc {
+        resolution: [2, 2, 2],
+        data: vec![1.0, -1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0],
+        transform: photonmap::scene::desc::IDENTITY,
+    });
     let e = photonmap::scene::validate(&desc).unwrap_err().to_string();
     assert!(e.contains("/media/0/density/data/1"), "{e}");
-    desc.media[0].density = Some(DensityGridDesc { resolution: [1, 1, 1], data: vec![1.0], transform: photonmap::scene::desc::IDENTITY });
+    desc.media[0].density = Some(DensityGridDesc {
+        resolution: [1, 1, 1],
+        data: vec![1.0],
+        transform: photonmap::scene::desc::IDENTITY,
+    });
     desc.media[0].sigma_a = [0.1, 0.2, 0.1];
     let e = photonmap::scene::validate(&desc).unwrap_err().to_string();
     assert!(e.contains("grey extinction"), "{e}");
@@ -278,14 +307,22 @@ fn density_grid_validation_names_the_field() {
 #[test]
 fn density_grid_photons_match_homogeneous_photons() {
     let mut a = load_scene("fog_spot");
-    a.film = FilmDesc { width: 32, height: 32 };
+    a.film = FilmDesc {
+        width: 32,
+        height: 32,
+    };
     let mut b = a.clone();
     // The fog box of fog_spot spans its first mesh with an interior medium; cover all of space
     // that box can occupy with a constant grid (density 1 inside the scene bounds).
     b.media[0].density = Some(DensityGridDesc {
         resolution: [2, 2, 2],
         data: vec![1.0; 8],
-        transform: [[20.0, 0.0, 0.0, -10.0], [0.0, 20.0, 0.0, -10.0], [0.0, 0.0, 20.0, -10.0], [0.0, 0.0, 0.0, 1.0]],
+        transform: [
+            [20.0, 0.0, 0.0, -10.0],
+            [0.0, 20.0, 0.0, -10.0],
+            [0.0, 0.0, 20.0, -10.0],
+            [0.0, 0.0, 0.0, 1.0],
+        ],
     });
     let ma = render(&a, 8, 4, 0).film.combined().mean();
     let mb = render(&b, 8, 4, 0).film.combined().mean();

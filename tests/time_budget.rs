@@ -64,7 +64,9 @@ fn wall_time_is_within_five_percent_of_the_budget() {
              photons {}/{}",
             bs.actual_seconds, bs.planned_seconds, bs.passes, bs.photons_global, bs.photons_caustic
         );
-        eprintln!("  {:?} cache records {}", out.stats.seconds, out.stats.irradiance_cache_records
+        eprintln!(
+            "  {:?} cache records {}",
+            out.stats.seconds, out.stats.irradiance_cache_records
         );
         assert!(
             (wall - budget).abs() <= tolerance,

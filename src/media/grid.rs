@@ -34,7 +34,14 @@ pub struct GridMedium {
 }
 
 impl GridMedium {
-    pub fn new(sigma_a: Spectrum, sigma_s: Spectrum, g: f32, res: [u32; 3], data: Vec<f32>, to_world: Transform) -> Self {
+    pub fn new(
+        sigma_a: Spectrum,
+        sigma_s: Spectrum,
+        g: f32,
+        res: [u32; 3],
+        data: Vec<f32>,
+        to_world: Transform,
+    ) -> Self {
         let res = res.map(|r| r.max(1) as usize);
         let max_density = data.iter().cloned().fold(0.0f32, f32::max);
         let step = (0..3)
@@ -77,10 +84,26 @@ impl GridMedium {
         }
         let n = [0, 1, 2].map(|k| (i[k] + 1).min(self.res[k] - 1));
         let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
-        let c00 = lerp(self.voxel(i[0], i[1], i[2]), self.voxel(n[0], i[1], i[2]), f[0]);
-        let c10 = lerp(self.voxel(i[0], n[1], i[2]), self.voxel(n[0], n[1], i[2]), f[0]);
-        let c01 = lerp(self.voxel(i[0], i[1], n[2]), self.voxel(n[0], i[1], n[2]), f[0]);
-        let c11 = lerp(self.voxel(i[0], n[1], n[2]), self.voxel(n[0], n[1], n[2]), f[0]);
+        let c00 = lerp(
+            self.voxel(i[0], i[1], i[2]),
+            self.voxel(n[0], i[1], i[2]),
+            f[0],
+        );
+        let c10 = lerp(
+            self.voxel(i[0], n[1], i[2]),
+            self.voxel(n[0], n[1], i[2]),
+            f[0],
+        );
+        let c01 = lerp(
+            self.voxel(i[0], i[1], n[2]),
+            self.voxel(n[0], i[1], n[2]),
+            f[0],
+        );
+        let c11 = lerp(
+            self.voxel(i[0], n[1], n[2]),
+            self.voxel(n[0], n[1], n[2]),
+            f[0],
+        );
         lerp(lerp(c00, c10, f[1]), lerp(c01, c11, f[1]), f[2])
     }
 
@@ -105,10 +128,14 @@ impl GridMedium {
 
     /// Optical depth along [0, dist] of the ray (unit `d`), by the midpoint rule.
     pub fn optical_depth(&self, o: Vec3, d: Vec3, dist: f32) -> f32 {
-        let Some((t0, t1)) = self.clip(o, d, dist) else { return 0.0 };
+        let Some((t0, t1)) = self.clip(o, d, dist) else {
+            return 0.0;
+        };
         let n = (((t1 - t0) / self.step).ceil() as u32).clamp(1, MAX_STEPS);
         let h = (t1 - t0) / n as f32;
-        let sum: f32 = (0..n).map(|i| self.density(o + d * (t0 + (i as f32 + 0.5) * h))).sum();
+        let sum: f32 = (0..n)
+            .map(|i| self.density(o + d * (t0 + (i as f32 + 0.5) * h)))
+            .sum();
         self.sigma_t * sum * h
     }
 
@@ -118,7 +145,13 @@ impl GridMedium {
 
     /// Delta tracking: the distance of the first real collision along [0, dist), with the
     /// density there, or None when the photon passes.
-    pub fn sample_collision(&self, o: Vec3, d: Vec3, dist: f32, rng: &mut Rng) -> Option<(f32, f32)> {
+    pub fn sample_collision(
+        &self,
+        o: Vec3,
+        d: Vec3,
+        dist: f32,
+        rng: &mut Rng,
+    ) -> Option<(f32, f32)> {
         let majorant = self.sigma_t * self.max_density;
         if !(majorant > 0.0) {
             return None;
@@ -153,7 +186,14 @@ mod tests {
                 }
             }
         }
-        GridMedium::new(Spectrum::splat(0.5), Spectrum::splat(1.5), 0.0, [res; 3], data, Transform::IDENTITY)
+        GridMedium::new(
+            Spectrum::splat(0.5),
+            Spectrum::splat(1.5),
+            0.0,
+            [res; 3],
+            data,
+            Transform::IDENTITY,
+        )
     }
 
     #[test]
@@ -162,7 +202,10 @@ mod tests {
         let t = g.transmittance(Vec3::new(-1.0, 0.5, 0.5), Vec3::X, 3.0).x;
         // Inside the box for 1 unit, sigma_t = 2.
         assert!((t - (-2.0f32).exp()).abs() < 1e-5, "{t}");
-        assert_eq!(g.transmittance(Vec3::new(-1.0, 2.0, 0.5), Vec3::X, 3.0).x, 1.0);
+        assert_eq!(
+            g.transmittance(Vec3::new(-1.0, 2.0, 0.5), Vec3::X, 3.0).x,
+            1.0
+        );
     }
 
     #[test]
@@ -174,9 +217,17 @@ mod tests {
         // Delta tracking: the probability of passing equals the transmittance.
         let mut rng = Rng::new(3, 0);
         let n = 200_000;
-        let passed = (0..n).filter(|_| g.sample_collision(Vec3::new(-0.5, 0.5, 0.5), Vec3::X, 2.0, &mut rng).is_none()).count();
+        let passed = (0..n)
+            .filter(|_| {
+                g.sample_collision(Vec3::new(-0.5, 0.5, 0.5), Vec3::X, 2.0, &mut rng)
+                    .is_none()
+            })
+            .count();
         let p = passed as f64 / n as f64;
         let t = (-od as f64).exp();
-        assert!((p - t).abs() < 4.0 * (t * (1.0 - t) / n as f64).sqrt() + 2e-3, "{p} vs {t}");
+        assert!(
+            (p - t).abs() < 4.0 * (t * (1.0 - t) / n as f64).sqrt() + 2e-3,
+            "{p} vs {t}"
+        );
     }
 }

@@ -98,12 +98,22 @@ fn trace_path(
                     power = new_power;
                     let x = ray.o + d * t;
                     if kind == MapKind::Volume && interactions > 0 {
-                        out.push(RawPhoton { p: x, power, d, first: false, from_medium: true });
+                        out.push(RawPhoton {
+                            p: x,
+                            power,
+                            d,
+                            first: false,
+                            from_medium: true,
+                        });
                     }
                     interactions += 1;
                     last_scatter = true;
                     let (wi, _) = med.phase().sample(-d, rng.vec2());
-                    ray = Ray { o: x, d: wi, t_max: f32::INFINITY };
+                    ray = Ray {
+                        o: x,
+                        d: wi,
+                        t_max: f32::INFINITY,
+                    };
                     continue;
                 }
                 Flight::Pass { weight } => {
@@ -211,25 +221,46 @@ fn free_flight(med: &Medium, o: Vec3, d: Vec3, dist: f32, rng: &mut Rng) -> Flig
             let st = h.sigma_t;
             let st_avg = mean(st);
             if !(st_avg > 0.0) {
-                return Flight::Pass { weight: Spectrum::ONE };
+                return Flight::Pass {
+                    weight: Spectrum::ONE,
+                };
             }
             let t = -(1.0 - rng.f32()).ln() / st_avg;
             let rel = |s: f32, x: f32| (-(s - st_avg) * x).exp();
             if t < dist {
-                let ratio = Spectrum::new(st.x / st_avg * rel(st.x, t), st.y / st_avg * rel(st.y, t), st.z / st_avg * rel(st.z, t));
-                let albedo = Spectrum::new(safe_div(h.sigma_s.x, st.x), safe_div(h.sigma_s.y, st.y), safe_div(h.sigma_s.z, st.z));
-                Flight::Collide { t, weight: ratio * albedo }
+                let ratio = Spectrum::new(
+                    st.x / st_avg * rel(st.x, t),
+                    st.y / st_avg * rel(st.y, t),
+                    st.z / st_avg * rel(st.z, t),
+                );
+                let albedo = Spectrum::new(
+                    safe_div(h.sigma_s.x, st.x),
+                    safe_div(h.sigma_s.y, st.y),
+                    safe_div(h.sigma_s.z, st.z),
+                );
+                Flight::Collide {
+                    t,
+                    weight: ratio * albedo,
+                }
             } else {
-                Flight::Pass { weight: Spectrum::new(rel(st.x, dist), rel(st.y, dist), rel(st.z, dist)) }
+                Flight::Pass {
+                    weight: Spectrum::new(rel(st.x, dist), rel(st.y, dist), rel(st.z, dist)),
+                }
             }
         }
         Medium::Grid(g) => match g.sample_collision(o, d, dist, rng) {
             Some((t, _)) => {
                 let st = g.sigma_t;
-                let albedo = Spectrum::new(safe_div(g.sigma_s.x, st), safe_div(g.sigma_s.y, st), safe_div(g.sigma_s.z, st));
+                let albedo = Spectrum::new(
+                    safe_div(g.sigma_s.x, st),
+                    safe_div(g.sigma_s.y, st),
+                    safe_div(g.sigma_s.z, st),
+                );
                 Flight::Collide { t, weight: albedo }
             }
-            None => Flight::Pass { weight: Spectrum::ONE },
+            None => Flight::Pass {
+                weight: Spectrum::ONE,
+            },
         },
     }
 }

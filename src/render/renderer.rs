@@ -268,11 +268,7 @@ impl<'a> Renderer<'a> {
             (need[1], p.caustic),
             (need[2], p.volume),
         ];
-        let preset_total: usize = targets
-            .iter()
-            .filter(|(n, _)| *n)
-            .map(|(_, c)| *c)
-            .sum();
+        let preset_total: usize = targets.iter().filter(|(n, _)| *n).map(|(_, c)| *c).sum();
         let mut scale = 1.0;
         if preset_total > 0 && !self.scene.lights.is_empty() {
             let mut cal = p.clone();
@@ -322,9 +318,8 @@ impl<'a> Renderer<'a> {
                         max_r2: cal_maps.global_r2,
                     },
                 };
-                let cache = cache_fill::fill(&ctx, &cal_settings, &|_| {}, &|| {
-                    self.is_cancelled()
-                })?;
+                let cache =
+                    cache_fill::fill(&ctx, &cal_settings, &|_| {}, &|| self.is_cancelled())?;
                 let secs = tc.elapsed().as_secs_f64();
                 stats.calibration_cache_records = cache.len() as u64;
                 cache_preset = secs * fg as f64 / budget::CALIBRATION_GATHER_RAYS as f64
@@ -356,10 +351,12 @@ impl<'a> Renderer<'a> {
                 .max(budget::MIN_GATHER_RAYS);
         }
         s.progressive = true;
-        let gather = s.gather_rays_per_sample.unwrap_or(match p.final_gather_rays {
-            0 => 0,
-            n => ((n as f64 / spp_equivalent).ceil() as u32).max(4),
-        });
+        let gather = s
+            .gather_rays_per_sample
+            .unwrap_or(match p.final_gather_rays {
+                0 => 0,
+                n => ((n as f64 / spp_equivalent).ceil() as u32).max(4),
+            });
         s.gather_rays_per_sample = Some(gather);
         stats.calibration_seconds = t.elapsed().as_secs_f64();
         stats.photons_global = p.global;
@@ -462,9 +459,8 @@ impl<'a> Renderer<'a> {
         let non_finite = AtomicUsize::new(0);
         let cache_seconds = t1.elapsed().as_secs_f64();
         let (film, spp) = if s.progressive || budget_seconds.is_some() {
-            let deadline = budget_seconds.map(|b| {
-                b - budget::MARGIN_FRACTION * b - budget::MARGIN_SECONDS
-            });
+            let deadline =
+                budget_seconds.map(|b| b - budget::MARGIN_FRACTION * b - budget::MARGIN_SECONDS);
             let (film, passes, per_pass) =
                 self.progressive_passes(&ctx, s, start, deadline, &non_finite)?;
             if let Some(bs) = budget_stats.as_mut() {
@@ -675,10 +671,9 @@ impl<'a> Renderer<'a> {
                 _ => {}
             }
             let k = passes;
-            pixels
-                .par_chunks_mut(w.max(1))
-                .enumerate()
-                .for_each_init(KnnScratch::new, |scratch, (y, row)| {
+            pixels.par_chunks_mut(w.max(1)).enumerate().for_each_init(
+                KnnScratch::new,
+                |scratch, (y, row)| {
                     if self.is_cancelled() {
                         return;
                     }
@@ -700,7 +695,8 @@ impl<'a> Renderer<'a> {
                             non_finite,
                         );
                     }
-                });
+                },
+            );
             if self.is_cancelled() {
                 return Err(Error::Cancelled);
             }

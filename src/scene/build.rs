@@ -273,7 +273,6 @@ impl Scene {
         !self.media.is_empty()
             && (self.world_medium.is_some() || self.instance_medium.iter().any(Option::is_some))
     }
-
 }
 
 fn medium_from_desc(m: &MediumDesc) -> Medium {
@@ -282,7 +281,14 @@ fn medium_from_desc(m: &MediumDesc) -> Medium {
         None => Medium::Homogeneous(Homogeneous::new(sa, ss, m.g)),
         Some(grid) => {
             let t = Transform::from_rows(&grid.transform).unwrap_or_default();
-            Medium::Grid(GridMedium::new(sa, ss, m.g, grid.resolution, grid.data.clone(), t))
+            Medium::Grid(GridMedium::new(
+                sa,
+                ss,
+                m.g,
+                grid.resolution,
+                grid.data.clone(),
+                t,
+            ))
         }
     }
 }

@@ -210,21 +210,34 @@ pub fn validate(scene: &SceneDesc) -> Result<()> {
 fn validate_grid(c: &Ctx, m: &MediumDesc, grid: &DensityGridDesc) -> Result<()> {
     let [x, y, z] = grid.resolution;
     if x == 0 || y == 0 || z == 0 {
-        return Err(c.err("density/resolution", format!("must be at least 1 voxel per axis, got {x}x{y}x{z}")));
+        return Err(c.err(
+            "density/resolution",
+            format!("must be at least 1 voxel per axis, got {x}x{y}x{z}"),
+        ));
     }
     let n = x as u64 * y as u64 * z as u64;
     if n > (1 << 28) {
-        return Err(c.err("density/resolution", format!("{n} voxels is more than the 2^28 supported")));
+        return Err(c.err(
+            "density/resolution",
+            format!("{n} voxels is more than the 2^28 supported"),
+        ));
     }
     if grid.data.len() as u64 != n {
-        return Err(c.err("density/data", format!("has {} values, expected {x}x{y}x{z} = {n}", grid.data.len())));
+        return Err(c.err(
+            "density/data",
+            format!("has {} values, expected {x}x{y}x{z} = {n}", grid.data.len()),
+        ));
     }
     if let Some(j) = grid.data.iter().position(|v| !(v.is_finite() && *v >= 0.0)) {
-        return Err(c.err(&format!("density/data/{j}"), format!("must be a finite number >= 0, got {}", grid.data[j])));
+        return Err(c.err(
+            &format!("density/data/{j}"),
+            format!("must be a finite number >= 0, got {}", grid.data[j]),
+        ));
     }
     c.matrix("density/transform", &grid.transform)?;
     let st = [0, 1, 2].map(|k| m.sigma_a[k] + m.sigma_s[k]);
-    let spread = st.iter().cloned().fold(f32::MIN, f32::max) - st.iter().cloned().fold(f32::MAX, f32::min);
+    let spread =
+        st.iter().cloned().fold(f32::MIN, f32::max) - st.iter().cloned().fold(f32::MAX, f32::min);
     if spread > 1e-6 * st[0].abs().max(1e-30) {
         return Err(c.err(
             "sigma_s",

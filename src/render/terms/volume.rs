@@ -79,15 +79,25 @@ pub fn march(
     let b = oc.dot(dir);
     let c = oc.length_squared() - scene.radius * scene.radius;
     let exit = -b + (b * b - c).max(0.0).sqrt();
-    let seg = if dist.is_finite() { dist } else { exit.max(0.0) };
-    let t_total = if dist.is_finite() { med.transmittance_along(o, dir, dist) } else { Spectrum::ZERO };
+    let seg = if dist.is_finite() {
+        dist
+    } else {
+        exit.max(0.0)
+    };
+    let t_total = if dist.is_finite() {
+        med.transmittance_along(o, dir, dist)
+    } else {
+        Spectrum::ZERO
+    };
     if seg <= 0.0 {
         return (Spectrum::ZERO, t_total);
     }
     // In a homogeneous medium only the part of the segment with transmittance above the
     // cut-off matters; a grid's march stops when the accumulated transmittance falls below it.
     let useful = match med {
-        crate::media::Medium::Homogeneous(h) if h.sigma_t.min_element() > 0.0 => seg.min(-T_CUTOFF.ln() / h.sigma_t.min_element()),
+        crate::media::Medium::Homogeneous(h) if h.sigma_t.min_element() > 0.0 => {
+            seg.min(-T_CUTOFF.ln() / h.sigma_t.min_element())
+        }
         _ => seg,
     };
     let n = ((useful / s.step.max(1e-12)).ceil() as u32).clamp(1, MAX_STEPS);
