@@ -8,10 +8,10 @@ use photonmap::geometry::shapes;
 use photonmap::media::HenyeyGreenstein;
 use photonmap::render::aov::Term;
 use photonmap::render::film::Filter;
-use photonmap::render::{PhotonSettings, RenderSettings, Renderer};
+use photonmap::render::{PhotonSettings, RenderSettings};
 use photonmap::sampling::chi2::{assert_chi2, Chi2Config};
 use photonmap::scene::desc::*;
-use photonmap::scene::{Scene, SceneDesc};
+use photonmap::scene::SceneDesc;
 
 #[test]
 fn henyey_greenstein_sampling_matches_its_density() {
@@ -105,23 +105,21 @@ fn slab_scene(sigma_a: f32, sigma_s: f32) -> SceneDesc {
 }
 
 fn render_single_scattering(desc: &SceneDesc, spp: u32) -> photonmap::render::RenderOutput {
-    let scene = Scene::build(desc).expect("scene builds");
     // No volume photons: the volume term is single scattering only.
     let photons = PhotonSettings {
         volume: 0,
         ..Default::default()
     };
-    let settings = RenderSettings {
-        spp,
-        seed: 3,
-        filter: Filter::Box,
-        photons,
-        ..Default::default()
-    };
-    Renderer::new(&scene)
-        .settings(settings)
-        .render()
-        .expect("render")
+    render_settings(
+        desc,
+        RenderSettings {
+            spp,
+            seed: 3,
+            filter: Filter::Box,
+            photons,
+            ..Default::default()
+        },
+    )
 }
 
 /// Single scattering along a ray crossing a slab of width W at depth h below the lit face:

@@ -9,7 +9,7 @@ use photonmap::photon::map::MapKind;
 use photonmap::photon::trace::{build_map, TraceParams};
 use photonmap::render::aov::Term;
 use photonmap::render::film::{Filter, Image};
-use photonmap::render::{PhotonSettings, RenderSettings, Renderer};
+use photonmap::render::{PhotonSettings, RenderSettings};
 use photonmap::scene::desc::*;
 use photonmap::scene::{Scene, SceneDesc};
 
@@ -33,18 +33,16 @@ fn render_with(
     photons: PhotonSettings,
     seed: u64,
 ) -> photonmap::render::RenderOutput {
-    let scene = Scene::build(desc).expect("scene builds");
-    let settings = RenderSettings {
-        spp,
-        seed,
-        filter: Filter::Box,
-        photons,
-        ..Default::default()
-    };
-    Renderer::new(&scene)
-        .settings(settings)
-        .render()
-        .expect("render")
+    render_settings(
+        desc,
+        RenderSettings {
+            spp,
+            seed,
+            filter: Filter::Box,
+            photons,
+            ..Default::default()
+        },
+    )
 }
 
 /// Inside a diffuse sphere of albedo Kd lit by a point light at its centre, every bounce
@@ -181,34 +179,6 @@ fn reference_mean(name: &str) -> Image {
         .expect("reference")
         .0[""]
         .clone()
-}
-
-/// relMSE of block means (8x8 pixels), which keeps the reference's own noise (fireflies of
-/// its caustic paths) out of the comparison of the photon map's low-frequency bias.
-fn block_rel_mse(a: &Image, b: &Image, block: usize) -> f64 {
-    let (bw, bh) = (a.width / block, a.height / block);
-    let mean = |img: &Image, bx: usize, by: usize| {
-        let mut s = [0.0f64; 3];
-        for y in by * block..(by + 1) * block {
-            for x in bx * block..(bx + 1) * block {
-                let p = img.get(x, y);
-                for c in 0..3 {
-                    s[c] += p[c] as f64;
-                }
-            }
-        }
-        s.map(|v| v / (block * block) as f64)
-    };
-    let mut sum = 0.0;
-    for by in 0..bh {
-        for bx in 0..bw {
-            let (p, q) = (mean(a, bx, by), mean(b, bx, by));
-            for c in 0..3 {
-                sum += (p[c] - q[c]).powi(2) / (q[c] * q[c] + REL_EPS as f64);
-            }
-        }
-    }
-    sum / (bw * bh * 3) as f64
 }
 
 fn full_gi_errors(scene: &str, reference: &str, counts: &[usize]) -> Vec<(f64, f64)> {

@@ -22,6 +22,40 @@ pub fn render(desc: &SceneDesc, spp: u32, seed: u64, threads: usize) -> RenderOu
     render_terms(desc, spp, seed, threads, TermMask::ALL)
 }
 
+/// Renders with explicit settings.
+pub fn render_settings(desc: &SceneDesc, settings: RenderSettings) -> RenderOutput {
+    let scene = Scene::build(desc).expect("scene builds");
+    Renderer::new(&scene)
+        .settings(settings)
+        .render()
+        .expect("render succeeds")
+}
+
+/// relMSE of block means (block x block pixels), which keeps a path-traced reference's own
+/// noise (fireflies of its caustic paths) out of a comparison of low-frequency bias.
+pub fn block_rel_mse(a: &Image, b: &Image, block: usize) -> f64 {
+    let (bw, bh) = (a.width / block, a.height / block);
+    let mut sum = 0.0;
+    for by in 0..bh {
+        for bx in 0..bw {
+            let (mut p, mut q) = ([0.0f64; 3], [0.0f64; 3]);
+            for y in by * block..(by + 1) * block {
+                for x in bx * block..(bx + 1) * block {
+                    for c in 0..3 {
+                        p[c] += a.get(x, y)[c] as f64;
+                        q[c] += b.get(x, y)[c] as f64;
+                    }
+                }
+            }
+            let n = (block * block) as f64;
+            for c in 0..3 {
+                sum += ((p[c] - q[c]) / n).powi(2) / ((q[c] / n).powi(2) + REL_EPS as f64);
+            }
+        }
+    }
+    sum / (bw * bh * 3) as f64
+}
+
 /// Renders only the given terms (the others' estimators do not run at all).
 pub fn render_terms(
     desc: &SceneDesc,
