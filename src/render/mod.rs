@@ -2,12 +2,14 @@
 pub mod aov;
 pub mod budget;
 mod cache_fill;
+pub mod error;
 pub mod eye;
 pub mod film;
 pub mod irradiance_cache;
 pub mod photons;
 mod renderer;
 pub mod settings;
+pub mod sppm;
 pub mod terms;
 
 pub use renderer::{MemoryEstimate, ProgressFn, RenderOutput, RenderStats, Renderer, SkippedTerm};
