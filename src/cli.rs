@@ -474,6 +474,17 @@ pub fn render_desc(
     progress: Option<Arc<crate::render::ProgressFn>>,
     cancel: Option<Arc<AtomicBool>>,
 ) -> Result<RenderOutput> {
+    render_desc_with_preview(desc, settings, progress, cancel, None)
+}
+
+/// As `render_desc`, with previews of a progressive render (see `render::PreviewFn`).
+pub fn render_desc_with_preview(
+    desc: &SceneDesc,
+    settings: RenderSettings,
+    progress: Option<Arc<crate::render::ProgressFn>>,
+    cancel: Option<Arc<AtomicBool>>,
+    preview: Option<Arc<crate::render::PreviewFn>>,
+) -> Result<RenderOutput> {
     let t0 = std::time::Instant::now();
     let scene = Scene::build(desc)?;
     let build_s = t0.elapsed().as_secs_f64();
@@ -483,6 +494,9 @@ pub fn render_desc(
     }
     if let Some(c) = cancel {
         r = r.cancel_flag(c);
+    }
+    if let Some(p) = preview {
+        r = r.preview(p);
     }
     let mut out = r.render()?;
     out.stats.seconds.insert("scene_build".into(), build_s);

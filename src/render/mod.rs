@@ -12,5 +12,7 @@ pub mod settings;
 pub mod sppm;
 pub mod terms;
 
-pub use renderer::{MemoryEstimate, ProgressFn, RenderOutput, RenderStats, Renderer, SkippedTerm};
+pub use renderer::{
+    MemoryEstimate, PreviewFn, ProgressFn, RenderOutput, RenderStats, Renderer, SkippedTerm,
+};
 pub use settings::{PhotonSettings, Quality, RenderSettings};

@@ -28,6 +28,23 @@ use std::time::Instant;
 /// Called with (fraction done in [0,1], phase name). May be called from worker threads.
 pub type ProgressFn = dyn Fn(f32, &str) + Send + Sync;
 
+/// Called during a progressive render (`progressive`, a time budget, or `RenderMode::Sppm`)
+/// with the image so far and the passes it holds: after passes 1, 2, 4, 8, ... and at most
+/// every `PREVIEW_SECONDS` between them. The Blender viewport refines through it.
+pub type PreviewFn = dyn Fn(&Film, u32) + Send + Sync;
+
+/// Shortest interval between two previews, in seconds (powers of two aside).
+pub const PREVIEW_SECONDS: f64 = 0.25;
+
+/// Whether a progressive loop that last previewed at `last` should preview after `passes`.
+pub fn preview_due(passes: u32, last: &mut Instant) -> bool {
+    if passes.is_power_of_two() || last.elapsed().as_secs_f64() >= PREVIEW_SECONDS {
+        *last = Instant::now();
+        return true;
+    }
+    false
+}
+
 /// Why a term is zero in this render.
 #[derive(Clone, Debug, Serialize)]
 pub struct SkippedTerm {
@@ -99,6 +116,7 @@ pub struct Renderer<'a> {
     settings: RenderSettings,
     progress: Option<Arc<ProgressFn>>,
     cancel: Option<Arc<AtomicBool>>,
+    pub(super) preview: Option<Arc<PreviewFn>>,
 }
 
 impl<'a> Renderer<'a> {
@@ -108,6 +126,7 @@ impl<'a> Renderer<'a> {
             settings: RenderSettings::default(),
             progress: None,
             cancel: None,
+            preview: None,
         }
     }
     pub fn settings(mut self, s: RenderSettings) -> Self {
@@ -132,6 +151,11 @@ impl<'a> Renderer<'a> {
     }
     pub fn cancel_flag(mut self, flag: Arc<AtomicBool>) -> Self {
         self.cancel = Some(flag);
+        self
+    }
+    /// Previews of a progressive render (see [`PreviewFn`]).
+    pub fn preview(mut self, f: Arc<PreviewFn>) -> Self {
+        self.preview = Some(f);
         self
     }
 
@@ -569,6 +593,7 @@ impl<'a> Renderer<'a> {
             deadline,
             start,
             non_finite: &non_finite,
+            preview: self.preview.as_deref(),
         };
         let out = job.run()?;
         let mut seconds = std::collections::BTreeMap::new();
@@ -795,7 +820,21 @@ impl<'a> Renderer<'a> {
                 }
             })
             .collect();
+        let film_of = |pixels: &[PixelState], passes: u32| {
+            let mut film = Film::new(w, h);
+            let inv = 1.0 / passes.max(1) as f32;
+            for (i, px) in pixels.iter().enumerate() {
+                let mut v = px.acc;
+                for c in v.0.iter_mut() {
+                    *c *= inv;
+                }
+                film.set_pixel(i % w, i / w, &v);
+                film.error.data[i] = px.batches.standard_error().to_array();
+            }
+            film
+        };
         let t = Instant::now();
+        let mut last_preview = Instant::now();
         let mut passes: u32 = 0;
         loop {
             match deadline {
@@ -841,18 +880,14 @@ impl<'a> Renderer<'a> {
                 return Err(Error::Cancelled);
             }
             passes += 1;
+            if let Some(p) = &self.preview {
+                if preview_due(passes, &mut last_preview) {
+                    p(&film_of(&pixels, passes), passes);
+                }
+            }
         }
         self.report(1.0, "render");
         let per_pass = t.elapsed().as_secs_f64() / passes.max(1) as f64;
-        let mut film = Film::new(w, h);
-        let inv = 1.0 / passes as f32;
-        for (i, px) in pixels.iter_mut().enumerate() {
-            for v in px.acc.0.iter_mut() {
-                *v *= inv;
-            }
-            film.set_pixel(i % w, i / w, &px.acc);
-            film.error.data[i] = px.batches.standard_error().to_array();
-        }
-        Ok((film, passes, per_pass))
+        Ok((film_of(&pixels, passes), passes, per_pass))
     }
 }

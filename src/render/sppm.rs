@@ -41,6 +41,7 @@ use super::error::{Replicates, Shifts};
 use super::eye::{self, EyeCtx, EyeSettings, VisiblePoint};
 use super::film::{Film, TermRadiance};
 use super::photons::{self, MapStats, PhotonMaps};
+use super::renderer::{preview_due, PreviewFn};
 use super::settings::RenderSettings;
 use super::terms::specular;
 use super::terms::volume::MarchSettings;
@@ -96,6 +97,7 @@ pub struct SppmJob<'a> {
     pub deadline: Option<f64>,
     pub start: Instant,
     pub non_finite: &'a AtomicUsize,
+    pub preview: Option<&'a PreviewFn>,
 }
 
 struct Pixel {
@@ -153,6 +155,7 @@ impl<'a> SppmJob<'a> {
         let t = Instant::now();
         let mut passes: u32 = 0;
         let mut all_maps: Vec<MapStats> = Vec::new();
+        let mut last_preview = Instant::now();
         loop {
             match self.deadline {
                 Some(d) if passes > 0 => {
@@ -202,6 +205,11 @@ impl<'a> SppmJob<'a> {
                 return Err(Error::Cancelled);
             }
             passes += 1;
+            if let Some(p) = self.preview {
+                if preview_due(passes, &mut last_preview) {
+                    p(&self.resolve(&pixels, passes, &mut SppmStats::default()), passes);
+                }
+            }
         }
         (self.report)(1.0, "progressive");
         stats.passes = passes;

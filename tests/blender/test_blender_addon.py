@@ -363,7 +363,15 @@ def test_viewport_refines_progressively(photonmap_scene, addon):
     gen = vp.generation
     orig = viewport.RenderJob
 
+    previews = []
+
     class Spy(orig):
+        def __init__(self, ir, settings, preview=None):
+            def spy(img, passes):
+                previews.append((img.shape[:2], passes))
+                preview(img, passes)
+            super().__init__(ir, settings, preview=spy)
+
         def _run(self):
             super()._run()
             sizes.append(self.out["combined"].shape[:2])
@@ -373,5 +381,10 @@ def test_viewport_refines_progressively(photonmap_scene, addon):
         vp._refine(gen, dict(vp.ir, camera=cam), 48, 32, dict(vp.settings))
     finally:
         viewport.RenderJob = orig
-    assert sizes == [(8, 12), (32, 48), (32, 48)]
-    assert Engine.redraws == 3 and vp.image.shape == (32, 48, 3) and vp.image.mean() > 0.01
+    # A quarter-resolution draft, then one progressive render whose passes refine the image.
+    assert sizes == [(8, 12), (32, 48)]
+    full = [p for s, p in previews if s == (32, 48)]
+    assert full[:3] == [1, 2, 4], previews  # draft preset: 4 passes, previews after 1, 2, 4
+    assert all(s == (32, 48) for s, _ in previews), previews
+    assert Engine.redraws == 1 + len(previews) + 1  # the draft, each preview, the end
+    assert vp.image.shape == (32, 48, 3) and vp.image.mean() > 0.01
