@@ -196,4 +196,34 @@ fn progressive_mode_is_deterministic_across_threads() {
     assert!(s.mean_final_radius < s.mean_initial_radius);
     assert!(a.stats.photon_maps.iter().any(|m| m.map == "caustic" && !m.built));
     assert!(a.film.term(photonmap::render::aov::Term::Caustic).mean().max_element() > 0.0);
+    // Previews come after passes 1, 2, 4 (and between, at most every 0.25 s), each the
+    // image so far: the last equals the image of a render of that many passes.
+    let scene = photonmap::scene::Scene::build(&desc).expect("scene builds");
+    let seen = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
+    let sink = seen.clone();
+    let settings = RenderSettings {
+        spp: 6,
+        seed: 9,
+        mode: RenderMode::Sppm,
+        photons: PhotonSettings {
+            global: 5_000,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let c = photonmap::render::Renderer::new(&scene)
+        .settings(settings)
+        .preview(std::sync::Arc::new(move |film: &photonmap::render::film::Film, k: u32| {
+            sink.lock().unwrap().push((k, film.combined()))
+        }))
+        .render()
+        .expect("render succeeds");
+    let seen = seen.lock().unwrap();
+    let passes: Vec<u32> = seen.iter().map(|(k, _)| *k).collect();
+    assert!(passes.starts_with(&[1, 2, 4]) && passes.windows(2).all(|w| w[0] < w[1]), "{passes:?}");
+    let (k, img) = seen.last().unwrap();
+    if *k == 6 {
+        assert_eq!(img, &c.film.combined());
+    }
+    assert_eq!(c.film.combined(), a.film.combined());
 }

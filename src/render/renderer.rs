@@ -619,17 +619,10 @@ impl<'a> Renderer<'a> {
             });
         }
         let mut maps = out.maps;
-        maps.push(MapStats {
-            map: "caustic",
-            built: false,
-            stored: 0,
-            emitted: 0,
-            memory_bytes: 0,
-            seconds: 0.0,
-            skipped_because: Some(
-                "progressive mode: each pass's global map holds the caustic photons".into(),
-            ),
-        });
+        for m in maps.iter_mut().filter(|m| m.map == "caustic") {
+            m.skipped_because =
+                Some("progressive mode: each pass's global map holds the caustic photons".into());
+        }
         let photon_bytes: u64 = maps.iter().map(|m| m.memory_bytes).sum();
         let time_budget = budget_seconds.map(|b| {
             let actual = start.elapsed().as_secs_f64();
