@@ -91,15 +91,26 @@ fn progressive_error_falls_with_passes() {
     let (slope, block_slope) = (log_log_slope(&xs, &excess), log_log_slope(&xs, &blocks));
     eprintln!("log-log slopes over passes: relMSE {slope:.3}, block relMSE {block_slope:.3}");
     for w in excess.windows(2).chain(blocks.windows(2)) {
-        assert!(w[1] < w[0], "error must fall with every step: {excess:?} {blocks:?}");
+        assert!(
+            w[1] < w[0],
+            "error must fall with every step: {excess:?} {blocks:?}"
+        );
     }
     assert!((-1.0..=-0.4).contains(&slope), "relMSE slope {slope}");
-    assert!((-0.8..=-0.45).contains(&block_slope), "block slope {block_slope}");
+    assert!(
+        (-0.8..=-0.45).contains(&block_slope),
+        "block slope {block_slope}"
+    );
 }
 
 /// Per region of `block` x `block` pixels: (predicted RMSE from the `error` AOV, actual RMSE
 /// against the reference with the reference's own variance taken out, reference RMSE).
-fn error_calibration(out: &RenderOutput, refm: &Image, refv: &Image, block: usize) -> Vec<(f64, f64, f64)> {
+fn error_calibration(
+    out: &RenderOutput,
+    refm: &Image,
+    refv: &Image,
+    block: usize,
+) -> Vec<(f64, f64, f64)> {
     let img = out.film.combined();
     let err = &out.film.error;
     let (bw, bh) = (img.width / block, img.height / block);
@@ -117,7 +128,11 @@ fn error_calibration(out: &RenderOutput, refm: &Image, refv: &Image, block: usiz
                 }
             }
             let n = (block * block * 3) as f64;
-            regions.push(((pred / n).sqrt(), ((act - rv) / n).max(0.0).sqrt(), (rv / n).sqrt()));
+            regions.push((
+                (pred / n).sqrt(),
+                ((act - rv) / n).max(0.0).sqrt(),
+                (rv / n).sqrt(),
+            ));
         }
     }
     regions
@@ -152,9 +167,16 @@ fn error_aov_predicts_the_true_error() {
                 regions.len(), ratios[0], ratios[n / 2], ratios[n - 1]
             );
             assert!(n >= 4, "too few regions to judge: {n}");
-            assert!((1.0 / 1.5..=1.5).contains(&ratios[n / 2]), "median {:.2}", ratios[n / 2]);
+            assert!(
+                (1.0 / 1.5..=1.5).contains(&ratios[n / 2]),
+                "median {:.2}",
+                ratios[n / 2]
+            );
             if block == 16 {
-                assert!(within * 10 >= n * 9, "{within} of {n} within 2x: {ratios:?}");
+                assert!(
+                    within * 10 >= n * 9,
+                    "{within} of {n} within 2x: {ratios:?}"
+                );
                 assert!(ratios[0] >= 1.0 / 3.0 && ratios[n - 1] <= 3.0, "{ratios:?}");
             } else {
                 assert_eq!(within, n, "{ratios:?}");
@@ -194,8 +216,18 @@ fn progressive_mode_is_deterministic_across_threads() {
     let s = a.stats.sppm.as_ref().expect("sppm stats");
     assert_eq!(s.passes, 6);
     assert!(s.mean_final_radius < s.mean_initial_radius);
-    assert!(a.stats.photon_maps.iter().any(|m| m.map == "caustic" && !m.built));
-    assert!(a.film.term(photonmap::render::aov::Term::Caustic).mean().max_element() > 0.0);
+    assert!(a
+        .stats
+        .photon_maps
+        .iter()
+        .any(|m| m.map == "caustic" && !m.built));
+    assert!(
+        a.film
+            .term(photonmap::render::aov::Term::Caustic)
+            .mean()
+            .max_element()
+            > 0.0
+    );
     // Previews come after passes 1, 2, 4 (and between, at most every 0.25 s), each the
     // image so far: the last equals the image of a render of that many passes.
     let scene = photonmap::scene::Scene::build(&desc).expect("scene builds");
@@ -213,14 +245,19 @@ fn progressive_mode_is_deterministic_across_threads() {
     };
     let c = photonmap::render::Renderer::new(&scene)
         .settings(settings)
-        .preview(std::sync::Arc::new(move |film: &photonmap::render::film::Film, k: u32| {
-            sink.lock().unwrap().push((k, film.combined()))
-        }))
+        .preview(std::sync::Arc::new(
+            move |film: &photonmap::render::film::Film, k: u32| {
+                sink.lock().unwrap().push((k, film.combined()))
+            },
+        ))
         .render()
         .expect("render succeeds");
     let seen = seen.lock().unwrap();
     let passes: Vec<u32> = seen.iter().map(|(k, _)| *k).collect();
-    assert!(passes.starts_with(&[1, 2, 4]) && passes.windows(2).all(|w| w[0] < w[1]), "{passes:?}");
+    assert!(
+        passes.starts_with(&[1, 2, 4]) && passes.windows(2).all(|w| w[0] < w[1]),
+        "{passes:?}"
+    );
     let (k, img) = seen.last().unwrap();
     if *k == 6 {
         assert_eq!(img, &c.film.combined());

@@ -257,8 +257,9 @@ def render(
     radius shrinking by ``alpha`` (default 0.7). ``out["error"]`` is the estimated standard
     error of ``combined`` per pixel and channel (not a term; see the README).
     ``preview(image, passes)``, called from the calling thread, receives the beauty so far of
-    a progressive render (``progressive``, ``time_budget`` or ``mode="sppm"``) after passes
-    1, 2, 4, ... and at most every 0.25 s between.
+    a progressive render (``progressive``, ``time_budget`` or ``mode="sppm"``): the core
+    previews after passes 1, 2, 4, ... and at most every 0.25 s between, and the calling
+    thread hands on the latest one every 50 ms, and the last one at the end.
     """
     s = _to_scene(scene)
 

@@ -388,6 +388,9 @@ fn render_blocking(
                 if let Some(cb) = callback {
                     report(cb)?;
                 }
+                if let Some(cb) = preview {
+                    show(cb)?;
+                }
                 Ok(out)
             }
             Ok(Err(e)) => Err(to_py(e)),
@@ -511,7 +514,10 @@ fn render<'py>(
         terms.set_item(t.name(), image_bytes(py, out.film.term(t)))?;
     }
     d.set_item("terms", terms)?;
-    d.set_item(crate::render::aov::ERROR_AOV, image_bytes(py, &out.film.error))?;
+    d.set_item(
+        crate::render::aov::ERROR_AOV,
+        image_bytes(py, &out.film.error),
+    )?;
     d.set_item("combined", image_bytes(py, &out.film.combined()))?;
     let stats =
         serde_json::to_string(&out.stats).map_err(|e| PhotonmapError::new_err(e.to_string()))?;
@@ -592,7 +598,15 @@ fn run_cli(
         };
         let (bar, bar_fn) = cli::progress_bar(a.quiet);
         let cancel = Arc::new(AtomicBool::new(false));
-        let out = render_blocking(py, &loaded.desc, a.settings(), Some(bar_fn), None, None, cancel);
+        let out = render_blocking(
+            py,
+            &loaded.desc,
+            a.settings(),
+            Some(bar_fn),
+            None,
+            None,
+            cancel,
+        );
         let out = match out {
             Ok(o) => o,
             Err(e) => {

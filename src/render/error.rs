@@ -160,8 +160,14 @@ mod tests {
         let truth = means.iter().map(|m| (m - mu).powi(2)).sum::<f64>() / (pixels - 1) as f64;
         let pred = pred / pixels as f64;
         let naive = naive / pixels as f64;
-        assert!((pred / truth - 1.0).abs() < 0.1, "{pred:.3e} vs {truth:.3e}");
-        assert!(naive > 3.0 * truth, "the naive estimate {naive:.3e} vs {truth:.3e}");
+        assert!(
+            (pred / truth - 1.0).abs() < 0.1,
+            "{pred:.3e} vs {truth:.3e}"
+        );
+        assert!(
+            naive > 3.0 * truth,
+            "the naive estimate {naive:.3e} vs {truth:.3e}"
+        );
     }
 
     #[test]

@@ -6,19 +6,19 @@
 use super::aov::Term;
 use super::budget::{self, BudgetStats};
 use super::cache_fill;
+use super::error::{replicate_of, Replicates, Shifts, REPLICATES};
 use super::eye::{self, EyeCtx, EyeSettings};
 use super::film::{Film, TermRadiance};
 use super::photons::{self, MapStats, PhotonMaps};
+use super::settings::RenderMode;
 use super::settings::{RenderSettings, BYTES_PER_PHOTON, BYTES_PER_TRIANGLE};
+use super::sppm::{SppmJob, SppmStats};
 use super::terms::volume::MarchSettings;
 use crate::error::{Error, Result};
+use crate::math::Spectrum;
 use crate::photon::KnnScratch;
 use crate::sampling::Rng;
 use crate::scene::Scene;
-use super::error::{replicate_of, Replicates, Shifts, REPLICATES};
-use super::sppm::{SppmJob, SppmStats};
-use super::settings::RenderMode;
-use crate::math::Spectrum;
 use glam::Vec2;
 use serde::Serialize;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -603,8 +603,7 @@ impl<'a> Renderer<'a> {
         for t in Term::ALL {
             let reason = if !s.terms.contains(t) {
                 "disabled in the render settings"
-            } else if self.scene.lights.is_empty() && matches!(t, Term::Caustic | Term::Indirect)
-            {
+            } else if self.scene.lights.is_empty() && matches!(t, Term::Caustic | Term::Indirect) {
                 "the scene has no lights"
             } else if t == Term::Caustic && photons::specular_targets(self.scene).is_empty() {
                 "the scene has no specular or transmissive surfaces"

@@ -47,8 +47,8 @@ use super::terms::specular;
 use super::terms::volume::MarchSettings;
 use crate::error::{Error, Result};
 use crate::math::{is_finite3, Spectrum, PI};
-use crate::photon::map::{FLAG_CAUSTIC_PATH, FLAG_FIRST_HIT};
 use crate::photon::map::PhotonMap;
+use crate::photon::map::{FLAG_CAUSTIC_PATH, FLAG_FIRST_HIT};
 use crate::photon::KnnScratch;
 use crate::sampling::{mix64, Rng};
 use crate::scene::Scene;
@@ -207,7 +207,10 @@ impl<'a> SppmJob<'a> {
             passes += 1;
             if let Some(p) = self.preview {
                 if preview_due(passes, &mut last_preview) {
-                    p(&self.resolve(&pixels, passes, &mut SppmStats::default()), passes);
+                    p(
+                        &self.resolve(&pixels, passes, &mut SppmStats::default()),
+                        passes,
+                    );
                 }
             }
         }
@@ -367,7 +370,8 @@ fn gather(
     // same photons over the disk of radius R/2 have a quarter of it: from
     // L_R = L + b and L_R/2 = L + b/4, b = 4/3 (L_R - L_R/2).
     let half_estimate = phi_half / (PI * r2 / 4.0);
-    px.bias.add(k, (pass_estimate - half_estimate) * (4.0 / 3.0));
+    px.bias
+        .add(k, (pass_estimate - half_estimate) * (4.0 / 3.0));
     if m > 0 {
         let (n, m) = (px.n, m as f32);
         let kept = n + alpha * m;
@@ -389,7 +393,11 @@ fn total_error(passes: &Replicates, bias: &Replicates) -> Spectrum {
     let se = passes.standard_error();
     let b = bias.mean();
     let sb = bias.standard_error();
-    (se * se + b * b - sb * sb).max(Spectrum::ZERO).to_array().map(f32::sqrt).into()
+    (se * se + b * b - sb * sb)
+        .max(Spectrum::ZERO)
+        .to_array()
+        .map(f32::sqrt)
+        .into()
 }
 
 /// The pixel's first radius²: the distance² to the `k`-th nearest photon at `vp` (photons of
