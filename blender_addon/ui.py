@@ -40,6 +40,7 @@ class PHOTONMAP_PT_quality(PhotonMapPanel, bpy.types.Panel):
         layout.prop(s, "mode")
         if s.mode == "sppm":
             layout.prop(s, "alpha")
+            layout.prop(s, "initial_photons")
         layout.prop(s, "spp")
         layout.prop(s, "time_budget")
         layout.prop(s, "seed")

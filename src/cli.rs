@@ -107,6 +107,10 @@ pub struct RenderArgs {
     /// a pixel keeps (Hachisuka & Jensen 2009).
     #[arg(long, default_value_t = crate::render::settings::SPPM_ALPHA)]
     pub alpha: f32,
+    /// Progressive mode: photons within a pixel's first search radius (the k nearest around
+    /// its first visible point); the radius shrinks from there.
+    #[arg(long, default_value_t = crate::render::settings::SPPM_INITIAL_PHOTONS)]
+    pub initial_photons: usize,
     /// Jensen mode: take the camera samples in whole passes over the image (as a time
     /// budget does), to replay a budgeted render's recorded plan.
     #[arg(long)]
@@ -408,6 +412,7 @@ impl RenderArgs {
         s.time_budget = self.time_budget.filter(|b| *b > 0.0);
         s.mode = self.mode;
         s.sppm_alpha = self.alpha;
+        s.sppm_initial_photons = self.initial_photons;
         s.progressive = self.progressive;
         s.gather_rays_per_sample = self.gather_rays_per_sample;
         s
@@ -444,6 +449,9 @@ impl RenderArgs {
         }
         if !(self.alpha > 0.0 && self.alpha < 1.0) {
             return bad("--alpha", "must be in (0, 1)");
+        }
+        if self.initial_photons == 0 {
+            return bad("--initial-photons", "must be at least 1");
         }
         if self.gather_rays_per_sample == Some(0) {
             return bad("--gather-rays-per-sample", "must be at least 1");

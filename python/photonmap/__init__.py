@@ -238,6 +238,7 @@ def render(
     time_budget: float | None = None,
     mode: str = "jensen",
     alpha: float | None = None,
+    initial_photons: int | None = None,
     progressive: bool | None = None,
     gather_rays_per_sample: int | None = None,
     progress: Callable[[float, str], Any] | None = None,
@@ -254,7 +255,8 @@ def render(
     photon counts and camera passes to fill it; the plan is in ``stats["time_budget"]``.
     ``mode="sppm"`` renders by progressive photon mapping: ``spp`` passes (or as many as fit
     in ``time_budget``), each with a fresh map of ``photons`` stored photons, every pixel's
-    radius shrinking by ``alpha`` (default 0.7). ``out["error"]`` is the estimated standard
+    radius starting at its ``initial_photons`` (default 20) nearest photons and shrinking by
+    ``alpha`` (default 0.7). ``out["error"]`` is the estimated standard
     error of ``combined`` per pixel and channel (not a term; see the README).
     ``preview(image, passes)``, called from the calling thread, receives the beauty so far of
     a progressive render (``progressive``, ``time_budget`` or ``mode="sppm"``): the core
@@ -272,7 +274,8 @@ def render(
         gather=gather, radius=radius,
         final_gather_rays=final_gather_rays, irradiance_cache=irradiance_cache,
         cache_tolerance=cache_tolerance, max_specular_depth=max_specular_depth, filter=filter,
-        time_budget=time_budget, mode=mode, alpha=alpha, progressive=progressive,
+        time_budget=time_budget, mode=mode, alpha=alpha, initial_photons=initial_photons,
+        progressive=progressive,
         gather_rays_per_sample=gather_rays_per_sample, progress=progress,
         preview=show if preview is not None else None, cancel=cancel,
     )

@@ -418,7 +418,7 @@ fn image_bytes<'py>(py: Python<'py>, img: &crate::render::film::Image) -> Bound<
 #[pyo3(signature = (scene, *, quality="medium", spp=None, seed=0, threads=0, photons=None,
     caustic_photons=None, volume_photons=None, volume_step=None, gather=None, radius=None, final_gather_rays=None,
     irradiance_cache=None, cache_tolerance=None, max_specular_depth=None, filter=None,
-    time_budget=None, mode="jensen", alpha=None, progressive=None, gather_rays_per_sample=None,
+    time_budget=None, mode="jensen", alpha=None, initial_photons=None, progressive=None, gather_rays_per_sample=None,
     progress=None, preview=None, cancel=None))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
@@ -442,6 +442,7 @@ fn render<'py>(
     time_budget: Option<f64>,
     mode: &str,
     alpha: Option<f32>,
+    initial_photons: Option<usize>,
     progressive: Option<bool>,
     gather_rays_per_sample: Option<u32>,
     progress: Option<Bound<'py, PyAny>>,
@@ -490,6 +491,9 @@ fn render<'py>(
     })?;
     if let Some(v) = alpha {
         a.alpha = v;
+    }
+    if let Some(v) = initial_photons {
+        a.initial_photons = v;
     }
     a.progressive = progressive.unwrap_or(false);
     a.gather_rays_per_sample = gather_rays_per_sample;

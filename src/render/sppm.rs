@@ -21,16 +21,16 @@
 //!
 //! Each pass's photon powers are normalised by the paths it emitted, so after K passes the
 //! photon terms are τ / (π R² K) and the other terms the mean of the passes. R starts at the
-//! distance to the `gather`-th nearest photon around the pixel's first visible point (at most
-//! the maximum radius). R² shrinks like K^(α−1), so the density-estimation bias (∝ R²) goes
+//! distance to the `sppm_initial_photons`-th nearest photon around the pixel's first visible
+//! point (at most the maximum radius). R² shrinks like K^(α−1), so the density-estimation bias (∝ R²) goes
 //! to zero while the variance of the accumulated estimate goes down like K^(−α) (Knaus &
 //! Zwicker 2011): the estimate is consistent.
 //!
 //! **Error estimate.** Each pass also yields its own estimate of the pixel (its eye terms
 //! plus Φ / (π R²) with that pass's radius); the `error` AOV is the standard error of their
-//! mean by batch means (`render::error`). Each pass also estimates the bias of its disk
-//! estimate from the photons within R/2 (see `gather`); the AOV adds the squared mean bias,
-//! less that estimate's own variance, to the variance.
+//! mean over independent replicates (`render::error`). Each pass also estimates the bias of
+//! its disk estimate from the photons within R/√2 (see `gather`); the AOV adds the squared
+//! mean bias, less that estimate's own variance, to the variance.
 //!
 //! Deterministic: pass `k`'s photon map depends only on (seed, k), and each pixel's random
 //! stream continues across passes, so the image after K passes is the same whatever the
@@ -329,12 +329,12 @@ fn gather(
         return Spectrum::ZERO;
     };
     if px.r2 <= 0.0 {
-        px.r2 = initial_radius2(global, first, maps.gather, maps.global_r2, scratch);
+        px.r2 = initial_radius2(global, first, s.sppm_initial_photons, maps.global_r2, scratch);
         px.initial_r2 = px.r2;
     }
     let r2 = px.r2;
     let mut phi = TermRadiance::default();
-    let mut phi_half = Spectrum::ZERO;
+    let mut phi_inner = Spectrum::ZERO;
     let mut m = 0u32;
     for vp in vps {
         global.tree.for_each_in_radius(vp.p, r2, |ph, d2| {
@@ -359,17 +359,17 @@ fn gather(
             if is_finite3(c) {
                 phi.add(t, c);
                 m += 1;
-                if 4.0 * d2 <= r2 {
-                    phi_half += c;
+                if 2.0 * d2 <= r2 {
+                    phi_inner += c;
                 }
             }
         });
     }
     let pass_estimate = phi.total() / (PI * r2);
     // Bias of a disk estimate grows as R² (R²/8 times the Laplacian of the radiance), so the
-    // same photons over the disk of radius R/2 have a quarter of it: from
-    // L_R = L + b and L_R/2 = L + b/4, b = 4/3 (L_R - L_R/2).
-    let half_estimate = phi_half / (PI * r2 / 4.0);
+    // same photons over the disk of half the area, radius R/√2, have half of it: from
+    // L_R = L + b and L_R/√2 = L + b/2, b = 2 (L_R - L_R/√2).
+    let half_estimate = phi_half / (PI * r2 / 2.0);
     px.bias
         .add(k, (pass_estimate - half_estimate) * (4.0 / 3.0));
     if m > 0 {
