@@ -329,7 +329,13 @@ fn gather(
         return Spectrum::ZERO;
     };
     if px.r2 <= 0.0 {
-        px.r2 = initial_radius2(global, first, s.sppm_initial_photons, maps.global_r2, scratch);
+        px.r2 = initial_radius2(
+            global,
+            first,
+            s.sppm_initial_photons,
+            maps.global_r2,
+            scratch,
+        );
         px.initial_r2 = px.r2;
     }
     let r2 = px.r2;
@@ -369,9 +375,8 @@ fn gather(
     // Bias of a disk estimate grows as R² (R²/8 times the Laplacian of the radiance), so the
     // same photons over the disk of half the area, radius R/√2, have half of it: from
     // L_R = L + b and L_R/√2 = L + b/2, b = 2 (L_R - L_R/√2).
-    let half_estimate = phi_half / (PI * r2 / 2.0);
-    px.bias
-        .add(k, (pass_estimate - half_estimate) * (4.0 / 3.0));
+    let inner_estimate = phi_inner / (PI * r2 / 2.0);
+    px.bias.add(k, (pass_estimate - inner_estimate) * 2.0);
     if m > 0 {
         let (n, m) = (px.n, m as f32);
         let kept = n + alpha * m;
