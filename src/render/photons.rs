@@ -28,6 +28,8 @@ pub struct MapStats {
     pub emitted: u64,
     pub memory_bytes: u64,
     pub seconds: f64,
+    /// Of `seconds`, the kd-tree build.
+    pub kdtree_seconds: f64,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub skipped_because: Option<String>,
 }
@@ -106,6 +108,7 @@ pub fn build(
                 emitted: 0,
                 memory_bytes: 0,
                 seconds: 0.0,
+                kdtree_seconds: 0.0,
                 skipped_because: Some(r),
             });
             return None;
@@ -130,6 +133,7 @@ pub fn build(
             emitted: map.emitted,
             memory_bytes: map.memory_bytes() as u64,
             seconds: t0.elapsed().as_secs_f64(),
+            kdtree_seconds: map.build_seconds,
             skipped_because: None,
         });
         Some(map)

@@ -566,6 +566,7 @@ impl<'a> Renderer<'a> {
         non_finite: &AtomicUsize,
     ) -> Result<Film> {
         let (w, h) = (self.scene.width, self.scene.height);
+        self.report(0.0, "render");
         let rows_done = AtomicUsize::new(0);
         let nx = (s.spp as f32).sqrt().floor().max(1.0) as u32;
         let ny = s.spp.div_ceil(nx);
@@ -579,6 +580,9 @@ impl<'a> Renderer<'a> {
                     }
                     let mut row = Vec::with_capacity(w);
                     for x in 0..w {
+                        if self.is_cancelled() {
+                            return None;
+                        }
                         let mut rng = Rng::new(s.seed, (y * w + x) as u64);
                         let mut acc = TermRadiance::default();
                         for i in 0..s.spp {
@@ -678,6 +682,9 @@ impl<'a> Renderer<'a> {
                         return;
                     }
                     for (x, px) in row.iter_mut().enumerate() {
+                        if self.is_cancelled() {
+                            return;
+                        }
                         let (sx, sy) = budget::sobol02(k);
                         let u = Vec2::new(
                             budget::to_unit(sx ^ px.shift.0),
