@@ -539,7 +539,11 @@ impl Grid {
         DensityGridDesc {
             resolution,
             data: (0..n)
-                .map(|i| self.data.get(i % self.data.len().max(1)).map_or(1.0, |v| v.0))
+                .map(|i| {
+                    self.data
+                        .get(i % self.data.len().max(1))
+                        .map_or(1.0, |v| v.0)
+                })
                 .collect(),
             transform: self.transform.matrix(),
         }

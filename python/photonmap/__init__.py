@@ -230,6 +230,7 @@ def render(
     max_specular_depth: int | None = None,
     filter: str | None = None,
     time_budget: float | None = None,
+    memory_limit: int | str | None = None,
     progress: Callable[[float, str], Any] | None = None,
     cancel: CancelToken | None = None,
 ) -> dict:
@@ -241,6 +242,9 @@ def render(
     called from the calling thread; Ctrl-C or ``cancel.cancel()`` raise within ~50 ms
     (KeyboardInterrupt, RenderCancelled). ``time_budget`` (seconds; None or 0 = off) plans
     photon counts and camera passes to fill it; the plan is in ``stats["time_budget"]``.
+    ``memory_limit`` (bytes, or a size such as ``"512M"`` or ``"8G"``, as ``--memory-limit``;
+    default: the available memory) stops the render up front, with ``ValueError`` naming
+    ``memory_limit`` and the estimate, when its photon maps and BVH would need more.
     """
     s = _to_scene(scene)
     raw = _core.render(
@@ -249,7 +253,7 @@ def render(
         gather=gather, radius=radius,
         final_gather_rays=final_gather_rays, irradiance_cache=irradiance_cache,
         cache_tolerance=cache_tolerance, max_specular_depth=max_specular_depth, filter=filter,
-        time_budget=time_budget, progress=progress, cancel=cancel,
+        time_budget=time_budget, memory_limit=memory_limit, progress=progress, cancel=cancel,
     )
     h, w = raw["height"], raw["width"]
 
