@@ -39,6 +39,7 @@ class PHOTONMAP_PT_quality(PhotonMapPanel, bpy.types.Panel):
         layout.prop(s, "quality")
         layout.prop(s, "spp")
         layout.prop(s, "time_budget")
+        layout.prop(s, "memory_limit")
         layout.prop(s, "seed")
         layout.prop(s, "threads")
 

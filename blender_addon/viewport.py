@@ -37,6 +37,9 @@ class ViewportRender:
         self.job = None
         self.lock = threading.Lock()
         self.generation = 0
+        #: The last refinement's failure, reported (once) by the next ``draw``: Blender's
+        #: reports are written from its own thread, not from the refinement thread.
+        self.error = None
 
     # Scene and view -------------------------------------------------------------------------
     def _camera(self, context, depsgraph):
@@ -77,11 +80,16 @@ class ViewportRender:
             film = {"width": max(1, w // div), "height": max(1, h // div)}
             try:
                 job = RenderJob(dict(ir, film=film), stage)
-            except photonmap.PhotonmapError:
+            except Exception as e:  # SceneError (a ValueError), PhotonmapError
+                self._failed(gen, e)
                 return
             self.job = job
             job._run()
-            if job.error is not None or gen != self.generation:
+            if gen != self.generation:
+                return
+            if job.error is not None:
+                if not (isinstance(job.error, photonmap.RenderCancelled) or job.token.cancelled):
+                    self._failed(gen, job.error)
                 return
             with self.lock:
                 self.image = job.out["combined"]
@@ -90,6 +98,20 @@ class ViewportRender:
                 self.engine.tag_redraw()
             except ReferenceError:  # the engine was freed
                 return
+
+    def _failed(self, gen, error):
+        if gen == self.generation:
+            self.error = str(error) or type(error).__name__
+            try:
+                self.engine.tag_redraw()
+            except ReferenceError:
+                pass
+
+    def report_error(self):
+        """Reports the last refinement's failure through the engine (from Blender's thread)."""
+        error, self.error = self.error, None
+        if error is not None:
+            self.engine._report("ERROR", error)
 
     def stop(self):
         self.generation += 1
@@ -101,6 +123,7 @@ class ViewportRender:
         import gpu
         from gpu_extras.presets import draw_texture_2d
 
+        self.report_error()
         if self.ir is None:
             return
         cam, key = self._camera(context, depsgraph)
