@@ -1,7 +1,8 @@
 //! Cancel latency on a large scene: the default scene tessellated to ~1.5 million triangles,
 //! rendered at 256x256 with settings that make each phase last seconds. The cancel flag is set
-//! 0.3 s into the photon pass, the irradiance-cache fill or the camera pass (timed by the
-//! progress callback's phase names), and the render must return `Err(Cancelled)` within 1 s.
+//! 0.3 s into the scene build (validation and BVH), the photon pass, the irradiance-cache fill
+//! or the camera pass (timed by the progress callback's phase names), and the build or render
+//! must return `Err(Cancelled)` within 1 s.
 //! A cancelled render must not change what an uncancelled one computes: that is the
 //! determinism tests' job (`render_invariants.rs`), which run with a cancel flag never set.
 
@@ -77,15 +78,22 @@ fn tessellate(m: &MeshDesc, levels: u32) -> MeshDesc {
 }
 
 /// The default scene at 256x256, every mesh split 4^4 times (~1.5 million triangles).
-fn large_scene() -> &'static Scene {
-    static SCENE: std::sync::OnceLock<Scene> = std::sync::OnceLock::new();
-    SCENE.get_or_init(|| {
+fn large_desc() -> &'static SceneDesc {
+    static DESC: std::sync::OnceLock<SceneDesc> = std::sync::OnceLock::new();
+    DESC.get_or_init(|| {
         let mut desc: SceneDesc = default_scene();
         desc.film.width = 256;
         desc.film.height = 256;
         desc.meshes = desc.meshes.iter().map(|m| tessellate(m, 4)).collect();
+        desc
+    })
+}
+
+fn large_scene() -> &'static Scene {
+    static SCENE: std::sync::OnceLock<Scene> = std::sync::OnceLock::new();
+    SCENE.get_or_init(|| {
         let t = Instant::now();
-        let scene = Scene::build(&desc).expect("scene builds");
+        let scene = Scene::build(large_desc()).expect("scene builds");
         eprintln!(
             "large scene: {} triangles, built in {:.2} s",
             scene.triangle_count,
@@ -207,4 +215,41 @@ fn cancel_during_the_camera_pass() {
     s.photons.final_gather_rays = 1024;
     s.spp = 16;
     cancel_during("render", s);
+}
+
+#[test]
+fn cancel_during_the_scene_build() {
+    let _g = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let desc = large_desc();
+    let flag = AtomicBool::new(false);
+    std::thread::scope(|s| {
+        let t = Instant::now();
+        let worker = s.spawn(|| {
+            let r = Scene::build_cancellable(desc, Some(&flag));
+            (r.map(|_| ()), Instant::now())
+        });
+        std::thread::sleep(INTO_PHASE);
+        let still_building = !worker.is_finished();
+        let set_at = Instant::now();
+        flag.store(true, Ordering::Relaxed);
+        let (result, returned_at) = worker.join().expect("build thread");
+        let latency = returned_at.saturating_duration_since(set_at);
+        eprintln!(
+            "scene build: cancelled {:.0} ms in, returned after {:.0} ms",
+            set_at.duration_since(t).as_secs_f64() * 1e3,
+            latency.as_secs_f64() * 1e3
+        );
+        assert!(still_building, "the build was over before the flag was set");
+        assert!(
+            matches!(result, Err(Error::Cancelled)),
+            "expected Err(Cancelled), got {result:?}"
+        );
+        assert!(
+            latency < LATENCY,
+            "the build returned {:.3} s after the flag was set",
+            latency.as_secs_f64()
+        );
+    });
+    // Uncancelled, the same description builds.
+    assert!(Scene::build_cancellable(desc, Some(&AtomicBool::new(false))).is_ok());
 }
