@@ -71,7 +71,7 @@ fn tessellate(m: &MeshDesc, levels: u32) -> MeshDesc {
             }
         }
         if let (Some(src), Some(dst)) = (&m.material_indices, out.material_indices.as_mut()) {
-            dst.extend(std::iter::repeat_n(src[t], (n * n) as usize));
+            dst.extend(std::iter::repeat(src[t]).take((n * n) as usize));
         }
     }
     out
