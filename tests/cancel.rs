@@ -2,12 +2,15 @@
 //! rendered at 256x256 with settings that make each phase last seconds. The cancel flag is set
 //! 0.3 s into the scene build (validation and BVH), the photon pass, the irradiance-cache fill
 //! or the camera pass (timed by the progress callback's phase names), and the build or render
-//! must return `Err(Cancelled)` within 1 s.
+//! must return `Err(Cancelled)` within 1 s. The photon kd-tree build (tens of seconds at 10^8
+//! photons) is checked on its own.
 //! A cancelled render must not change what an uncancelled one computes: that is the
 //! determinism tests' job (`render_invariants.rs`), which run with a cancel flag never set.
 
 use photonmap::error::Error;
+use photonmap::photon::{Photon, PhotonKdTree};
 use photonmap::render::{ProgressFn, RenderSettings, Renderer};
+use photonmap::sampling::Rng;
 use photonmap::scene::desc::MeshDesc;
 use photonmap::scene::{default_scene, Scene, SceneDesc};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -252,4 +255,56 @@ fn cancel_during_the_scene_build() {
     });
     // Uncancelled, the same description builds.
     assert!(Scene::build_cancellable(desc, Some(&AtomicBool::new(false))).is_ok());
+}
+
+/// `n` photons at random positions in the unit cube.
+fn random_photons(n: usize) -> Vec<Photon> {
+    let mut rng = Rng::new(11, 0);
+    (0..n)
+        .map(|_| Photon::new(rng.vec3(), glam::Vec3::ONE, -rng.vec3() - 0.1).expect("photon"))
+        .collect()
+}
+
+#[test]
+fn kdtree_build_is_the_same_when_not_cancelled() {
+    // Above the parallel threshold, so that the flag is read at several levels.
+    let photons = random_photons(300_000);
+    let plain = PhotonKdTree::build(photons.clone());
+    let flag = AtomicBool::new(false);
+    let cancellable = PhotonKdTree::build_cancellable(photons.clone(), &flag).expect("built");
+    assert_eq!(plain.photons(), cancellable.photons());
+    flag.store(true, Ordering::Relaxed);
+    assert!(PhotonKdTree::build_cancellable(photons, &flag).is_none());
+}
+
+#[test]
+fn cancel_during_the_kdtree_build() {
+    let _g = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let photons = random_photons(10_000_000);
+    let flag = AtomicBool::new(false);
+    std::thread::scope(|s| {
+        let t = Instant::now();
+        let worker = s.spawn(|| {
+            let r = PhotonKdTree::build_cancellable(photons, &flag);
+            (r.is_none(), Instant::now())
+        });
+        std::thread::sleep(INTO_PHASE);
+        let still_building = !worker.is_finished();
+        let set_at = Instant::now();
+        flag.store(true, Ordering::Relaxed);
+        let (gave_up, returned_at) = worker.join().expect("build thread");
+        let latency = returned_at.saturating_duration_since(set_at);
+        eprintln!(
+            "kd-tree build: cancelled {:.0} ms in, returned after {:.0} ms",
+            set_at.duration_since(t).as_secs_f64() * 1e3,
+            latency.as_secs_f64() * 1e3
+        );
+        assert!(still_building, "the build was over before the flag was set");
+        assert!(gave_up, "the build went on to the end");
+        assert!(
+            latency < LATENCY,
+            "the build returned {:.3} s after the flag was set",
+            latency.as_secs_f64()
+        );
+    });
 }

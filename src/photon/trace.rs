@@ -310,7 +310,8 @@ fn trace_batch(scene: &Scene, params: &TraceParams, b: u64) -> Vec<RawPhoton> {
 }
 
 /// Shoots photons until `params.target` are stored or the cap is reached, and builds the map.
-/// Returns `None` when cancelled; the cancel flag is read before every batch.
+/// Returns `None` when cancelled; the cancel flag is read before every batch and within the
+/// kd-tree build.
 ///
 /// Memory: each round's photons are kept in one vector of exact size, and turned into 20-byte
 /// photons only once the number emitted (their normalisation) is known, a round at a time,
@@ -374,7 +375,10 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
         return None;
     }
     let t = std::time::Instant::now();
-    let tree = PhotonKdTree::build(photons);
+    let tree = match params.cancel {
+        Some(flag) => PhotonKdTree::build_cancellable(photons, flag)?,
+        None => PhotonKdTree::build(photons),
+    };
     Some(PhotonMap {
         kind: params.kind,
         tree,
