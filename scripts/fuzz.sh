@@ -9,6 +9,8 @@
 #   FUZZ_SECONDS=600 FUZZ_JOBS=4 ./scripts/fuzz.sh ir_builder
 #   FUZZ_SANITIZER=none FUZZ_RUNS=1000000 ./scripts/fuzz.sh scene_json
 #
+# FUZZ_TIMEOUT (default 10) is libFuzzer's per-input limit in wall seconds; raise it for a run
+# at low priority on a busy machine, where a starved input can take ten times its CPU time.
 # FUZZ_SANITIZER (default address) is passed to `cargo fuzz run -s`: `none` builds without
 # AddressSanitizer, several times faster. The core is safe Rust, so the sanitizer mostly
 # guards the dependencies; panics and the finite-pixel checks are caught either way.
@@ -21,6 +23,7 @@ SECS="${FUZZ_SECONDS:-3600}"
 [ -z "${FUZZ_RUNS:-}" ] || [ -n "${FUZZ_SECONDS:-}" ] || SECS=0
 JOBS="${FUZZ_JOBS:-1}"
 SANITIZER="${FUZZ_SANITIZER:-address}"
+TIMEOUT="${FUZZ_TIMEOUT:-10}"
 RUNS=()
 [ -z "${FUZZ_RUNS:-}" ] || RUNS=(-runs="$FUZZ_RUNS")
 TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target-fuzz}"
@@ -33,7 +36,7 @@ command -v cargo-fuzz > /dev/null || cargo install cargo-fuzz
 for t in "${TARGETS[@]}"; do
     mkdir -p "fuzz/corpus/$t"
     RUSTC_BOOTSTRAP=1 cargo fuzz run -O -s "$SANITIZER" --target-dir "$TARGET_DIR" "$t" -- \
-        -max_total_time="$SECS" -timeout=10 -rss_limit_mb=3072 -max_len=8192 -len_control=0 \
+        -max_total_time="$SECS" -timeout="$TIMEOUT" -rss_limit_mb=3072 -max_len=8192 -len_control=0 \
         -print_final_stats=1 ${RUNS[@]+"${RUNS[@]}"} ${PAR[@]+"${PAR[@]}"}
 done
 
