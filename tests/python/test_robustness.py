@@ -52,6 +52,42 @@ def test_cancel_token_stops_every_phase_within_a_second(phase):
     assert raised - state["cancel"] < 1.0, raised - state["cancel"]
 
 
+def test_cancel_token_stops_the_scene_build_within_a_second():
+    """A floor of 1.5 million triangles: the BVH build, on the render thread, takes seconds."""
+    import numpy as np
+
+    n = 866
+    g = np.linspace(-2, 2, n + 1, dtype=np.float32)
+    x, y = np.meshgrid(g, g)
+    pos = np.stack([x.ravel(), y.ravel(), np.zeros(x.size, np.float32)], axis=1)
+    i = np.arange(n)[:, None] * (n + 1) + np.arange(n)[None, :]
+    a, b, c, d = i.ravel(), i.ravel() + 1, i.ravel() + n + 2, i.ravel() + n + 1
+    tris = np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)]).astype(np.uint32)
+    scene = photonmap.Scene.from_dict({
+        "camera": {"fov": 0.7, "transform": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 4], [0, 0, 0, 1]]},
+        "film": {"width": 64, "height": 64},
+        "materials": [{"type": "diffuse", "color": [0.8, 0.8, 0.8]}],
+        "meshes": [{"positions": pos, "indices": tris}],
+        "lights": [{"type": "point", "position": [0, 0, 2], "power": 100}],
+    })
+    assert scene.counts()["triangles"] == 2 * n * n
+    token = photonmap.CancelToken()
+    state = {"phases": []}
+
+    def cancel():
+        state["phases_at_cancel"] = list(state["phases"])
+        state["cancel"] = time.monotonic()
+        token.cancel()
+
+    threading.Timer(0.3, cancel).start()
+    with pytest.raises(photonmap.RenderCancelled):
+        photonmap.render(scene, quality="draft", cancel=token,
+                         progress=lambda f, name: state["phases"].append(name))
+    raised = time.monotonic()
+    assert state["phases_at_cancel"] == [], "the scene was built before the cancel"
+    assert raised - state["cancel"] < 1.0, raised - state["cancel"]
+
+
 def test_a_panic_in_the_core_is_a_photonmap_error(monkeypatch):
     scene = default_scene(16)
     monkeypatch.setenv("PHOTONMAP_DEBUG_PANIC", "render")
