@@ -206,10 +206,9 @@ impl PyScene {
 
     /// The embedded default scene (a Cornell box with a glass and a mirror sphere).
     #[staticmethod]
-    fn default() -> Self {
-        PyScene {
-            desc: crate::scene::default_scene(),
-        }
+    fn default() -> PyResult<Self> {
+        let desc = caught(|| Ok(crate::scene::default_scene())).map_err(to_py)?;
+        Ok(PyScene { desc })
     }
 
     /// Scene IR JSON whose `meshes` entries leave `positions`/`indices` (and optionally
