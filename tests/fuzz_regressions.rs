@@ -117,3 +117,19 @@ fn mirror_box_with_gain_stops_at_the_emission_cap() {
         assert_eq!(m.emitted, 100_000u64.div_ceil(BATCH) * BATCH, "{}", m.map);
     }
 }
+
+/// `ir_builder` crash: an environment texture with negative texels (and no geometry) gave
+/// negative `emission` pixels, and negative weights to the environment's sampling
+/// distribution. Texels now count as at least 0, as in material colours.
+#[test]
+fn negative_environment_texels_count_as_zero() {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/fuzz/negative_environment_texel.json");
+    let out = replay("negative_environment_texel", &std::fs::read(p).unwrap()).expect("renders");
+    let emission = &out.film.term(Term::Emission).data;
+    assert!(emission.iter().flatten().all(|v| *v >= 0.0));
+    assert!(
+        emission.iter().flatten().any(|v| *v > 0.0),
+        "the environment is seen"
+    );
+}
