@@ -116,7 +116,7 @@ class PhotonMapRenderEngine(bpy.types.RenderEngine):
                             final_gather_rays=min(settings["final_gather_rays"], 64))
         try:
             job = RenderJob(exported.ir, settings)
-        except photonmap.PhotonmapError as e:
+        except Exception as e:  # SceneError (a ValueError), PhotonmapError
             self._report("ERROR", str(e))
             return
         started = time.monotonic()
@@ -130,10 +130,13 @@ class PhotonMapRenderEngine(bpy.types.RenderEngine):
 
         job.start().wait(poll)
         if isinstance(job.error, photonmap.RenderCancelled) or (
-                job.error is not None and job.token.cancelled()):
+                job.error is not None and job.token.cancelled):
             return
         if job.error is not None:
-            self._report("ERROR", str(job.error))
+            # Bad settings (ValueError naming the keyword), a failure or a panic of the core
+            # (PhotonmapError: "internal error: the renderer panicked: ..."): reported, never
+            # raised into Blender.
+            self._report("ERROR", str(job.error) or type(job.error).__name__)
             return
         passes.write_result(self, job.out, exported.window, depsgraph.view_layer.name)
         self.update_progress(1.0)

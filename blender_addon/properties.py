@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import bpy
 import photonmap
-from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
 
 _DEFAULT_QUALITY = "medium"
 _P = photonmap.preset(_DEFAULT_QUALITY)
@@ -65,6 +65,10 @@ class PhotonMapSettings(bpy.types.PropertyGroup):
     time_budget: FloatProperty(name="Time Budget", default=0.0, min=0.0,
                                description="Seconds the whole render should take; photon counts "
                                "and camera passes are planned to fill it (0 = off)")
+    memory_limit: StringProperty(name="Memory Limit", default="",
+                                 description="Largest memory the photon maps and the BVH may "
+                                 "take, in bytes or as 512M, 8G (empty = the available memory); "
+                                 "a render that would need more stops up front")
     seed: IntProperty(name="Seed", default=0, min=0, description="Random seed")
     threads: IntProperty(name="Threads", default=0, min=0, description="Worker threads (0 = all)")
 
@@ -80,6 +84,7 @@ def render_settings(s: PhotonMapSettings) -> dict:
         "max_specular_depth": s.max_specular_depth, "seed": s.seed, "threads": s.threads,
         "time_budget": s.time_budget if s.time_budget > 0 else None,
         "mode": s.mode, "alpha": s.alpha, "initial_photons": s.initial_photons,
+        "memory_limit": s.memory_limit.strip() or None,
     }
 
 

@@ -38,6 +38,9 @@ class ViewportRender:
         self.job = None
         self.lock = threading.Lock()
         self.generation = 0
+        #: The last refinement's failure, reported (once) by the next ``draw``: Blender's
+        #: reports are written from its own thread, not from the refinement thread.
+        self.error = None
 
     # Scene and view -------------------------------------------------------------------------
     def _camera(self, context, depsgraph):
@@ -81,11 +84,16 @@ class ViewportRender:
             try:
                 job = RenderJob(dict(ir, film=film), stage,
                                 preview=lambda img, _passes: self._show(gen, img))
-            except photonmap.PhotonmapError:
+            except Exception as e:  # SceneError (a ValueError), PhotonmapError
+                self._failed(gen, e)
                 return
             self.job = job
             job._run()
-            if job.error is not None or gen != self.generation:
+            if gen != self.generation:
+                return
+            if job.error is not None:
+                if not (isinstance(job.error, photonmap.RenderCancelled) or job.token.cancelled):
+                    self._failed(gen, job.error)
                 return
             if not self._show(gen, job.out["combined"]):
                 return
@@ -103,6 +111,20 @@ class ViewportRender:
             return False
         return True
 
+    def _failed(self, gen, error):
+        if gen == self.generation:
+            self.error = str(error) or type(error).__name__
+            try:
+                self.engine.tag_redraw()
+            except ReferenceError:
+                pass
+
+    def report_error(self):
+        """Reports the last refinement's failure through the engine (from Blender's thread)."""
+        error, self.error = self.error, None
+        if error is not None:
+            self.engine._report("ERROR", error)
+
     def stop(self):
         self.generation += 1
         if self.job is not None:
@@ -113,6 +135,7 @@ class ViewportRender:
         import gpu
         from gpu_extras.presets import draw_texture_2d
 
+        self.report_error()
         if self.ir is None:
             return
         cam, key = self._camera(context, depsgraph)

@@ -494,7 +494,7 @@ pub fn render_desc_with_preview(
     preview: Option<Arc<crate::render::PreviewFn>>,
 ) -> Result<RenderOutput> {
     let t0 = std::time::Instant::now();
-    let scene = Scene::build(desc)?;
+    let scene = Scene::build_cancellable(desc, cancel.as_deref())?;
     let build_s = t0.elapsed().as_secs_f64();
     let mut r = Renderer::new(&scene).settings(settings);
     if let Some(p) = progress {

@@ -1,10 +1,12 @@
 //! Inputs found by the fuzz targets of `fuzz/` (see README, "Fuzzing"), replayed the way the
 //! targets run them: JSON text -> `scene_json::from_str` -> build -> an 8x8 render at 1 spp
 //! with ~100 photons per map. None may panic; a render that succeeds has every AOV pixel
-//! finite and >= 0. Files under `tests/data/fuzz/` are JSON scene inputs of the `scene_json`
-//! target (the name says what each one found); the seed corpus of `fuzz/corpus/` runs too.
+//! finite and >= 0. Files under `tests/data/fuzz/` are JSON scene inputs (the name says what
+//! each one found; an `ir_builder` input is stored as the scene it generated); the seed corpus
+//! of `fuzz/corpus/` runs too.
 
 use photonmap::io::scene_json;
+use photonmap::photon::trace::BATCH;
 use photonmap::render::aov::Term;
 use photonmap::render::film::Filter;
 use photonmap::render::{PhotonSettings, RenderOutput, RenderSettings, Renderer};
@@ -96,4 +98,38 @@ fn stored_fuzz_inputs_do_not_panic() {
         let bytes = std::fs::read(&p).unwrap();
         replay(&label, &bytes);
     }
+}
+
+/// `ir_builder` timed out (10 s limit, 13 s wall under `nice -n 19` on a busy machine, 1.3 s
+/// of CPU) on a closed box (an inside-out cube) of a mirror with reflectance up to 8 around a
+/// point light: Russian roulette never absorbs and mirrors store nothing, so each map traces
+/// its emission cap of paths, each to `max_bounces`. The cost is bounded by that cap.
+#[test]
+fn mirror_box_with_gain_stops_at_the_emission_cap() {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/fuzz/slow_mirror_box_with_gain.json");
+    let out = replay("slow_mirror_box_with_gain", &std::fs::read(p).unwrap()).expect("renders");
+    let built: Vec<_> = out.stats.photon_maps.iter().filter(|m| m.built).collect();
+    assert_eq!(built.len(), 2, "global and caustic maps");
+    for m in built {
+        assert_eq!(m.stored, 0, "{}", m.map);
+        // max(100 x max_emitted_factor, 100 000) paths, in whole batches.
+        assert_eq!(m.emitted, 100_000u64.div_ceil(BATCH) * BATCH, "{}", m.map);
+    }
+}
+
+/// `ir_builder` crash: an environment texture with negative texels (and no geometry) gave
+/// negative `emission` pixels, and negative weights to the environment's sampling
+/// distribution. Texels now count as at least 0, as in material colours.
+#[test]
+fn negative_environment_texels_count_as_zero() {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/fuzz/negative_environment_texel.json");
+    let out = replay("negative_environment_texel", &std::fs::read(p).unwrap()).expect("renders");
+    let emission = &out.film.term(Term::Emission).data;
+    assert!(emission.iter().flatten().all(|v| *v >= 0.0));
+    assert!(
+        emission.iter().flatten().any(|v| *v > 0.0),
+        "the environment is seen"
+    );
 }

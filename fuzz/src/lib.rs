@@ -512,6 +512,42 @@ pub struct Medium {
     /// Multiplies both coefficients by 10^(k % 10 - 2).
     density_decade: u8,
     g: F,
+    grid: Option<Grid>,
+}
+
+/// A density grid: up to 4x4x4 voxels, the data sometimes one value short or long, and the
+/// medium's extinction made grey (as a grid requires) unless `coloured`.
+#[derive(Debug, Arbitrary)]
+pub struct Grid {
+    resolution: [u8; 3],
+    data: Vec<P>,
+    /// -1, 0 or +1 values relative to the resolution's product.
+    length_error: u8,
+    coloured: bool,
+    transform: Xf,
+}
+
+impl Grid {
+    fn desc(&self) -> DensityGridDesc {
+        let resolution = self.resolution.map(|r| r as u32 % 5);
+        let n = resolution.iter().product::<u32>() as usize;
+        let n = match self.length_error % 8 {
+            0 => n.saturating_sub(1),
+            1 => n + 1,
+            _ => n,
+        };
+        DensityGridDesc {
+            resolution,
+            data: (0..n)
+                .map(|i| {
+                    self.data
+                        .get(i % self.data.len().max(1))
+                        .map_or(1.0, |v| v.0)
+                })
+                .collect(),
+            transform: self.transform.matrix(),
+        }
+    }
 }
 
 #[derive(Debug, Arbitrary)]
@@ -610,10 +646,22 @@ impl FuzzScene {
                 .take(4)
                 .map(|m| {
                     let k = 10f32.powi((m.density_decade % 10) as i32 - 2);
+                    let mut sigma_a = rgb(m.sigma_a).map(|v| v * k);
+                    let mut sigma_s = rgb(m.sigma_s).map(|v| v * k);
+                    if m.grid.as_ref().is_some_and(|g| !g.coloured) {
+                        // Grey extinction, coloured albedo: scale sigma_s per channel.
+                        let t = sigma_a[0] + sigma_s[0];
+                        for c in 0..3 {
+                            let a = sigma_a[c] / (sigma_a[c] + sigma_s[c]).max(1e-6);
+                            sigma_a[c] = t * a;
+                            sigma_s[c] = t - sigma_a[c];
+                        }
+                    }
                     MediumDesc {
                         name: String::new(),
-                        sigma_a: rgb(m.sigma_a).map(|v| v * k),
-                        sigma_s: rgb(m.sigma_s).map(|v| v * k),
+                        sigma_a,
+                        sigma_s,
+                        density: m.grid.as_ref().map(Grid::desc),
                         g: if m.g.0.is_finite() && m.g.0.abs() < 8.0 {
                             m.g.0.fract()
                         } else {

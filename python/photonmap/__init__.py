@@ -241,6 +241,7 @@ def render(
     initial_photons: int | None = None,
     progressive: bool | None = None,
     gather_rays_per_sample: int | None = None,
+    memory_limit: int | str | None = None,
     progress: Callable[[float, str], Any] | None = None,
     preview: Callable[[np.ndarray, int], Any] | None = None,
     cancel: CancelToken | None = None,
@@ -262,6 +263,9 @@ def render(
     a progressive render (``progressive``, ``time_budget`` or ``mode="sppm"``): the core
     previews after passes 1, 2, 4, ... and at most every 0.25 s between, and the calling
     thread hands on the latest one every 50 ms, and the last one at the end.
+    ``memory_limit`` (bytes, or a size such as ``"512M"`` or ``"8G"``, as ``--memory-limit``;
+    default: the available memory) stops the render up front, with ``ValueError`` naming
+    ``memory_limit`` and the estimate, when its photon maps and BVH would need more.
     """
     s = _to_scene(scene)
 
@@ -274,8 +278,8 @@ def render(
         gather=gather, radius=radius,
         final_gather_rays=final_gather_rays, irradiance_cache=irradiance_cache,
         cache_tolerance=cache_tolerance, max_specular_depth=max_specular_depth, filter=filter,
-        time_budget=time_budget, mode=mode, alpha=alpha, initial_photons=initial_photons,
-        progressive=progressive,
+        time_budget=time_budget, memory_limit=memory_limit, mode=mode, alpha=alpha,
+        initial_photons=initial_photons, progressive=progressive,
         gather_rays_per_sample=gather_rays_per_sample, progress=progress,
         preview=show if preview is not None else None, cancel=cancel,
     )

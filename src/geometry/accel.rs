@@ -11,6 +11,7 @@ use super::ray::Ray;
 use super::triangle::{face_normal, intersect_triangle, is_degenerate, TriRay};
 use crate::math::{Bounds3, Frame};
 use glam::{Mat4, Vec2, Vec3};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 static EMPTY_MESH: MeshGeom = MeshGeom {
     positions: Vec::new(),
@@ -79,7 +80,7 @@ pub struct Accel {
 }
 
 impl Blas {
-    fn build(mesh: &MeshGeom) -> Blas {
+    fn build(mesh: &MeshGeom, cancel: Option<&AtomicBool>) -> Option<Blas> {
         let n = mesh.indices.len();
         let mut bounds = Vec::with_capacity(n);
         let mut cents = Vec::with_capacity(n);
@@ -96,9 +97,9 @@ impl Blas {
             bounds.push(b);
             cents.push(b.center());
         }
-        let bvh = Bvh::build(&bounds, &cents);
+        let bvh = Bvh::build_cancellable(&bounds, &cents, cancel)?;
         let tris = bvh.prims.iter().map(|&i| mesh.triangle(i)).collect();
-        Blas { bvh, tris }
+        Some(Blas { bvh, tris })
     }
 
     /// Closest hit in this BLAS below `t_max`: (t, prim, b1, b2).
@@ -173,8 +174,26 @@ impl Accel {
     /// | `meshes` | object-space meshes, shared by the instances that reference them |
     /// | `instances` | placements of meshes in the world |
     pub fn build(meshes: Vec<MeshGeom>, instances: Vec<Instance>) -> Accel {
+        Self::build_cancellable(meshes, instances, None).expect("not cancelled")
+    }
+
+    /// As [`Accel::build`], giving up (`None`) soon after `cancel` is set: it is read before
+    /// each mesh and within large BVH builds.
+    pub fn build_cancellable(
+        meshes: Vec<MeshGeom>,
+        instances: Vec<Instance>,
+        cancel: Option<&AtomicBool>,
+    ) -> Option<Accel> {
         use rayon::prelude::*;
-        let blas: Vec<Blas> = meshes.par_iter().map(Blas::build).collect();
+        let blas: Vec<Blas> = meshes
+            .par_iter()
+            .map(|m| {
+                if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+                    return None;
+                }
+                Blas::build(m, cancel)
+            })
+            .collect::<Option<_>>()?;
         let mut wb = Vec::with_capacity(instances.len());
         let mut inst = Vec::with_capacity(instances.len());
         for i in &instances {
@@ -194,14 +213,14 @@ impl Accel {
             });
         }
         let cents: Vec<Vec3> = wb.iter().map(|b| b.center()).collect();
-        let top = Bvh::build(&wb, &cents);
-        Accel {
+        let top = Bvh::build_cancellable(&wb, &cents, cancel)?;
+        Some(Accel {
             meshes,
             blas,
             instances,
             inst,
             top,
-        }
+        })
     }
 
     /// Closest hit with `0 < t < ray.t_max`, or `None`.

@@ -9,10 +9,12 @@
 //! | degenerate nodes | all centroids equal, or no useful SAH split: split in the middle of the list |
 //! | depth | SAH splits stop at depth [`SAH_MAX_DEPTH`]; below, middle splits keep the tree shallower than the traversal stack |
 //! | parallelism | subtrees larger than [`PARALLEL_THRESHOLD`] are built with `rayon::join`; the tree does not depend on the thread count |
+//! | cancel | [`Bvh::build_cancellable`] reads a cancel flag at every node of more than [`PARALLEL_THRESHOLD`] primitives |
 
 use super::bvh::{Bvh, BvhNode, NodePair};
 use crate::math::Bounds3;
 use glam::Vec3;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 pub const BINS: usize = 16;
 pub const MAX_LEAF: usize = 8;
@@ -59,6 +61,15 @@ impl Bvh {
     /// | `bounds` | bounds of each primitive; primitives with empty or non-finite bounds are left out |
     /// | `centroids` | the point each primitive is sorted by (usually the bounds centre); missing entries use the bounds centre |
     pub fn build(bounds: &[Bounds3], centroids: &[Vec3]) -> Bvh {
+        Self::build_cancellable(bounds, centroids, None).unwrap_or_default()
+    }
+
+    /// As [`Bvh::build`], giving up (`None`) soon after `cancel` is set.
+    pub fn build_cancellable(
+        bounds: &[Bounds3],
+        centroids: &[Vec3],
+        cancel: Option<&AtomicBool>,
+    ) -> Option<Bvh> {
         let mut prims: Vec<Prim> = bounds
             .iter()
             .enumerate()
@@ -78,16 +89,19 @@ impl Bvh {
             })
             .collect();
         if prims.is_empty() {
-            return Bvh::default();
+            return Some(Bvh::default());
         }
-        let root = build_rec(&mut prims, 0, 0);
+        let root = build_rec(&mut prims, 0, 0, cancel);
+        if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+            return None;
+        }
         let mut pairs = Vec::with_capacity(root.size() as usize / 2 + 1);
         pairs.push(NodePair::default());
         flatten(&root, &mut pairs, 0);
-        Bvh {
+        Some(Bvh {
             pairs,
             prims: prims.iter().map(|p| p.index).collect(),
-        }
+        })
     }
 }
 
@@ -230,7 +244,7 @@ fn partition(prims: &mut [Prim], pred: impl Fn(&Prim) -> bool) -> usize {
     }
 }
 
-fn build_rec(prims: &mut [Prim], first: u32, depth: u32) -> Node {
+fn build_rec(prims: &mut [Prim], first: u32, depth: u32, cancel: Option<&AtomicBool>) -> Node {
     let mut b = Bounds3::EMPTY;
     let mut cb = Bounds3::EMPTY;
     for p in prims.iter() {
@@ -245,6 +259,10 @@ fn build_rec(prims: &mut [Prim], first: u32, depth: u32) -> Node {
         count: n as u32,
     };
     if n <= 1 {
+        return leaf;
+    }
+    // Cancelled: stop splitting (the caller throws the tree away).
+    if n > PARALLEL_THRESHOLD && cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
         return leaf;
     }
     let split = if depth < SAH_MAX_DEPTH {
@@ -277,13 +295,13 @@ fn build_rec(prims: &mut [Prim], first: u32, depth: u32) -> Node {
     let (l, r) = prims.split_at_mut(mid);
     let (left, right) = if n > PARALLEL_THRESHOLD {
         rayon::join(
-            || build_rec(l, first, depth + 1),
-            || build_rec(r, first + mid as u32, depth + 1),
+            || build_rec(l, first, depth + 1, cancel),
+            || build_rec(r, first + mid as u32, depth + 1, cancel),
         )
     } else {
         (
-            build_rec(l, first, depth + 1),
-            build_rec(r, first + mid as u32, depth + 1),
+            build_rec(l, first, depth + 1, cancel),
+            build_rec(r, first + mid as u32, depth + 1, cancel),
         )
     };
     let size = 1 + left.size() + right.size();

@@ -4,7 +4,7 @@
 //! | parameter | meaning |
 //! |---|---|
 //! | `color` x `strength` | radiance scale |
-//! | `texture` | lat-long image; direction d (local, +Z up) maps to u = 0.5 - atan2(d.y, d.x)/2pi, v = 0.5 + asin(d.z)/pi |
+//! | `texture` | lat-long image; direction d (local, +Z up) maps to u = 0.5 - atan2(d.y, d.x)/2pi, v = 0.5 + asin(d.z)/pi; negative texels count as 0 (as in material colours) |
 //! | `transform` | environment-to-world |
 
 use super::LightSample;
@@ -34,6 +34,12 @@ pub fn uv_to_dir(uv: Vec2) -> Vec3 {
     Vec3::new(phi.cos() * lat.cos(), phi.sin() * lat.cos(), lat.sin())
 }
 
+/// The image's radiance at `uv`: negative texels are clamped to 0 (a negative radiance would
+/// give negative pixels and a negative sampling weight).
+fn texel(tex: &Texture, uv: Vec2) -> Spectrum {
+    tex.eval_rgb(uv).max(Vec3::ZERO)
+}
+
 impl EnvironmentLight {
     pub fn new(scale: Spectrum, texture: Option<Texture>, to_world: Transform) -> Self {
         let image = texture.map(|tex| {
@@ -46,7 +52,7 @@ impl EnvironmentLight {
                 let cos_lat = (PI * (v - 0.5)).cos();
                 for i in 0..w {
                     let u = (i as f32 + 0.5) / w as f32;
-                    f[j * w + i] = (luminance(tex.eval_rgb(Vec2::new(u, v))) + 1e-6) * cos_lat;
+                    f[j * w + i] = (luminance(texel(&tex, Vec2::new(u, v))) + 1e-6) * cos_lat;
                 }
             }
             let dist = Distribution2D::new(&f, w, h);
@@ -65,7 +71,7 @@ impl EnvironmentLight {
             None => self.scale,
             Some((tex, _)) => {
                 let local = self.to_world.inv_vector(d).normalize_or_zero();
-                self.scale * tex.eval_rgb(dir_to_uv(local))
+                self.scale * texel(tex, dir_to_uv(local))
             }
         }
     }

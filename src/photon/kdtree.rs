@@ -24,6 +24,7 @@
 //!   keeps them exact in the presence of ties.
 
 use glam::{Vec3, Vec3A};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::photon::{PhotonRecord, LEAF_AXIS};
 
@@ -182,9 +183,24 @@ fn select_on_axis<P: PhotonRecord>(seg: &mut [P], m: usize, axis: usize) {
 /// Balances `seg` into the sub-heap rooted at `node` (Jensen 2001,
 /// appendix B, `balance_segment`, with selection in place of his
 /// `median_split` partitioning loop).
-fn build_segment<P: PhotonRecord>(seg: &mut [P], node: usize, n: usize, out: HeapPtr<P>) {
+///
+/// With a `cancel` flag, segments of at least [`PARALLEL_BUILD_THRESHOLD`] records read it
+/// and, once it is set, return without writing their sub-heap, after setting `aborted`.
+fn build_segment<P: PhotonRecord>(
+    seg: &mut [P],
+    node: usize,
+    n: usize,
+    out: HeapPtr<P>,
+    cancel: Option<(&AtomicBool, &AtomicBool)>,
+) {
     let len = seg.len();
     debug_assert_eq!(subtree_size(node, n), len);
+    if let Some((flag, aborted)) = cancel {
+        if len >= PARALLEL_BUILD_THRESHOLD && flag.load(Ordering::Relaxed) {
+            aborted.store(true, Ordering::Relaxed);
+            return;
+        }
+    }
     if len == 1 {
         // A one-record subset always lands on a heap leaf.
         let mut p = seg[0];
@@ -206,17 +222,17 @@ fn build_segment<P: PhotonRecord>(seg: &mut [P], node: usize, n: usize, out: Hea
     let (l, r) = (2 * node + 1, 2 * node + 2);
     if len >= PARALLEL_BUILD_THRESHOLD {
         rayon::join(
-            || build_segment(left, l, n, out),
+            || build_segment(left, l, n, out, cancel),
             || {
                 if !right.is_empty() {
-                    build_segment(right, r, n, out)
+                    build_segment(right, r, n, out, cancel)
                 }
             },
         );
     } else {
-        build_segment(left, l, n, out);
+        build_segment(left, l, n, out, cancel);
         if !right.is_empty() {
-            build_segment(right, r, n, out);
+            build_segment(right, r, n, out, cancel);
         }
     }
 }
@@ -261,13 +277,39 @@ impl<P: PhotonRecord> PhotonKdTree<P> {
         let mut scratch = photons;
         let mut nodes: Vec<P> = Vec::with_capacity(n);
         if n > 0 {
-            build_segment(&mut scratch, 0, n, HeapPtr(nodes.as_mut_ptr()));
+            build_segment(&mut scratch, 0, n, HeapPtr(nodes.as_mut_ptr()), None);
         }
         // SAFETY: `build_segment` wrote every index in 0..n exactly once
         // (the left-balanced median gives each subset exactly the size of its
         // sub-heap); `P: Copy`, so nothing needs dropping on unwind.
         unsafe { nodes.set_len(n) };
         PhotonKdTree { nodes }
+    }
+
+    /// As [`PhotonKdTree::build`], giving up (`None`) soon after `cancel` is set: subsets
+    /// of at least [`PARALLEL_BUILD_THRESHOLD`] records read it. The tree, when built, is
+    /// the same.
+    pub fn build_cancellable(photons: Vec<P>, cancel: &AtomicBool) -> Option<Self> {
+        let n = photons.len();
+        assert!(
+            n <= u32::MAX as usize,
+            "photon kd-tree holds at most u32::MAX photons"
+        );
+        let mut scratch = photons;
+        let mut nodes: Vec<P> = Vec::with_capacity(n);
+        let aborted = AtomicBool::new(false);
+        if n > 0 {
+            let out = HeapPtr(nodes.as_mut_ptr());
+            build_segment(&mut scratch, 0, n, out, Some((cancel, &aborted)));
+        }
+        if aborted.load(Ordering::Relaxed) {
+            // Some sub-heaps were never written: `nodes` is dropped with length 0.
+            return None;
+        }
+        // SAFETY: no segment was skipped (`aborted` is false), so, as in `build`, every
+        // index in 0..n was written exactly once.
+        unsafe { nodes.set_len(n) };
+        Some(PhotonKdTree { nodes })
     }
 
     /// Number of photons.

@@ -52,6 +52,8 @@ pub struct PhotonMap {
     pub tree: PhotonKdTree<Photon>,
     /// Photon paths emitted to fill the map (the photons' power is already divided by it).
     pub emitted: u64,
+    /// Seconds the kd-tree took to build (balance).
+    pub build_seconds: f64,
 }
 
 impl PhotonMap {

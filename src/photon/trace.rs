@@ -315,27 +315,48 @@ fn trace_batch(scene: &Scene, params: &TraceParams, b: u64) -> Vec<RawPhoton> {
 }
 
 /// Shoots photons until `params.target` are stored or the cap is reached, and builds the map.
+/// Returns `None` when cancelled; the cancel flag is read before every batch and within the
+/// kd-tree build.
+///
+/// Memory: each round's photons are kept in one vector of exact size, and turned into 20-byte
+/// photons only once the number emitted (their normalisation) is known, a round at a time,
+/// each freed once converted. The peak is then the larger of the raw photons
+/// (`size_of::<RawPhoton>()` bytes each) and the kd-tree build (2 x 20 bytes each), rather
+/// than their sum.
 pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
-    let mut raw: Vec<RawPhoton> = Vec::new();
+    let cancelled = || params.cancel.is_some_and(|c| c.load(Ordering::Relaxed));
+    let mut rounds: Vec<Vec<RawPhoton>> = Vec::new();
+    let mut stored = 0usize;
     let mut batches = 0u64;
     let max_batches = params.max_emitted.div_ceil(BATCH).max(1);
     let mut round = 4u64;
-    while raw.len() < params.target && batches < max_batches {
-        if params.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+    while stored < params.target && batches < max_batches {
+        if cancelled() {
             return None;
         }
         let n = round.min(max_batches - batches);
         let results: Vec<Vec<RawPhoton>> = (batches..batches + n)
             .into_par_iter()
-            .map(|b| trace_batch(scene, params, b))
+            .map(|b| {
+                if cancelled() {
+                    return Vec::new();
+                }
+                trace_batch(scene, params, b)
+            })
             .collect();
+        if cancelled() {
+            return None;
+        }
+        let mut raw = Vec::with_capacity(results.iter().map(Vec::len).sum());
         for r in results {
             raw.extend(r);
         }
+        stored += raw.len();
+        rounds.push(raw);
         batches += n;
         // Size the next round from the storage rate seen so far (deterministic).
-        let per_batch = raw.len() as f64 / batches as f64;
-        let missing = params.target.saturating_sub(raw.len()) as f64;
+        let per_batch = stored as f64 / batches as f64;
+        let missing = params.target.saturating_sub(stored) as f64;
         round = if per_batch > 0.0 {
             ((missing / per_batch).ceil() as u64).clamp(1, 512)
         } else {
@@ -344,9 +365,9 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
     }
     let emitted = batches * BATCH;
     let inv = 1.0 / emitted as f32;
-    let photons: Vec<Photon> = raw
-        .iter()
-        .filter_map(|r| {
+    let mut photons: Vec<Photon> = Vec::with_capacity(stored);
+    for raw in rounds {
+        photons.extend(raw.iter().filter_map(|r| {
             let mut ph = Photon::new(r.p, r.power * inv, r.d).ok()?;
             ph.set_user_flags(
                 if r.first { FLAG_FIRST_HIT } else { 0 }
@@ -354,11 +375,20 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
                     | if r.caustic { FLAG_CAUSTIC_PATH } else { 0 },
             );
             Some(ph)
-        })
-        .collect();
+        }));
+    }
+    if cancelled() {
+        return None;
+    }
+    let t = std::time::Instant::now();
+    let tree = match params.cancel {
+        Some(flag) => PhotonKdTree::build_cancellable(photons, flag)?,
+        None => PhotonKdTree::build(photons),
+    };
     Some(PhotonMap {
         kind: params.kind,
-        tree: PhotonKdTree::build(photons),
+        tree,
         emitted,
+        build_seconds: t.elapsed().as_secs_f64(),
     })
 }

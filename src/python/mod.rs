@@ -8,8 +8,10 @@
 //! - `run_cli(argv, usd_loader)`: the `photonmap` command: the core's one clap definition parses
 //!   `argv`; USD stages are read by the Python `usd_loader`.
 //!
-//! No panic crosses this boundary: the render runs under `catch_unwind` and a panic becomes
-//! `photonmap.PhotonmapError`.
+//! No panic crosses this boundary: the render runs under `catch_unwind`, as does every call
+//! into the core (parsing, validation, scene loading, output writing), and a panic becomes
+//! `photonmap.PhotonmapError` ("internal error: the renderer panicked: ..."), an ordinary
+//! `Exception`, where pyo3 alone would raise `PanicException`, a `BaseException`.
 
 mod pointer;
 
@@ -67,6 +69,52 @@ fn panic_message(p: &(dyn Any + Send)) -> String {
     } else {
         "unknown panic".to_string()
     }
+}
+
+/// Runs a call into the core, turning a panic into `Error::Internal` (so `PhotonmapError`).
+fn caught<T>(f: impl FnOnce() -> Result<T, Error>) -> Result<T, Error> {
+    catch_unwind(AssertUnwindSafe(f)).unwrap_or_else(|p| {
+        Err(Error::Internal(format!(
+            "the renderer panicked: {}",
+            panic_message(p.as_ref())
+        )))
+    })
+}
+
+/// As `to_py`, with the setting named as the Python keyword (`memory_limit`) rather than as
+/// the command-line flag (`--memory-limit`).
+fn to_py_keyword(e: Error) -> PyErr {
+    match e {
+        Error::InvalidSetting { setting, message } => to_py(Error::InvalidSetting {
+            setting: setting.trim_start_matches("--").replace('-', "_"),
+            message,
+        }),
+        other => to_py(other),
+    }
+}
+
+/// `memory_limit=`: bytes as an int, or a size string as `--memory-limit` takes (`"512M"`).
+fn memory_limit_arg(v: &Bound<'_, PyAny>) -> PyResult<u64> {
+    let bad = |message: String| {
+        to_py(Error::InvalidSetting {
+            setting: "memory_limit".into(),
+            message,
+        })
+    };
+    if let Ok(s) = v.extract::<String>() {
+        return crate::render::settings::parse_bytes(&s).map_err(bad);
+    }
+    if v.is_instance_of::<pyo3::types::PyBool>() {
+        return Err(bad(
+            "expected bytes (an int) or a size such as \"512M\"".into()
+        ));
+    }
+    v.extract::<u64>().map_err(|_| {
+        bad(format!(
+            "expected bytes (an int >= 0) or a size such as \"512M\", got {}",
+            v.repr().map_or_else(|_| "?".into(), |r| r.to_string())
+        ))
+    })
 }
 
 /// Parses and validates JSON scene text; parse errors are given the JSON pointer of the field.
@@ -129,7 +177,7 @@ impl PyScene {
     /// Parses and validates scene IR JSON text.
     #[staticmethod]
     fn from_json(py: Python<'_>, text: &str) -> PyResult<Self> {
-        let desc = py.detach(|| parse_scene(text)).map_err(to_py)?;
+        let desc = py.detach(|| caught(|| parse_scene(text))).map_err(to_py)?;
         Ok(PyScene { desc })
     }
 
@@ -139,7 +187,7 @@ impl PyScene {
         let text = std::fs::read_to_string(&path)
             .map_err(|e| PhotonmapError::new_err(format!("{}: {e}", path.display())))?;
         let desc = py
-            .detach(|| parse_scene(&text))
+            .detach(|| caught(|| parse_scene(&text)))
             .map_err(|e| match e {
                 Error::InvalidScene {
                     pointer,
@@ -158,10 +206,9 @@ impl PyScene {
 
     /// The embedded default scene (a Cornell box with a glass and a mirror sphere).
     #[staticmethod]
-    fn default() -> Self {
-        PyScene {
-            desc: crate::scene::default_scene(),
-        }
+    fn default() -> PyResult<Self> {
+        let desc = caught(|| Ok(crate::scene::default_scene())).map_err(to_py)?;
+        Ok(PyScene { desc })
     }
 
     /// Scene IR JSON whose `meshes` entries leave `positions`/`indices` (and optionally
@@ -209,13 +256,14 @@ impl PyScene {
                 m.material_indices = Some(u32s(t.as_bytes()).collect());
             }
         }
-        py.detach(|| crate::scene::validate(&desc)).map_err(to_py)?;
+        py.detach(|| caught(|| crate::scene::validate(&desc)))
+            .map_err(to_py)?;
         Ok(PyScene { desc })
     }
 
     /// The scene IR as JSON text.
-    fn to_json(&self) -> String {
-        scene_json::to_string(&self.desc)
+    fn to_json(&self) -> PyResult<String> {
+        caught(|| Ok(scene_json::to_string(&self.desc))).map_err(to_py)
     }
 
     #[getter]
@@ -293,6 +341,7 @@ fn render_blocking(
     callback: Option<&Bound<'_, PyAny>>,
     preview: Option<&Bound<'_, PyAny>>,
     cancel: Arc<AtomicBool>,
+    map_err: fn(Error) -> PyErr,
 ) -> PyResult<RenderOutput> {
     // The latest preview of a progressive render (beauty, passes), handed to `preview` by the
     // calling thread as `preview(bytes, width, height, passes)`.
@@ -393,7 +442,7 @@ fn render_blocking(
                 }
                 Ok(out)
             }
-            Ok(Err(e)) => Err(to_py(e)),
+            Ok(Err(e)) => Err(map_err(e)),
             Err(p) => Err(PhotonmapError::new_err(format!(
                 "internal error: the renderer panicked: {}",
                 panic_message(p.as_ref())
@@ -419,7 +468,7 @@ fn image_bytes<'py>(py: Python<'py>, img: &crate::render::film::Image) -> Bound<
     caustic_photons=None, volume_photons=None, volume_step=None, gather=None, radius=None, final_gather_rays=None,
     irradiance_cache=None, cache_tolerance=None, max_specular_depth=None, filter=None,
     time_budget=None, mode="jensen", alpha=None, initial_photons=None, progressive=None, gather_rays_per_sample=None,
-    progress=None, preview=None, cancel=None))]
+    memory_limit=None, progress=None, preview=None, cancel=None))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
@@ -445,6 +494,7 @@ fn render<'py>(
     initial_photons: Option<usize>,
     progressive: Option<bool>,
     gather_rays_per_sample: Option<u32>,
+    memory_limit: Option<Bound<'py, PyAny>>,
     progress: Option<Bound<'py, PyAny>>,
     preview: Option<Bound<'py, PyAny>>,
     cancel: Option<&CancelToken>,
@@ -501,14 +551,19 @@ fn render<'py>(
     let flag = cancel
         .map(|c| c.flag.clone())
         .unwrap_or_else(|| Arc::new(AtomicBool::new(false)));
+    let mut settings = a.settings();
+    if let Some(m) = &memory_limit {
+        settings.memory_limit = Some(memory_limit_arg(m)?);
+    }
     let out = render_blocking(
         py,
         &scene.desc,
-        a.settings(),
+        settings,
         None,
         progress.as_ref(),
         preview.as_ref(),
         flag,
+        to_py_keyword,
     )?;
     let d = PyDict::new(py);
     d.set_item("width", out.film.width)?;
@@ -593,7 +648,7 @@ fn run_cli(
     };
     for frame in frames {
         let a = args.for_frame(frame);
-        let loaded = match a.load_scene_with(frame, Some(&mut load)) {
+        let loaded = match caught(|| a.load_scene_with(frame, Some(&mut load))) {
             Ok(l) => l,
             Err(e) => match py_err.take() {
                 Some(pe) => return Err(pe),
@@ -610,6 +665,7 @@ fn run_cli(
             None,
             None,
             cancel,
+            to_py,
         );
         let out = match out {
             Ok(o) => o,
@@ -623,7 +679,7 @@ fn run_cli(
             }
         };
         bar.finish_and_clear();
-        if let Err(e) = cli::write_outputs_with(&a, &out, loaded.import_stats.as_ref()) {
+        if let Err(e) = caught(|| cli::write_outputs_with(&a, &out, loaded.import_stats.as_ref())) {
             return fail(e);
         }
         if !a.quiet {

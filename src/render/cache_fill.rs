@@ -76,6 +76,7 @@ pub fn fill(
     let pixel_angle = scene.camera.pixel_angle();
     let rays = s.photons.final_gather_rays.max(1);
     let strides: Vec<usize> = [32usize, 16, 8, 4, 2, 1].into_iter().collect();
+    progress(0.0);
     for (round, &stride) in strides.iter().enumerate() {
         if cancelled() {
             return Err(Error::Cancelled);
@@ -99,19 +100,23 @@ pub fn fill(
                 cache.lookup(si.p, n).is_none().then_some((idx, si, n, len))
             })
             .collect();
-        let records: Vec<Record> = candidates
+        // The cancel flag is read before every record (a record can take many gather rays).
+        let records: Option<Vec<Record>> = candidates
             .par_iter()
             .map_init(KnnScratch::new, |scratch, (idx, si, n, len)| {
+                if cancelled() {
+                    return None;
+                }
                 let mut rng = Rng::derive(s.seed, 0x1D, *idx as u64);
                 let stack = scene.medium_stack_at(si.p + *n * (1e-4 * scene.radius));
                 let g = gather_hemisphere(scene, ctx.maps, si, *n, rays, &stack, &mut rng, scratch);
                 let fp = (len * pixel_angle).max(1e-6);
                 let r_min = (R_MIN_PIXELS * fp / a).min(r_cap);
                 let r_max = (R_MAX_PIXELS * fp / a).min(r_cap).max(r_min);
-                Record::new(si.p, *n, &g, r_min, r_max)
+                Some(Record::new(si.p, *n, &g, r_min, r_max))
             })
             .collect();
-        for r in records {
+        for r in records.ok_or(Error::Cancelled)? {
             cache.insert(r);
         }
         progress((round + 1) as f32 / strides.len() as f32);

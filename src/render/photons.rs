@@ -28,6 +28,8 @@ pub struct MapStats {
     pub emitted: u64,
     pub memory_bytes: u64,
     pub seconds: f64,
+    /// Of `seconds`, the kd-tree build.
+    pub kdtree_seconds: f64,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub skipped_because: Option<String>,
 }
@@ -69,6 +71,22 @@ pub fn specular_targets(scene: &Scene) -> Vec<Target> {
     out
 }
 
+/// Environment variable of a debug hook: set to `render`, the photon pass panics on a worker
+/// thread. It lets the front ends' tests prove that a panic of the core reaches the user as an
+/// ordinary error (`photonmap.PhotonmapError` in Python, a report in Blender).
+pub const DEBUG_PANIC_VAR: &str = "PHOTONMAP_DEBUG_PANIC";
+
+fn debug_panic_hook() {
+    if std::env::var_os(DEBUG_PANIC_VAR).is_some_and(|v| v == "render") {
+        use rayon::prelude::*;
+        (0..2u32).into_par_iter().for_each(|i| {
+            if i == 1 {
+                panic!("{DEBUG_PANIC_VAR}=render: a deliberate panic in a render worker");
+            }
+        });
+    }
+}
+
 /// Builds the maps the settings and the scene call for. `need_global` is false when nothing
 /// reads the global map (indirect light disabled).
 /// `need` says which maps the render reads: global, caustic, volume.
@@ -79,6 +97,7 @@ pub fn build(
     need: [bool; 3],
     cancel: Option<&AtomicBool>,
 ) -> (PhotonMaps, Vec<MapStats>) {
+    debug_panic_hook();
     let [need_global, need_caustic, need_volume] = need;
     let max_r = s.max_radius.unwrap_or(0.1 * scene.radius);
     let mut stats = Vec::new();
@@ -106,6 +125,7 @@ pub fn build(
                 emitted: 0,
                 memory_bytes: 0,
                 seconds: 0.0,
+                kdtree_seconds: 0.0,
                 skipped_because: Some(r),
             });
             return None;
@@ -130,6 +150,7 @@ pub fn build(
             emitted: map.emitted,
             memory_bytes: map.memory_bytes() as u64,
             seconds: t0.elapsed().as_secs_f64(),
+            kdtree_seconds: map.build_seconds,
             skipped_because: None,
         });
         Some(map)

@@ -712,6 +712,7 @@ impl<'a> Renderer<'a> {
         non_finite: &AtomicUsize,
     ) -> Result<Film> {
         let (w, h) = (self.scene.width, self.scene.height);
+        self.report(0.0, "render");
         let rows_done = AtomicUsize::new(0);
         // Sample i belongs to replicate i mod R (see `error`); each replicate is stratified
         // over its own nx-by-ny grid.
@@ -732,6 +733,9 @@ impl<'a> Renderer<'a> {
                     }
                     let mut row = Vec::with_capacity(w);
                     for x in 0..w {
+                        if self.is_cancelled() {
+                            return None;
+                        }
                         let mut rng = Rng::new(s.seed, (y * w + x) as u64);
                         let mut acc = TermRadiance::default();
                         let mut batches = Replicates::default();
@@ -852,6 +856,9 @@ impl<'a> Renderer<'a> {
                         return;
                     }
                     for (x, px) in row.iter_mut().enumerate() {
+                        if self.is_cancelled() {
+                            return;
+                        }
                         let u = px.shifts.point(k);
                         let v = self.sample_pixel(
                             ctx,

@@ -256,6 +256,9 @@ impl<'a> SppmJob<'a> {
                     return;
                 }
                 for (x, px) in row.iter_mut().enumerate() {
+                    if self.cancelled() {
+                        return;
+                    }
                     let u = px.shifts.point(k);
                     let ray = eye::camera_ray(scene, &s.filter, x, y, u, &mut px.rng);
                     vps.clear();

@@ -3,7 +3,7 @@
 
 use super::camera::Camera;
 use super::desc::*;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::geometry::{Accel, Instance, MeshGeom, Ray, SurfaceInteraction};
 use crate::lights::{
     AreaLight, AreaShape, DistantLight, EnvironmentLight, Light, LightCtx, LightSampler,
@@ -14,6 +14,7 @@ use crate::math::{Bounds3, Spectrum, Transform};
 use crate::media::{GridMedium, Homogeneous, Medium};
 use glam::{Vec2, Vec3};
 use std::collections::HashMap;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 pub struct Scene {
     pub accel: Accel,
@@ -63,7 +64,17 @@ fn v3(a: [f32; 3]) -> Vec3 {
 impl Scene {
     /// Builds the render scene from a scene that `validate` has accepted.
     pub fn build(desc: &SceneDesc) -> Result<Scene> {
+        Self::build_cancellable(desc, None)
+    }
+
+    /// As [`Scene::build`], returning `Err(Cancelled)` soon after `cancel` is set (it is read
+    /// between the steps, before each mesh's BVH and within large BVH builds).
+    pub fn build_cancellable(desc: &SceneDesc, cancel: Option<&AtomicBool>) -> Result<Scene> {
+        let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
         super::validate(desc)?;
+        if cancelled() {
+            return Err(Error::Cancelled);
+        }
         let textures: Vec<Texture> = desc.textures.iter().map(Texture::from_desc).collect();
         let materials: Vec<Material> = desc.materials.iter().map(Material::from_desc).collect();
 
@@ -97,7 +108,10 @@ impl Scene {
             .iter()
             .map(|i| meshes[i.mesh as usize].indices.len())
             .sum();
-        let accel = Accel::build(meshes, instances);
+        if cancelled() {
+            return Err(Error::Cancelled);
+        }
+        let accel = Accel::build_cancellable(meshes, instances, cancel).ok_or(Error::Cancelled)?;
         let mut bounds = accel.bounds();
 
         let mut lights = Vec::new();
