@@ -241,6 +241,7 @@ def render(
     initial_photons: int | None = None,
     progressive: bool | None = None,
     gather_rays_per_sample: int | None = None,
+    photon_power: str = "rgbe",
     progress: Callable[[float, str], Any] | None = None,
     preview: Callable[[np.ndarray, int], Any] | None = None,
     cancel: CancelToken | None = None,
@@ -262,6 +263,8 @@ def render(
     a progressive render (``progressive``, ``time_budget`` or ``mode="sppm"``): the core
     previews after passes 1, 2, 4, ... and at most every 0.25 s between, and the calling
     thread hands on the latest one every 50 ms, and the last one at the end.
+    ``photon_power`` is ``"rgbe"`` (20-byte photons, the default) or ``"f32"`` (28 bytes, no
+    quantisation of the photons' power).
     """
     s = _to_scene(scene)
 
@@ -275,7 +278,7 @@ def render(
         final_gather_rays=final_gather_rays, irradiance_cache=irradiance_cache,
         cache_tolerance=cache_tolerance, max_specular_depth=max_specular_depth, filter=filter,
         time_budget=time_budget, mode=mode, alpha=alpha, initial_photons=initial_photons,
-        progressive=progressive,
+        progressive=progressive, photon_power=photon_power,
         gather_rays_per_sample=gather_rays_per_sample, progress=progress,
         preview=show if preview is not None else None, cancel=cancel,
     )

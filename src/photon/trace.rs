@@ -6,8 +6,10 @@
 //! until the map holds its target number of photons (Jensen shoots until N are stored) or the
 //! emission cap is reached. The result does not depend on the thread count.
 
-use super::map::{MapKind, PhotonMap, FLAG_CAUSTIC_PATH, FLAG_FIRST_HIT, FLAG_FROM_MEDIUM};
-use super::{Photon, PhotonKdTree};
+use super::map::{
+    MapKind, PhotonMap, PhotonTree, FLAG_CAUSTIC_PATH, FLAG_FIRST_HIT, FLAG_FROM_MEDIUM,
+};
+use super::{Photon, PhotonError, PhotonF32, PhotonKdTree};
 use crate::geometry::Ray;
 use crate::lights::{LeSample, Light, Target};
 use crate::materials::bsdf::{Component, LobeFlags};
@@ -45,6 +47,9 @@ pub struct TraceParams<'a> {
     /// Specular objects to aim caustic photons at; empty = emit everywhere.
     pub targets: &'a [Target],
     pub cancel: Option<&'a AtomicBool>,
+    /// Store the photons' power as `f32` ([`PhotonF32`], 28 bytes) instead of RGBE
+    /// ([`Photon`], 20 bytes).
+    pub f32_power: bool,
 }
 
 /// Mean of a colour, the probability used for Russian roulette.
@@ -344,21 +349,46 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
     }
     let emitted = batches * BATCH;
     let inv = 1.0 / emitted as f32;
-    let photons: Vec<Photon> = raw
-        .iter()
+    let tree = if params.f32_power {
+        PhotonTree::F32(PhotonKdTree::build(records(
+            &raw,
+            inv,
+            PhotonF32::new,
+            |p, f| p.set_user_flags(f),
+        )))
+    } else {
+        PhotonTree::Rgbe(PhotonKdTree::build(records(
+            &raw,
+            inv,
+            Photon::new,
+            |p, f| p.set_user_flags(f),
+        )))
+    };
+    Some(PhotonMap {
+        kind: params.kind,
+        tree,
+        emitted,
+    })
+}
+
+/// The stored records of the raw photons, their power divided by the paths emitted (`inv` is
+/// 1 / emitted); photons that cannot be encoded (non-finite) are dropped.
+fn records<P>(
+    raw: &[RawPhoton],
+    inv: f32,
+    new: impl Fn(Vec3, Vec3, Vec3) -> Result<P, PhotonError>,
+    set_flags: impl Fn(&mut P, u16),
+) -> Vec<P> {
+    raw.iter()
         .filter_map(|r| {
-            let mut ph = Photon::new(r.p, r.power * inv, r.d).ok()?;
-            ph.set_user_flags(
+            let mut ph = new(r.p, r.power * inv, r.d).ok()?;
+            set_flags(
+                &mut ph,
                 if r.first { FLAG_FIRST_HIT } else { 0 }
                     | if r.from_medium { FLAG_FROM_MEDIUM } else { 0 }
                     | if r.caustic { FLAG_CAUSTIC_PATH } else { 0 },
             );
             Some(ph)
         })
-        .collect();
-    Some(PhotonMap {
-        kind: params.kind,
-        tree: PhotonKdTree::build(photons),
-        emitted,
-    })
+        .collect()
 }

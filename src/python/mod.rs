@@ -419,7 +419,7 @@ fn image_bytes<'py>(py: Python<'py>, img: &crate::render::film::Image) -> Bound<
     caustic_photons=None, volume_photons=None, volume_step=None, gather=None, radius=None, final_gather_rays=None,
     irradiance_cache=None, cache_tolerance=None, max_specular_depth=None, filter=None,
     time_budget=None, mode="jensen", alpha=None, initial_photons=None, progressive=None, gather_rays_per_sample=None,
-    progress=None, preview=None, cancel=None))]
+    photon_power="rgbe", progress=None, preview=None, cancel=None))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
@@ -445,6 +445,7 @@ fn render<'py>(
     initial_photons: Option<usize>,
     progressive: Option<bool>,
     gather_rays_per_sample: Option<u32>,
+    photon_power: &str,
     progress: Option<Bound<'py, PyAny>>,
     preview: Option<Bound<'py, PyAny>>,
     cancel: Option<&CancelToken>,
@@ -497,6 +498,8 @@ fn render<'py>(
     }
     a.progressive = progressive.unwrap_or(false);
     a.gather_rays_per_sample = gather_rays_per_sample;
+    a.photon_power =
+        crate::render::settings::parse_photon_power(photon_power).map_err(PyValueError::new_err)?;
     a.check().map_err(to_py)?;
     let flag = cancel
         .map(|c| c.flag.clone())

@@ -27,6 +27,8 @@ pub struct MapStats {
     pub stored: u64,
     pub emitted: u64,
     pub memory_bytes: u64,
+    /// Bytes per stored photon: 20 (RGBE power) or 28 (`f32` power).
+    pub bytes_per_photon: u64,
     pub seconds: f64,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub skipped_because: Option<String>,
@@ -105,6 +107,7 @@ pub fn build(
                 stored: 0,
                 emitted: 0,
                 memory_bytes: 0,
+                bytes_per_photon: s.bytes_per_photon(),
                 seconds: 0.0,
                 skipped_because: Some(r),
             });
@@ -121,6 +124,7 @@ pub fn build(
             seed,
             targets,
             cancel,
+            f32_power: s.f32_power,
         };
         let map = build_map(scene, &params)?;
         stats.push(MapStats {
@@ -129,6 +133,7 @@ pub fn build(
             stored: map.len() as u64,
             emitted: map.emitted,
             memory_bytes: map.memory_bytes() as u64,
+            bytes_per_photon: map.bytes_per_photon() as u64,
             seconds: t0.elapsed().as_secs_f64(),
             skipped_because: None,
         });
