@@ -29,6 +29,9 @@ pub struct MapStats {
     pub memory_bytes: u64,
     /// Bytes per stored photon: 20 (RGBE power) or 28 (`f32` power).
     pub bytes_per_photon: u64,
+    /// Largest search radius of the map's radiance estimates, in scene units (`--radius`, or
+    /// 0.1 of the scene's bounding-sphere radius).
+    pub max_radius: f32,
     pub seconds: f64,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub skipped_because: Option<String>,
@@ -108,6 +111,7 @@ pub fn build(
                 emitted: 0,
                 memory_bytes: 0,
                 bytes_per_photon: s.bytes_per_photon(),
+                max_radius: max_r,
                 seconds: 0.0,
                 skipped_because: Some(r),
             });
@@ -134,6 +138,7 @@ pub fn build(
             emitted: map.emitted,
             memory_bytes: map.memory_bytes() as u64,
             bytes_per_photon: map.bytes_per_photon() as u64,
+            max_radius: max_r,
             seconds: t0.elapsed().as_secs_f64(),
             skipped_because: None,
         });
