@@ -301,6 +301,8 @@ def run(args: argparse.Namespace) -> dict:
              if m.get("max_radius")]
     base_radius = float(radii[0]) if radii else 0.0
     for name, _ in SWEEPS:
+        if name not in args.sweeps:
+            continue
         vals = list(values[name])
         if name == "radius" and base_radius <= 0.0:
             continue  # no photon map: the radius changes nothing
@@ -478,8 +480,8 @@ def parser() -> argparse.ArgumentParser:
         "and the presets; measure seconds and relMSE against a reference; write trade.json and "
         "log-log plots of relMSE against seconds.",
     )
-    ap.add_argument("scene", help="scene: .json scene IR or a USD stage")
-    ap.add_argument("--reference", required=True, metavar="REF.exr",
+    ap.add_argument("scene", nargs="?", help="scene: .json scene IR or a USD stage")
+    ap.add_argument("--reference", metavar="REF.exr",
                     help="reference image: a beauty-only EXR (Mitsuba) or our multilayer EXR "
                     "(then every term is compared too); renders are made at its size")
     ap.add_argument("--out", default="trade", metavar="DIR",
@@ -503,16 +505,42 @@ def parser() -> argparse.ArgumentParser:
     ap.add_argument("--clock", choices=("wall", "cpu"), default="wall",
                     help="time axis of the plots: wall seconds (default) or CPU seconds of all "
                     "threads (steadier on a loaded machine); both are in trade.json")
+    ap.add_argument("--sweeps", default=",".join(n for n, _ in SWEEPS), metavar="NAMES",
+                    help="comma-separated settings to sweep (default: all of "
+                    f"{', '.join(n for n, _ in SWEEPS)}); 'none' renders the base and the "
+                    "presets only")
+    ap.add_argument("--replot", metavar="trade.json",
+                    help="redraw the plots of an earlier run (e.g. with another --clock) into "
+                    "--out, without rendering")
     ap.add_argument("--no-plot", action="store_true", help="write trade.json only")
     ap.add_argument("--quiet", action="store_true", help="no progress on stderr")
     return ap
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = parser().parse_args(argv)
+    ap = parser()
+    args = ap.parse_args(argv)
     if args.repeats < 1:
-        print("photonmap trade: error: --repeats must be at least 1", file=sys.stderr)
-        return 2
+        ap.error("--repeats must be at least 1")
+    names = [n for n, _ in SWEEPS]
+    args.sweeps = [] if args.sweeps == "none" else [n.strip() for n in args.sweeps.split(",")]
+    unknown = [n for n in args.sweeps if n not in names]
+    if unknown:
+        ap.error(f"unknown sweep {', '.join(unknown)} (expected {', '.join(names)} or none)")
+    if args.replot:
+        try:
+            with open(args.replot) as f:
+                result = json.load(f)
+            result["clock"] = args.clock
+            os.makedirs(args.out, exist_ok=True)
+            written = plot(result, args.out)
+        except (OSError, ValueError, KeyError, TradeError) as e:
+            print(f"photonmap trade: error: {args.replot}: {e}", file=sys.stderr)
+            return 1
+        log("trade: wrote " + ", ".join(written), args.quiet)
+        return 0
+    if not args.scene or not args.reference:
+        ap.error("a SCENE and --reference REF.exr are needed (or --replot trade.json)")
     try:
         if not args.no_plot:
             _pyplot()  # fail before rendering when matplotlib is missing

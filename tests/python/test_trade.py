@@ -124,6 +124,19 @@ def test_plots_are_valid_pngs(quick):
         assert img[..., :3].std() > 0.05
 
 
+def test_replot_with_cpu_clock(quick, tmp_path):
+    """--replot redraws an earlier run's plots without rendering."""
+    out, _, _, _ = quick
+    t0 = time.perf_counter()
+    p = run_cli("trade", "--replot", str(out / "trade.json"), "--clock", "cpu", "--out",
+                str(tmp_path))
+    assert p.returncode == 0, p.stderr
+    assert time.perf_counter() - t0 < 20
+    with open(tmp_path / "trade.png", "rb") as f:
+        assert f.read(8) == b"\x89PNG\r\n\x1a\n"
+    assert not (tmp_path / "trade.json").exists()
+
+
 def test_reference_size_must_match(quick, tmp_path):
     out, _, _, _ = quick
     ref = out.parent / "ref.exr"
