@@ -9,6 +9,8 @@ import time
 import numpy as np
 import pytest
 
+import photonmap
+
 from conftest import SCENES
 
 pytest.importorskip("matplotlib")
@@ -70,7 +72,10 @@ def test_trade_json_structure(quick):
                 "photon_power"} <= set(x["params"])
     # The base is the medium preset; a sweep changes exactly the setting it names.
     base = next(x for x in r["runs"] if x["sweep"] == "base")
-    assert base["params"]["spp"] == 4 and base["params"]["photon_power"] == "rgbe"
+    draft = photonmap.preset("draft")
+    for k in ("spp", "photons", "caustic_photons", "gather", "final_gather_rays"):
+        assert base["params"][k] == draft[k], k
+    assert base["params"]["photon_power"] == "rgbe"
     for x in r["runs"]:
         if x["sweep"] in ("base", "preset"):
             continue
