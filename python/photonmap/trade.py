@@ -149,7 +149,8 @@ def relmse_trimmed(x: np.ndarray, ref: np.ndarray) -> float:
 def errors(out: dict, ref: np.ndarray, ref_terms: dict[str, np.ndarray]) -> dict[str, dict]:
     """relMSE per pixel, without the worst 0.1% of pixels, and on block means, of the combined
     image and of each term that the reference holds."""
-    pairs = {"combined": (out["combined"], ref), **{t: (out[t], img) for t, img in ref_terms.items()}}
+    pairs = {"combined": (out["combined"], ref)}
+    pairs.update({t: (out[t], img) for t, img in ref_terms.items()})
     return {
         "relmse": {t: relmse(x, r) for t, (x, r) in pairs.items()},
         "relmse_trimmed": {t: relmse_trimmed(x, r) for t, (x, r) in pairs.items()},
@@ -281,10 +282,9 @@ def run(args: argparse.Namespace) -> dict:
         f"reference {args.reference} (terms: {', '.join(ref_terms) or 'beauty only'})",
         args.quiet)
 
-    def record(kind: str, name: str, value: Any, settings: dict, label: str) -> dict:
+    def record(sweep: str, value: Any, settings: dict, label: str) -> dict:
         r = measure(scene, settings, seeds, args.threads, ref, ref_terms)
-        entry = {"sweep": kind if kind == "preset" else name, "value": value, "label": label,
-                 "params": settings, **r}
+        entry = {"sweep": sweep, "value": value, "label": label, "params": settings, **r}
         runs.append(entry)
         log(f"  {entry['sweep']:>18} {label:>14}: {r['seconds']:8.2f} s ({r['cpu_seconds']:.2f} "
             f"s CPU)  relMSE {r['relmse']['combined']:.3e}  trimmed "
@@ -292,11 +292,11 @@ def run(args: argparse.Namespace) -> dict:
             args.quiet)
         return entry
 
-    # The first render of a process runs slower (cold caches, page faults): warm up unmeasured.
-    render_once(scene, {"quality": "draft", "spp": 1, "filter": args.filter, "photons": 2000, "caustic_photons": 2000,
-                        "volume_photons": 2000, "final_gather_rays": 8}, args.seed, args.threads)
-    base_run = record("sweep", "base", args.base, dict(base), f"{args.base} (base)")
-    base_run["sweep"] = "base"
+    # One small render first, unmeasured, so that the base does not pay for cold caches.
+    warm_up = {"quality": "draft", "spp": 1, "filter": args.filter, "photons": 2000,
+               "caustic_photons": 2000, "volume_photons": 2000, "final_gather_rays": 8}
+    render_once(scene, warm_up, args.seed, args.threads)
+    base_run = record("base", args.base, dict(base), f"{args.base} (base)")
     radii = [m["max_radius"] for m in base_run["stats"]["photon_maps"].values()
              if m.get("max_radius")]
     base_radius = float(radii[0]) if radii else 0.0
@@ -311,9 +311,9 @@ def run(args: argparse.Namespace) -> dict:
                 continue
             settings = sweep_settings(base, name, v, base_radius)
             label = f"×{v:g}" if name in ("photons", "radius") else str(v)
-            record("sweep", name, v, settings, label)
+            record(name, v, settings, label)
     for q in presets:
-        record("preset", "preset", q, base_settings(q, args.filter), q)
+        record("preset", q, base_settings(q, args.filter), q)
 
     return {
         "scene": os.path.abspath(args.scene),
@@ -330,7 +330,8 @@ def run(args: argparse.Namespace) -> dict:
         "filter": args.filter,
         "terms_compared": ["combined", *ref_terms.keys()],
         "metric": {
-            "relmse": "mean over pixels and channels of (x - ref)^2 / (ref^2 + 1e-2), mean over seeds",
+            "relmse": "mean over pixels and channels of (x - ref)^2 / (ref^2 + 1e-2), "
+                      "mean over seeds",
             "relmse_trimmed": "the same without the worst 0.1% of pixels (at least one)",
             "relmse_block": f"the same on {BLOCK}x{BLOCK}-pixel block means",
             "seconds": "wall time of photonmap.render (median over seeds)",
@@ -394,7 +395,8 @@ def _panel(ax, result: dict, metric: str, term: str, title: str, annotate: bool)
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for i, (name, label, pts) in enumerate(_curves(result)):
         xs = [p[clock] for p in pts]
-        ys = [max(p[metric][term], 1e-12) for p in pts]
+        # An exact zero (a term equal to the reference) has no place on log axes: a gap.
+        ys = [p[metric][term] if p[metric][term] > 0 else math.nan for p in pts]
         c = colours[i % len(colours)]
         ax.plot(xs, ys, "-o", color=c, label=label, ms=4, lw=1.4, alpha=0.9)
         if annotate:
@@ -448,7 +450,9 @@ def plot(result: dict, out_dir: str) -> list[str]:
     plt.close(fig)
     paths.append(p)
 
-    terms = [t for t in result["terms_compared"] if t != "combined"]
+    # Terms that no run got wrong (zero in the scene, as `volume` without media) are left out.
+    terms = [t for t in result["terms_compared"] if t != "combined"
+             and any(r["relmse"][t] > 0 for r in result["runs"])]
     if terms:
         n = len(terms)
         cols = min(3, n)
