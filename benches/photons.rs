@@ -65,6 +65,7 @@ fn main() {
             seed: 1,
             targets: &[],
             cancel: None,
+            f32_power: false,
         };
         let t = Instant::now();
         let map = pool(threads)
@@ -99,6 +100,7 @@ fn main() {
             seed: 2,
             targets: t,
             cancel: None,
+            f32_power: false,
         };
         let t0 = Instant::now();
         let map = build_map(&scene, &params).expect("map");

@@ -88,6 +88,11 @@ pub struct RenderArgs {
     /// Irradiance-cache error tolerance (Ward's a; smaller is more accurate and slower).
     #[arg(long)]
     pub cache_tolerance: Option<f32>,
+    /// Photon power encoding: rgbe (20-byte photons, Ward's shared exponent) or f32 (28 bytes,
+    /// unquantised).
+    #[arg(long, default_value = "rgbe", value_name = "rgbe|f32", action = clap::ArgAction::Set,
+          value_parser = crate::render::settings::parse_photon_power)]
+    pub photon_power: bool,
     /// Largest memory the photon maps and the BVH may take, in bytes or with a binary suffix
     /// (`512M`, `8G`); checked against an estimate before the photon pass (default: the
     /// available memory, MemAvailable in /proc/meminfo; no limit where that cannot be read).
@@ -406,6 +411,7 @@ impl RenderArgs {
         p.final_gather_rays = self.final_gather_rays.unwrap_or(p.final_gather_rays);
         p.irradiance_cache = self.irradiance_cache.unwrap_or(p.irradiance_cache);
         p.cache_tolerance = self.cache_tolerance.unwrap_or(p.cache_tolerance);
+        p.f32_power = self.photon_power;
         s.memory_limit = self
             .memory_limit
             .or_else(crate::render::settings::available_memory);

@@ -155,6 +155,7 @@ fn first_hit_power_equals_light_power() {
         seed: 1,
         targets: &[],
         cancel: None,
+        f32_power: false,
     };
     let map = build_map(&scene, &params).unwrap();
     let stored = map.first_hit_power();

@@ -242,6 +242,7 @@ def render(
     progressive: bool | None = None,
     gather_rays_per_sample: int | None = None,
     memory_limit: int | str | None = None,
+    photon_power: str = "rgbe",
     progress: Callable[[float, str], Any] | None = None,
     preview: Callable[[np.ndarray, int], Any] | None = None,
     cancel: CancelToken | None = None,
@@ -266,6 +267,8 @@ def render(
     ``memory_limit`` (bytes, or a size such as ``"512M"`` or ``"8G"``, as ``--memory-limit``;
     default: the available memory) stops the render up front, with ``ValueError`` naming
     ``memory_limit`` and the estimate, when its photon maps and BVH would need more.
+    ``photon_power`` is ``"rgbe"`` (20-byte photons, the default) or ``"f32"`` (28 bytes, no
+    quantisation of the photons' power).
     """
     s = _to_scene(scene)
 
@@ -279,7 +282,7 @@ def render(
         final_gather_rays=final_gather_rays, irradiance_cache=irradiance_cache,
         cache_tolerance=cache_tolerance, max_specular_depth=max_specular_depth, filter=filter,
         time_budget=time_budget, memory_limit=memory_limit, mode=mode, alpha=alpha,
-        initial_photons=initial_photons, progressive=progressive,
+        initial_photons=initial_photons, progressive=progressive, photon_power=photon_power,
         gather_rays_per_sample=gather_rays_per_sample, progress=progress,
         preview=show if preview is not None else None, cancel=cancel,
     )

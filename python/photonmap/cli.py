@@ -1,5 +1,6 @@
 """The ``photonmap`` command. Arguments are parsed by the core's one clap definition
-(``photonmap render --help``); USD stages are read here, by ``usd_delegate``."""
+(``photonmap render --help``); USD stages are read here, by ``usd_delegate``.
+``photonmap trade`` (speed against accuracy, ``photonmap.trade``) is Python's own."""
 
 from __future__ import annotations
 
@@ -24,6 +25,14 @@ def _usd_loader(diagnostics: list):
 
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
+    if argv[:1] == ["trade"]:
+        from .trade import main as trade_main
+
+        try:
+            return trade_main(argv[1:])
+        except KeyboardInterrupt:
+            print("photonmap: interrupted", file=sys.stderr)
+            return 130
     results: list = []
     try:
         code = _core.run_cli(argv, _usd_loader(results))
@@ -37,6 +46,8 @@ def main(argv: list[str] | None = None) -> int:
             print(f"  {line}", file=sys.stderr)
         code = 1
     _print_diagnostics(results)
+    if argv[:1] in (["-h"], ["--help"]):
+        print("\n  trade   Measure speed against accuracy of the settings (photonmap trade --help)")
     return code
 
 

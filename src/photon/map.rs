@@ -1,6 +1,6 @@
 //! Photon maps (Jensen 2001, chapter 7): a kd-tree of photons and the radiance estimate.
 
-use super::{KnnScratch, Photon, PhotonKdTree};
+use super::{KnnScratch, Neighbor, Photon, PhotonF32, PhotonKdTree, PhotonRecord};
 use crate::materials::bsdf::Bsdf;
 use crate::math::{Spectrum, PI};
 use glam::Vec3;
@@ -47,13 +47,235 @@ pub enum EstimateFilter {
     Cone { k: f32 },
 }
 
+/// The kd-tree of a map, over one of the two photon records: the 20-byte [`Photon`] with RGBE
+/// power (the default; Jensen 2001, §6.4), or the 28-byte [`PhotonF32`] with `f32` power
+/// (`PhotonSettings::f32_power`), which trades memory for the RGBE quantisation (≤ 1/256 of a
+/// photon's largest channel).
+pub enum PhotonTree {
+    Rgbe(PhotonKdTree<Photon>),
+    F32(PhotonKdTree<PhotonF32>),
+}
+
+/// Calls `$body` with `$t` bound to the tree, whichever photon record it holds: one branch
+/// per query, then the monomorphised code of that record.
+macro_rules! with_tree {
+    ($tree:expr, $t:ident => $body:expr) => {
+        match $tree {
+            PhotonTree::Rgbe($t) => $body,
+            PhotonTree::F32($t) => $body,
+        }
+    };
+}
+
+impl PhotonTree {
+    pub fn len(&self) -> usize {
+        with_tree!(self, t => t.len())
+    }
+    pub fn is_empty(&self) -> bool {
+        with_tree!(self, t => t.is_empty())
+    }
+    pub fn memory_bytes(&self) -> usize {
+        with_tree!(self, t => t.memory_bytes())
+    }
+    /// Bytes per stored photon: 20 (RGBE) or 28 (`f32` power).
+    pub fn bytes_per_photon(&self) -> usize {
+        match self {
+            PhotonTree::Rgbe(_) => std::mem::size_of::<Photon>(),
+            PhotonTree::F32(_) => std::mem::size_of::<PhotonF32>(),
+        }
+    }
+
+    /// The `k` photons nearest to `p` within `max_r2`, as [`PhotonKdTree::knn`].
+    #[inline]
+    pub fn knn<'s>(
+        &self,
+        p: Vec3,
+        k: usize,
+        max_r2: f32,
+        scratch: &'s mut KnnScratch,
+    ) -> &'s [Neighbor] {
+        with_tree!(self, t => t.knn(p, k, max_r2, scratch))
+    }
+
+    /// The photon at heap index `index` (a [`Neighbor::index`]).
+    #[inline]
+    pub fn get(&self, index: u32) -> PhotonRef<'_> {
+        match self {
+            PhotonTree::Rgbe(t) => PhotonRef::Rgbe(t.get(index)),
+            PhotonTree::F32(t) => PhotonRef::F32(t.get(index)),
+        }
+    }
+
+    /// Calls `visitor(photon, distance²)` for every photon within `r2` of `p`, as
+    /// [`PhotonKdTree::for_each_in_radius`].
+    #[inline]
+    pub fn for_each_in_radius(
+        &self,
+        p: Vec3,
+        r2: f32,
+        mut visitor: impl FnMut(PhotonRef<'_>, f32),
+    ) {
+        match self {
+            PhotonTree::Rgbe(t) => {
+                t.for_each_in_radius(p, r2, |ph, d2| visitor(PhotonRef::Rgbe(ph), d2))
+            }
+            PhotonTree::F32(t) => {
+                t.for_each_in_radius(p, r2, |ph, d2| visitor(PhotonRef::F32(ph), d2))
+            }
+        }
+    }
+}
+
+/// A photon of a [`PhotonTree`], whichever record it is; decodes only what is asked for.
+#[derive(Clone, Copy, Debug)]
+pub enum PhotonRef<'a> {
+    Rgbe(&'a Photon),
+    F32(&'a PhotonF32),
+}
+
+impl PhotonRef<'_> {
+    #[inline]
+    pub fn position(self) -> Vec3 {
+        match self {
+            PhotonRef::Rgbe(p) => PhotonRecord::position(p),
+            PhotonRef::F32(p) => PhotonRecord::position(p),
+        }
+    }
+    /// Power (flux), decoded from RGBE if stored so.
+    #[inline]
+    pub fn power(self) -> Vec3 {
+        match self {
+            PhotonRef::Rgbe(p) => PhotonRecord::power(p),
+            PhotonRef::F32(p) => PhotonRecord::power(p),
+        }
+    }
+    /// Unit vector from the surface back towards where the photon came from.
+    #[inline]
+    pub fn incoming(self) -> Vec3 {
+        match self {
+            PhotonRef::Rgbe(p) => PhotonRecord::incoming(p),
+            PhotonRef::F32(p) => PhotonRecord::incoming(p),
+        }
+    }
+    /// The renderer's flag bits (`FLAG_*`).
+    #[inline]
+    pub fn user_flags(self) -> u16 {
+        match self {
+            PhotonRef::Rgbe(p) => PhotonRecord::user_flags(p),
+            PhotonRef::F32(p) => PhotonRecord::user_flags(p),
+        }
+    }
+}
+
 pub struct PhotonMap {
     pub kind: MapKind,
-    pub tree: PhotonKdTree<Photon>,
+    pub tree: PhotonTree,
     /// Photon paths emitted to fill the map (the photons' power is already divided by it).
     pub emitted: u64,
     /// Seconds the kd-tree took to build (balance).
     pub build_seconds: f64,
+}
+
+/// The k nearest photons within `max_r2`, the squared radius of the estimate, and which
+/// photon to leave out. With k photons found, the radius is the k-th photon's distance, and
+/// that photon lies on the boundary: (k - 1) photons over the disk (or sphere) is the
+/// unbiased k-NN density, so the farthest is left out. With fewer found, the search radius
+/// itself bounds the region and every photon counts.
+#[inline]
+fn nearest<'s, P: PhotonRecord>(
+    tree: &PhotonKdTree<P>,
+    p: Vec3,
+    k: usize,
+    max_r2: f32,
+    scratch: &'s mut KnnScratch,
+) -> Option<(&'s [Neighbor], f32, Option<usize>)> {
+    let found = tree.knn(p, k, max_r2, scratch);
+    if found.is_empty() {
+        return None;
+    }
+    let (r2, skip) = if found.len() >= k && k > 1 {
+        let (i, far) = found.iter().enumerate().fold((0, 0.0f32), |acc, (i, nb)| {
+            if nb.dist2 > acc.1 {
+                (i, nb.dist2)
+            } else {
+                acc
+            }
+        });
+        (far, Some(i))
+    } else {
+        (max_r2, None)
+    };
+    (r2 > 0.0 && r2.is_finite()).then_some((found, r2, skip))
+}
+
+/// [`PhotonMap::radiance`] over one kind of photon record.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn radiance_in<P: PhotonRecord>(
+    tree: &PhotonKdTree<P>,
+    p: Vec3,
+    n: Vec3,
+    wo: Vec3,
+    bsdf: &Bsdf,
+    k: usize,
+    max_r2: f32,
+    filter: EstimateFilter,
+    only: u16,
+    scratch: &mut KnnScratch,
+) -> Spectrum {
+    let Some((found, r2, skip)) = nearest(tree, p, k, max_r2, scratch) else {
+        return Spectrum::ZERO;
+    };
+    let r = r2.sqrt();
+    let mut sum = Spectrum::ZERO;
+    for (i, nb) in found.iter().enumerate() {
+        if Some(i) == skip {
+            continue;
+        }
+        let ph = tree.get(nb.index);
+        if ph.user_flags() & only != only {
+            continue;
+        }
+        let wi = ph.incoming();
+        if wi.dot(n) <= 0.0 {
+            continue;
+        }
+        let w = match filter {
+            EstimateFilter::Constant => 1.0,
+            EstimateFilter::Cone { k } => (1.0 - nb.dist2.sqrt() / (k * r)).max(0.0),
+        };
+        sum += bsdf.eval(wo, wi) * ph.power() * w;
+    }
+    let norm = match filter {
+        EstimateFilter::Constant => 1.0,
+        EstimateFilter::Cone { k } => 1.0 - 2.0 / (3.0 * k),
+    };
+    sum / (norm * PI * r2)
+}
+
+/// [`PhotonMap::volume_radiance`] over one kind of photon record.
+#[inline]
+fn volume_radiance_in<P: PhotonRecord>(
+    tree: &PhotonKdTree<P>,
+    x: Vec3,
+    wo: Vec3,
+    phase: &crate::media::HenyeyGreenstein,
+    k: usize,
+    max_r2: f32,
+    scratch: &mut KnnScratch,
+) -> Spectrum {
+    let Some((found, r2, skip)) = nearest(tree, x, k, max_r2, scratch) else {
+        return Spectrum::ZERO;
+    };
+    let mut sum = Spectrum::ZERO;
+    for (i, nb) in found.iter().enumerate() {
+        if Some(i) == skip {
+            continue;
+        }
+        let ph = tree.get(nb.index);
+        sum += ph.power() * phase.eval(wo, ph.incoming());
+    }
+    sum / (4.0 / 3.0 * PI * r2 * r2.sqrt())
 }
 
 impl PhotonMap {
@@ -66,36 +288,9 @@ impl PhotonMap {
     pub fn memory_bytes(&self) -> usize {
         self.tree.memory_bytes()
     }
-
-    /// The k nearest photons within `max_r2`, the squared radius of the estimate, and which
-    /// photon to leave out. With k photons found, the radius is the k-th photon's distance, and
-    /// that photon lies on the boundary: (k - 1) photons over the disk (or sphere) is the
-    /// unbiased k-NN density, so the farthest is left out. With fewer found, the search radius
-    /// itself bounds the region and every photon counts.
-    fn nearest<'s>(
-        &self,
-        p: Vec3,
-        k: usize,
-        max_r2: f32,
-        scratch: &'s mut KnnScratch,
-    ) -> Option<(&'s [super::Neighbor], f32, Option<usize>)> {
-        let found = self.tree.knn(p, k, max_r2, scratch);
-        if found.is_empty() {
-            return None;
-        }
-        let (r2, skip) = if found.len() >= k && k > 1 {
-            let (i, far) = found.iter().enumerate().fold((0, 0.0f32), |acc, (i, nb)| {
-                if nb.dist2 > acc.1 {
-                    (i, nb.dist2)
-                } else {
-                    acc
-                }
-            });
-            (far, Some(i))
-        } else {
-            (max_r2, None)
-        };
-        (r2 > 0.0 && r2.is_finite()).then_some((found, r2, skip))
+    /// Bytes per stored photon: 20 (RGBE power) or 28 (`f32` power).
+    pub fn bytes_per_photon(&self) -> usize {
+        self.tree.bytes_per_photon()
     }
 
     /// Reflected radiance at `p` towards `wo` (Jensen 2001, eq. 7.6):
@@ -115,34 +310,7 @@ impl PhotonMap {
         only: u16,
         scratch: &mut KnnScratch,
     ) -> Spectrum {
-        let Some((found, r2, skip)) = self.nearest(p, k, max_r2, scratch) else {
-            return Spectrum::ZERO;
-        };
-        let r = r2.sqrt();
-        let mut sum = Spectrum::ZERO;
-        for (i, nb) in found.iter().enumerate() {
-            if Some(i) == skip {
-                continue;
-            }
-            let ph = self.tree.get(nb.index);
-            if ph.user_flags() & only != only {
-                continue;
-            }
-            let wi = ph.incoming();
-            if wi.dot(n) <= 0.0 {
-                continue;
-            }
-            let w = match filter {
-                EstimateFilter::Constant => 1.0,
-                EstimateFilter::Cone { k } => (1.0 - nb.dist2.sqrt() / (k * r)).max(0.0),
-            };
-            sum += bsdf.eval(wo, wi) * ph.power() * w;
-        }
-        let norm = match filter {
-            EstimateFilter::Constant => 1.0,
-            EstimateFilter::Cone { k } => 1.0 - 2.0 / (3.0 * k),
-        };
-        sum / (norm * PI * r2)
+        with_tree!(&self.tree, t => radiance_in(t, p, n, wo, bsdf, k, max_r2, filter, only, scratch))
     }
 
     /// In-scattered radiance at `x` towards `wo` from a volume map (Jensen & Christensen 1998):
@@ -156,27 +324,16 @@ impl PhotonMap {
         max_r2: f32,
         scratch: &mut KnnScratch,
     ) -> Spectrum {
-        let Some((found, r2, skip)) = self.nearest(x, k, max_r2, scratch) else {
-            return Spectrum::ZERO;
-        };
-        let mut sum = Spectrum::ZERO;
-        for (i, nb) in found.iter().enumerate() {
-            if Some(i) == skip {
-                continue;
-            }
-            let ph = self.tree.get(nb.index);
-            sum += ph.power() * phase.eval(wo, ph.incoming());
-        }
-        sum / (4.0 / 3.0 * PI * r2 * r2.sqrt())
+        with_tree!(&self.tree, t => volume_radiance_in(t, x, wo, phase, k, max_r2, scratch))
     }
 
     /// Total power of the photons flagged as first hits (for the energy test).
     pub fn first_hit_power(&self) -> Spectrum {
-        self.tree
+        with_tree!(&self.tree, t => t
             .photons()
             .iter()
             .filter(|p| p.user_flags() & FLAG_FIRST_HIT != 0)
             .map(|p| p.power())
-            .sum()
+            .sum())
     }
 }

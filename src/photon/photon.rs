@@ -39,6 +39,8 @@ pub trait PhotonRecord: Copy + Send + Sync {
     /// Unit vector pointing from the surface back towards where the photon
     /// came from.
     fn incoming(&self) -> Vec3;
+    /// The 14 free flag bits (bits 2–15 of the flag word, shifted down).
+    fn user_flags(&self) -> u16;
     /// kd-tree split axis (0, 1, 2) or [`LEAF_AXIS`].
     fn axis(&self) -> u8;
     /// Sets the kd-tree split axis (low two bits of the flag only; the other
@@ -156,6 +158,10 @@ impl PhotonRecord for Photon {
     fn incoming(&self) -> Vec3 {
         decode_direction(self.phi, self.theta)
     }
+    #[inline]
+    fn user_flags(&self) -> u16 {
+        self.flag >> 2
+    }
     #[inline(always)]
     fn axis(&self) -> u8 {
         (self.flag & AXIS_MASK) as u8
@@ -268,6 +274,10 @@ impl PhotonRecord for PhotonF32 {
     #[inline]
     fn incoming(&self) -> Vec3 {
         decode_direction(self.phi, self.theta)
+    }
+    #[inline]
+    fn user_flags(&self) -> u16 {
+        self.flag >> 2
     }
     #[inline(always)]
     fn axis(&self) -> u8 {

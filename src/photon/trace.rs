@@ -6,8 +6,10 @@
 //! until the map holds its target number of photons (Jensen shoots until N are stored) or the
 //! emission cap is reached. The result does not depend on the thread count.
 
-use super::map::{MapKind, PhotonMap, FLAG_CAUSTIC_PATH, FLAG_FIRST_HIT, FLAG_FROM_MEDIUM};
-use super::{Photon, PhotonKdTree};
+use super::map::{
+    MapKind, PhotonMap, PhotonTree, FLAG_CAUSTIC_PATH, FLAG_FIRST_HIT, FLAG_FROM_MEDIUM,
+};
+use super::{Photon, PhotonError, PhotonF32, PhotonKdTree};
 use crate::geometry::Ray;
 use crate::lights::{LeSample, Light, Target};
 use crate::materials::bsdf::{Component, LobeFlags};
@@ -45,6 +47,9 @@ pub struct TraceParams<'a> {
     /// Specular objects to aim caustic photons at; empty = emit everywhere.
     pub targets: &'a [Target],
     pub cancel: Option<&'a AtomicBool>,
+    /// Store the photons' power as `f32` ([`PhotonF32`], 28 bytes) instead of RGBE
+    /// ([`Photon`], 20 bytes).
+    pub f32_power: bool,
 }
 
 /// Mean of a colour, the probability used for Russian roulette.
@@ -365,25 +370,19 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
     }
     let emitted = batches * BATCH;
     let inv = 1.0 / emitted as f32;
-    let mut photons: Vec<Photon> = Vec::with_capacity(stored);
-    for raw in rounds {
-        photons.extend(raw.iter().filter_map(|r| {
-            let mut ph = Photon::new(r.p, r.power * inv, r.d).ok()?;
-            ph.set_user_flags(
-                if r.first { FLAG_FIRST_HIT } else { 0 }
-                    | if r.from_medium { FLAG_FROM_MEDIUM } else { 0 }
-                    | if r.caustic { FLAG_CAUSTIC_PATH } else { 0 },
-            );
-            Some(ph)
-        }));
-    }
-    if cancelled() {
-        return None;
-    }
     let t = std::time::Instant::now();
-    let tree = match params.cancel {
-        Some(flag) => PhotonKdTree::build_cancellable(photons, flag)?,
-        None => PhotonKdTree::build(photons),
+    let tree = if params.f32_power {
+        PhotonTree::F32(balance(
+            records(rounds, stored, inv, PhotonF32::new, |p, f| {
+                p.set_user_flags(f)
+            }),
+            params.cancel,
+        )?)
+    } else {
+        PhotonTree::Rgbe(balance(
+            records(rounds, stored, inv, Photon::new, |p, f| p.set_user_flags(f)),
+            params.cancel,
+        )?)
     };
     Some(PhotonMap {
         kind: params.kind,
@@ -391,4 +390,45 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
         emitted,
         build_seconds: t.elapsed().as_secs_f64(),
     })
+}
+
+/// The kd-tree of `photons`, balanced with the cancel flag polled if there is one (`None`
+/// when cancelled).
+fn balance<P: super::PhotonRecord>(
+    photons: Vec<P>,
+    cancel: Option<&AtomicBool>,
+) -> Option<PhotonKdTree<P>> {
+    if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+        return None;
+    }
+    match cancel {
+        Some(flag) => PhotonKdTree::build_cancellable(photons, flag),
+        None => Some(PhotonKdTree::build(photons)),
+    }
+}
+
+/// The stored records of the raw photons, their power divided by the paths emitted (`inv` is
+/// 1 / emitted); photons that cannot be encoded (non-finite) are dropped. Rounds are converted
+/// and freed one at a time, so the raw photons and the records are never all live together.
+fn records<P>(
+    rounds: Vec<Vec<RawPhoton>>,
+    stored: usize,
+    inv: f32,
+    new: impl Fn(Vec3, Vec3, Vec3) -> Result<P, PhotonError>,
+    set_flags: impl Fn(&mut P, u16),
+) -> Vec<P> {
+    let mut photons: Vec<P> = Vec::with_capacity(stored);
+    for raw in rounds {
+        photons.extend(raw.iter().filter_map(|r| {
+            let mut ph = new(r.p, r.power * inv, r.d).ok()?;
+            set_flags(
+                &mut ph,
+                if r.first { FLAG_FIRST_HIT } else { 0 }
+                    | if r.from_medium { FLAG_FROM_MEDIUM } else { 0 }
+                    | if r.caustic { FLAG_CAUSTIC_PATH } else { 0 },
+            );
+            Some(ph)
+        }));
+    }
+    photons
 }

@@ -468,7 +468,7 @@ fn image_bytes<'py>(py: Python<'py>, img: &crate::render::film::Image) -> Bound<
     caustic_photons=None, volume_photons=None, volume_step=None, gather=None, radius=None, final_gather_rays=None,
     irradiance_cache=None, cache_tolerance=None, max_specular_depth=None, filter=None,
     time_budget=None, mode="jensen", alpha=None, initial_photons=None, progressive=None, gather_rays_per_sample=None,
-    memory_limit=None, progress=None, preview=None, cancel=None))]
+    memory_limit=None, photon_power="rgbe", progress=None, preview=None, cancel=None))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
@@ -495,6 +495,7 @@ fn render<'py>(
     progressive: Option<bool>,
     gather_rays_per_sample: Option<u32>,
     memory_limit: Option<Bound<'py, PyAny>>,
+    photon_power: &str,
     progress: Option<Bound<'py, PyAny>>,
     preview: Option<Bound<'py, PyAny>>,
     cancel: Option<&CancelToken>,
@@ -547,6 +548,8 @@ fn render<'py>(
     }
     a.progressive = progressive.unwrap_or(false);
     a.gather_rays_per_sample = gather_rays_per_sample;
+    a.photon_power =
+        crate::render::settings::parse_photon_power(photon_power).map_err(PyValueError::new_err)?;
     a.check().map_err(to_py)?;
     let flag = cancel
         .map(|c| c.flag.clone())

@@ -27,6 +27,11 @@ pub struct MapStats {
     pub stored: u64,
     pub emitted: u64,
     pub memory_bytes: u64,
+    /// Bytes per stored photon: 20 (RGBE power) or 28 (`f32` power).
+    pub bytes_per_photon: u64,
+    /// Largest search radius of the map's radiance estimates, in scene units (`--radius`, or
+    /// 0.1 of the scene's bounding-sphere radius).
+    pub max_radius: f32,
     pub seconds: f64,
     /// Of `seconds`, the kd-tree build.
     pub kdtree_seconds: f64,
@@ -124,6 +129,8 @@ pub fn build(
                 stored: 0,
                 emitted: 0,
                 memory_bytes: 0,
+                bytes_per_photon: s.bytes_per_photon(),
+                max_radius: max_r,
                 seconds: 0.0,
                 kdtree_seconds: 0.0,
                 skipped_because: Some(r),
@@ -141,6 +148,7 @@ pub fn build(
             seed,
             targets,
             cancel,
+            f32_power: s.f32_power,
         };
         let map = build_map(scene, &params)?;
         stats.push(MapStats {
@@ -149,6 +157,8 @@ pub fn build(
             stored: map.len() as u64,
             emitted: map.emitted,
             memory_bytes: map.memory_bytes() as u64,
+            bytes_per_photon: map.bytes_per_photon() as u64,
+            max_radius: max_r,
             seconds: t0.elapsed().as_secs_f64(),
             kdtree_seconds: map.build_seconds,
             skipped_because: None,

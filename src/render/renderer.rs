@@ -11,7 +11,7 @@ use super::eye::{self, EyeCtx, EyeSettings};
 use super::film::{Film, TermRadiance};
 use super::photons::{self, MapStats, PhotonMaps};
 use super::settings::RenderMode;
-use super::settings::{RenderSettings, BYTES_PER_PHOTON, BYTES_PER_TRIANGLE};
+use super::settings::{RenderSettings, BYTES_PER_TRIANGLE};
 use super::sppm::{SppmJob, SppmStats};
 use super::terms::volume::MarchSettings;
 use crate::error::{Error, Result};
@@ -97,7 +97,7 @@ pub struct RenderStats {
 pub struct MemoryEstimate {
     /// Photons stored over every map that will be built.
     pub photons: u64,
-    /// `photons * BYTES_PER_PHOTON`.
+    /// `photons * PhotonSettings::bytes_per_photon()` (20 B RGBE, 28 B `f32` power).
     pub photon_bytes: u64,
     pub triangles: u64,
     /// `triangles * BYTES_PER_TRIANGLE`.
@@ -216,7 +216,7 @@ impl<'a> Renderer<'a> {
     }
 
     /// The memory the photon maps (stored targets of every map that will be built, at
-    /// `BYTES_PER_PHOTON`) and the BVH (`BYTES_PER_TRIANGLE`) take.
+    /// `PhotonSettings::bytes_per_photon`) and the BVH (`BYTES_PER_TRIANGLE`) take.
     pub fn memory_estimate(&self) -> MemoryEstimate {
         let p = &self.settings.photons;
         let [need_global, need_caustic, need_volume] = self.needed_maps();
@@ -235,7 +235,7 @@ impl<'a> Renderer<'a> {
             .fold(0u64, |acc, (_, n)| acc.saturating_add(*n as u64))
         };
         let triangles = self.scene.triangle_count as u64;
-        let photon_bytes = photons.saturating_mul(BYTES_PER_PHOTON);
+        let photon_bytes = photons.saturating_mul(p.bytes_per_photon());
         let bvh_bytes = triangles.saturating_mul(BYTES_PER_TRIANGLE);
         MemoryEstimate {
             photons,
@@ -272,7 +272,7 @@ impl<'a> Renderer<'a> {
                          limit of {limit} bytes; store fewer photons or raise the limit",
                         estimate.total_bytes,
                         estimate.photons,
-                        BYTES_PER_PHOTON,
+                        s.photons.bytes_per_photon(),
                         estimate.photon_bytes,
                         estimate.triangles,
                         BYTES_PER_TRIANGLE,
@@ -374,7 +374,7 @@ impl<'a> Renderer<'a> {
             }
             if let Some(limit) = s.memory_limit {
                 let bvh = self.scene.triangle_count as u64 * BYTES_PER_TRIANGLE;
-                let fit = limit.saturating_sub(bvh) / BYTES_PER_PHOTON;
+                let fit = limit.saturating_sub(bvh) / s.photons.bytes_per_photon();
                 scale = scale.min(fit as f64 / preset_photons);
             }
         }
@@ -542,7 +542,7 @@ impl<'a> Renderer<'a> {
                 + self.scene.triangle_count as u64 * 64
                 + photon_bytes,
             memory_estimate: estimate,
-            bytes_per_photon: BYTES_PER_PHOTON,
+            bytes_per_photon: s.photons.bytes_per_photon(),
             bytes_per_triangle: BYTES_PER_TRIANGLE,
             time_budget: None,
             mode: RenderMode::Jensen,
@@ -662,7 +662,7 @@ impl<'a> Renderer<'a> {
                 + self.scene.triangle_count as u64 * 64
                 + photon_bytes,
             memory_estimate: estimate,
-            bytes_per_photon: BYTES_PER_PHOTON,
+            bytes_per_photon: s.photons.bytes_per_photon(),
             bytes_per_triangle: BYTES_PER_TRIANGLE,
             time_budget,
             mode: RenderMode::Sppm,

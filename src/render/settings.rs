@@ -38,26 +38,34 @@ impl Quality {
     /// Camera samples per pixel.
     pub fn spp(self) -> u32 {
         match self {
-            Quality::Draft => 4,
-            Quality::Medium => 16,
-            Quality::High => 64,
-            Quality::Final => 256,
+            Quality::Draft => 8,
+            Quality::Medium => 32,
+            Quality::High => 128,
+            Quality::Final => 384,
         }
     }
 
     /// Photon-map parameters of the preset.
+    ///
+    /// Calibrated with `photonmap trade` on `tests/data/scenes/cornell_spheres.json` against
+    /// Mitsuba's reference (BENCHMARKS.md, "Speed and accuracy"): around the former presets,
+    /// camera samples and a tighter irradiance cache bought the most error per second, while
+    /// photons beyond ~10^5, gather k above 50 and more than 256 final-gathering rays bought
+    /// almost none; each preset below has less error than the former one of about its time.
     pub fn photons(self) -> PhotonSettings {
-        let (global, caustic, fg_rays) = match self {
-            Quality::Draft => (50_000, 20_000, 64),
-            Quality::Medium => (200_000, 100_000, 256),
-            Quality::High => (500_000, 300_000, 512),
-            Quality::Final => (2_000_000, 1_000_000, 1024),
+        let (global, caustic, fg_rays, tolerance) = match self {
+            Quality::Draft => (50_000, 20_000, 64, 0.15),
+            Quality::Medium => (100_000, 50_000, 128, 0.1),
+            Quality::High => (300_000, 150_000, 256, 0.07),
+            Quality::Final => (500_000, 250_000, 512, 0.05),
         };
         PhotonSettings {
             global,
             caustic,
             volume: caustic,
+            gather: 50,
             final_gather_rays: fg_rays,
+            cache_tolerance: tolerance,
             ..PhotonSettings::default()
         }
     }
@@ -99,6 +107,39 @@ pub struct PhotonSettings {
     /// Photons emitted at most per stored photon requested, so that a scene that stores
     /// nothing still ends.
     pub max_emitted_factor: usize,
+    /// Store photon power as `f32` (28-byte `photon::PhotonF32`) instead of Ward's RGBE
+    /// (20-byte `photon::Photon`, the default): 40% more memory, no power quantisation.
+    pub f32_power: bool,
+}
+
+impl PhotonSettings {
+    /// Bytes per stored photon of these settings: [`BYTES_PER_PHOTON`] or
+    /// [`BYTES_PER_PHOTON_F32`].
+    pub fn bytes_per_photon(&self) -> u64 {
+        if self.f32_power {
+            BYTES_PER_PHOTON_F32
+        } else {
+            BYTES_PER_PHOTON
+        }
+    }
+
+    /// The photon power encoding by name: `rgbe` or `f32`.
+    pub fn photon_power(&self) -> &'static str {
+        if self.f32_power {
+            "f32"
+        } else {
+            "rgbe"
+        }
+    }
+}
+
+/// Parses a photon power encoding, `rgbe` or `f32`, into `PhotonSettings::f32_power`.
+pub fn parse_photon_power(s: &str) -> Result<bool, String> {
+    match s.trim().to_ascii_lowercase().as_str() {
+        "rgbe" => Ok(false),
+        "f32" => Ok(true),
+        _ => Err(format!("unknown photon power `{s}` (expected rgbe or f32)")),
+    }
 }
 
 impl Default for PhotonSettings {
@@ -115,6 +156,7 @@ impl Default for PhotonSettings {
             cache_tolerance: 0.15,
             max_bounces: 64,
             max_emitted_factor: 20,
+            f32_power: false,
         }
     }
 }
@@ -211,6 +253,10 @@ impl Default for RenderSettings {
 /// Bytes per stored photon: the 20-byte photon of `photon::Photon` (RGBE power, position,
 /// quantised direction, split-axis flag).
 pub const BYTES_PER_PHOTON: u64 = 20;
+
+/// Bytes per stored photon with `PhotonSettings::f32_power`: the 28-byte `photon::PhotonF32`
+/// (the same record with the power as three `f32`).
+pub const BYTES_PER_PHOTON_F32: u64 = 28;
 
 /// Bytes per triangle of the BVH: at most two 32-byte nodes per primitive (one leaf per
 /// triangle and the interior nodes above them) plus its 4-byte index in the leaf order.
