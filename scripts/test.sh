@@ -11,7 +11,7 @@ PY="${PYTHON:-python3}"
 VENV="${PHOTONMAP_TEST_VENV:-$PWD/.venv-test}"
 "$PY" -m venv "$VENV"
 "$VENV/bin/python" -m pip install --quiet --upgrade pip
-CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}" "$VENV/bin/python" -m pip install --quiet . pytest hypothesis
+CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}" "$VENV/bin/python" -m pip install --quiet ".[trade]" pytest hypothesis
 (cd tests/python && "$VENV/bin/python" -m pytest -q -p no:cacheprovider .)
 
 # Blender add-on: the `bpy` module (Blender 5.0.1 as a CPython 3.11 wheel, ~375 MB, pins
