@@ -31,9 +31,10 @@ class RenderJob:
     """One ``photonmap.render`` on a Python thread (the core releases the GIL), so that the
     engine's thread stays free to poll Blender (``test_break``) and to report progress."""
 
-    def __init__(self, ir: dict, settings: dict):
+    def __init__(self, ir: dict, settings: dict, preview=None):
         self.scene = photonmap.Scene.from_dict(ir)
         self.settings = settings
+        self.preview = preview
         self.token = photonmap.CancelToken()
         self.fraction = 0.0
         self.phase = "starting"
@@ -47,7 +48,7 @@ class RenderJob:
     def _run(self) -> None:
         try:
             self.out = photonmap.render(self.scene, progress=self._progress, cancel=self.token,
-                                        **self.settings)
+                                        preview=self.preview, **self.settings)
         except BaseException as e:  # handed to the engine's thread
             self.error = e
 

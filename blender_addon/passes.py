@@ -1,5 +1,6 @@
-"""Render passes: ``Combined`` plus one pass per term of the core (``photonmap.PASS_NAMES``,
-read from the core's AOV list; never written out here)."""
+"""Render passes: ``Combined``, one pass per term of the core (``photonmap.PASS_NAMES``,
+read from the core's AOV list; never written out here), and ``Error``, each pixel's
+estimated standard error of the beauty (``photonmap.ERROR_PASS``; not part of the sum)."""
 
 from __future__ import annotations
 
@@ -9,11 +10,12 @@ import photonmap
 PASS_NAMES: tuple[str, ...] = photonmap.PASS_NAMES
 #: IR term (lower case, the keys of ``photonmap.render``'s output) of each pass.
 TERM_OF_PASS = dict(zip(photonmap.PASS_NAMES, photonmap.TERMS))
+TERM_OF_PASS[photonmap.ERROR_PASS] = photonmap.ERROR_AOV
 
 
 def register_passes(engine, scene, view_layer) -> None:
     engine.register_pass(scene, view_layer, "Combined", 4, "RGBA", "COLOR")
-    for name in PASS_NAMES:
+    for name in (*PASS_NAMES, photonmap.ERROR_PASS):
         engine.register_pass(scene, view_layer, name, 3, "RGB", "COLOR")
 
 

@@ -48,6 +48,20 @@ class PhotonMapSettings(bpy.types.PropertyGroup):
     max_specular_depth: IntProperty(name="Max Specular Depth", default=_P["max_specular_depth"],
                                     min=0, soft_max=64,
                                     description="Perfectly specular bounces followed from the eye")
+    mode: EnumProperty(
+        name="Mode", default="jensen",
+        items=[("jensen", "Jensen", "Photon maps built once; final gathering with the "
+                "irradiance cache"),
+               ("sppm", "Progressive", "Stochastic progressive photon mapping: Samples passes, "
+                "each with a fresh map of Photons photons and a shrinking search radius; "
+                "converges to the exact image")],
+        description="How caustics and indirect light are estimated")
+    alpha: FloatProperty(name="Alpha", default=0.7, min=0.01, max=0.99,
+                         description="Progressive mode: fraction of each pass's photons a pixel "
+                         "keeps as its radius shrinks")
+    initial_photons: IntProperty(name="Initial Photons", default=20, min=1,
+                                 description="Progressive mode: photons within a pixel's first "
+                                 "search radius, which shrinks from there")
     time_budget: FloatProperty(name="Time Budget", default=0.0, min=0.0,
                                description="Seconds the whole render should take; photon counts "
                                "and camera passes are planned to fill it (0 = off)")
@@ -69,6 +83,7 @@ def render_settings(s: PhotonMapSettings) -> dict:
         "irradiance_cache": s.irradiance_cache, "cache_tolerance": s.cache_tolerance,
         "max_specular_depth": s.max_specular_depth, "seed": s.seed, "threads": s.threads,
         "time_budget": s.time_budget if s.time_budget > 0 else None,
+        "mode": s.mode, "alpha": s.alpha, "initial_photons": s.initial_photons,
         "memory_limit": s.memory_limit.strip() or None,
     }
 

@@ -37,6 +37,10 @@ class PHOTONMAP_PT_quality(PhotonMapPanel, bpy.types.Panel):
         layout = self.layout
         layout.use_property_split = True
         layout.prop(s, "quality")
+        layout.prop(s, "mode")
+        if s.mode == "sppm":
+            layout.prop(s, "alpha")
+            layout.prop(s, "initial_photons")
         layout.prop(s, "spp")
         layout.prop(s, "time_budget")
         layout.prop(s, "memory_limit")

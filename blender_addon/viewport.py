@@ -1,6 +1,8 @@
-"""Progressive viewport rendering: a coarse draft first, then refinements, each on a
-background thread; ``draw`` shows the latest image. ``gpu`` is imported only when drawing
-(it does not exist in background mode)."""
+"""Progressive viewport rendering, on a background thread: a coarse draft at a quarter of the
+resolution first, then one progressive render at full resolution with the scene's settings
+(the core's progressive passes, as a time budget or the progressive mode use them), whose
+previews after passes 1, 2, 4, ... replace the image as it refines. ``draw`` shows the latest
+image. ``gpu`` is imported only when drawing (it does not exist in background mode)."""
 
 from __future__ import annotations
 
@@ -14,12 +16,11 @@ from .export import export_scene
 from .export.camera import Window, camera_ir, export_camera
 from .properties import render_settings
 
-# (resolution divisor, settings over the scene's) of each refinement.
+# (resolution divisor, settings over the scene's) of each stage; the last is progressive.
 STAGES = (
     (4, {"quality": "draft", "spp": 1, "photons": 20_000, "caustic_photons": 10_000,
-         "final_gather_rays": 16}),
-    (1, {"quality": "draft"}),
-    (1, {}),
+         "final_gather_rays": 16, "mode": "jensen"}),
+    (1, {"progressive": True}),
 )
 VIEWPORT_SENSOR = 72.0  # Blender's viewport: 36 mm sensor at zoom 2
 
@@ -77,9 +78,12 @@ class ViewportRender:
             if gen != self.generation:
                 return
             stage = dict(settings, **over)
+            if stage.get("time_budget"):  # the viewport refines until done or moved
+                stage["time_budget"] = None
             film = {"width": max(1, w // div), "height": max(1, h // div)}
             try:
-                job = RenderJob(dict(ir, film=film), stage)
+                job = RenderJob(dict(ir, film=film), stage,
+                                preview=lambda img, _passes: self._show(gen, img))
             except Exception as e:  # SceneError (a ValueError), PhotonmapError
                 self._failed(gen, e)
                 return
@@ -91,13 +95,21 @@ class ViewportRender:
                 if not (isinstance(job.error, photonmap.RenderCancelled) or job.token.cancelled):
                     self._failed(gen, job.error)
                 return
-            with self.lock:
-                self.image = job.out["combined"]
-                self.image_id += 1
-            try:
-                self.engine.tag_redraw()
-            except ReferenceError:  # the engine was freed
+            if not self._show(gen, job.out["combined"]):
                 return
+
+    def _show(self, gen, image) -> bool:
+        """Shows ``image`` if it belongs to the current view; False once it no longer does."""
+        if gen != self.generation:
+            return False
+        with self.lock:
+            self.image = image
+            self.image_id += 1
+        try:
+            self.engine.tag_redraw()
+        except ReferenceError:  # the engine was freed
+            return False
+        return True
 
     def _failed(self, gen, error):
         if gen == self.generation:

@@ -36,6 +36,7 @@ JSON results go to stdout, the Markdown table to stderr (and to --markdown FILE 
 import argparse
 import json
 import math
+import shlex
 import os
 import subprocess
 import sys
@@ -120,11 +121,12 @@ def score(img, ref, floors):
 # ----------------------------------------------------------------------------------------
 
 
-def render_ours(binary, scene, quality, seed, out_dir):
-    exr = os.path.join(out_dir, f"ours_{os.path.basename(scene)}_{quality}.exr")
+def render_ours(binary, scene, quality, seed, out_dir, extra=()):
+    tag = "_".join(a.strip("-") for a in extra)
+    exr = os.path.join(out_dir, f"ours_{os.path.basename(scene)}_{quality}{tag}.exr")
     stats = exr[:-4] + ".stats.json"
     cmd = [binary, "render", scene, "-o", exr, "--stats", stats, "--quality", quality,
-           "--filter", "box", "--seed", str(seed), "--quiet"]
+           "--filter", "box", "--seed", str(seed), "--quiet", *extra]
     t0 = time.perf_counter()
     subprocess.run(cmd, check=True)
     wall = time.perf_counter() - t0
@@ -213,7 +215,8 @@ def markdown(results):
         for r in s["runs"]:
             o, m = r["ours"], r["mitsuba"]
             rows.append(
-                f"| {os.path.basename(s['scene'])} | {r['quality']} ({o['spp']} spp) | {o['seconds']:.2f} "
+                f"| {os.path.basename(s['scene'])} | {r['quality']} {r.get('extra', '')} "
+                f"({o['spp']} spp) | {o['seconds']:.2f} "
                 f"| {m['spp']} | {m['seconds']:.2f} "
                 f"| {fmt(o['relmse_pixel'])} | {fmt(m['relmse_pixel'])} "
                 f"| {r['ratio_pixel']:.2f} ({r['ratio_pixel_minus_floor']:.2f}) "
@@ -240,6 +243,10 @@ def main():
     ap.add_argument("--tolerance", type=float, default=0.1,
                     help="re-render Mitsuba once if its time is off T by more than this fraction")
     ap.add_argument("--markdown", help="also write the Markdown table to this file")
+    ap.add_argument("--extra", action="append", default=[],
+                    help="more flags for our renderer, one configuration per use, e.g. "
+                    "--extra='--mode sppm --photons 20000 --spp 256'; each runs with every "
+                    "quality")
     ap.add_argument("--keep", help="keep the images in this directory")
     ap.add_argument("--worker", nargs=5, help=argparse.SUPPRESS)
     a = ap.parse_args()
@@ -279,8 +286,9 @@ def main():
                  "noise_floor": {"pixel": floors[0], "block": floors[1],
                                  "pixel_from_reference_json": ref_meta["relmse_noise_floor"]},
                  "mitsuba_calibration": cal, "runs": []}
-        for q in a.qualities:
-            img_o, t_o = render_ours(a.bin, scene, q, a.seed, out_dir)
+        configs = [shlex.split(e) for e in a.extra] or [[]]
+        for q, extra in [(q, e) for e in configs for q in a.qualities]:
+            img_o, t_o = render_ours(a.bin, scene, q, a.seed, out_dir, extra)
             T = t_o["seconds"]
             spp = max(1, int(round((T - cal["fixed_seconds"]) / cal["seconds_per_spp"])))
             img_m, t_m = render_mitsuba(scene, spp, mseed, a.variant, out_dir)
@@ -298,6 +306,7 @@ def main():
             so, sm = score(img_o, ref, floors), score(img_m, ref, floors)
             run = {
                 "quality": q,
+                "extra": " ".join(extra),
                 "ours": {**t_o, **so},
                 "mitsuba": {**t_m, **sm},
                 "time_ratio_mitsuba_over_ours": t_m["seconds"] / T,
@@ -315,7 +324,7 @@ def main():
                                                  sm["relmse_block_minus_floor"]),
             }
             entry["runs"].append(run)
-            log(f"  {q}: ours {T:.2f} s relMSE {so['relmse_pixel']:.3g} / block "
+            log(f"  {q} {' '.join(extra)}: ours {T:.2f} s relMSE {so['relmse_pixel']:.3g} / block "
                 f"{so['relmse_block']:.3g}; Mitsuba {spp} spp {t_m['seconds']:.2f} s "
                 f"(process {t_m['process_seconds']:.2f} s) relMSE {sm['relmse_pixel']:.3g} / "
                 f"block {sm['relmse_block']:.3g}; ratio {run['ratio_pixel']:.2f} / "

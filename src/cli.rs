@@ -3,6 +3,7 @@
 
 use crate::error::{Error, Result};
 use crate::io;
+use crate::render::settings::RenderMode;
 use crate::render::{film::Filter, Quality, RenderOutput, RenderSettings, Renderer};
 use crate::scene::{Scene, SceneDesc};
 use clap::{Args, Parser, Subcommand};
@@ -97,6 +98,27 @@ pub struct RenderArgs {
     /// stats (`time_budget`). 0 = off.
     #[arg(long, value_name = "SECONDS", value_parser = parse_time_budget)]
     pub time_budget: Option<f64>,
+    /// Render mode: `jensen` (photon maps built once, final gathering, irradiance cache) or
+    /// `sppm` (stochastic progressive photon mapping: `--spp` passes, each with a fresh map
+    /// of `--photons` stored photons and a shrinking search radius per pixel; consistent).
+    #[arg(long, default_value = "jensen", value_parser = parse_mode)]
+    pub mode: RenderMode,
+    /// Progressive mode's radius reduction α in (0, 1): the fraction of each pass's photons
+    /// a pixel keeps (Hachisuka & Jensen 2009).
+    #[arg(long, default_value_t = crate::render::settings::SPPM_ALPHA)]
+    pub alpha: f32,
+    /// Progressive mode: photons within a pixel's first search radius (the k nearest around
+    /// its first visible point); the radius shrinks from there.
+    #[arg(long, default_value_t = crate::render::settings::SPPM_INITIAL_PHOTONS)]
+    pub initial_photons: usize,
+    /// Jensen mode: take the camera samples in whole passes over the image (as a time
+    /// budget does), to replay a budgeted render's recorded plan.
+    #[arg(long)]
+    pub progressive: bool,
+    /// Final-gathering rays per camera sample where the irradiance cache does not apply
+    /// (default: --final-gather-rays / --spp, at least 4).
+    #[arg(long)]
+    pub gather_rays_per_sample: Option<u32>,
     /// USD: camera prim path to render through (default: the first camera found).
     #[arg(long, value_name = "PRIM")]
     pub camera: Option<String>,
@@ -136,6 +158,10 @@ fn parse_time_budget(s: &str) -> std::result::Result<f64, String> {
 fn parse_quality(s: &str) -> std::result::Result<Quality, String> {
     Quality::parse(s)
         .ok_or_else(|| format!("unknown quality `{s}` (expected draft, medium, high or final)"))
+}
+
+fn parse_mode(s: &str) -> std::result::Result<RenderMode, String> {
+    RenderMode::parse(s).ok_or_else(|| format!("unknown mode `{s}` (expected jensen or sppm)"))
 }
 
 fn parse_on_off(s: &str) -> std::result::Result<bool, String> {
@@ -384,6 +410,11 @@ impl RenderArgs {
             .memory_limit
             .or_else(crate::render::settings::available_memory);
         s.time_budget = self.time_budget.filter(|b| *b > 0.0);
+        s.mode = self.mode;
+        s.sppm_alpha = self.alpha;
+        s.sppm_initial_photons = self.initial_photons;
+        s.progressive = self.progressive;
+        s.gather_rays_per_sample = self.gather_rays_per_sample;
         s
     }
 
@@ -416,6 +447,15 @@ impl RenderArgs {
                 return bad("--cache-tolerance", "must be a finite number > 0");
             }
         }
+        if !(self.alpha > 0.0 && self.alpha < 1.0) {
+            return bad("--alpha", "must be in (0, 1)");
+        }
+        if self.initial_photons == 0 {
+            return bad("--initial-photons", "must be at least 1");
+        }
+        if self.gather_rays_per_sample == Some(0) {
+            return bad("--gather-rays-per-sample", "must be at least 1");
+        }
         if self.width == Some(0) || self.height == Some(0) {
             return bad("--width/--height", "must be at least 1");
         }
@@ -442,6 +482,17 @@ pub fn render_desc(
     progress: Option<Arc<crate::render::ProgressFn>>,
     cancel: Option<Arc<AtomicBool>>,
 ) -> Result<RenderOutput> {
+    render_desc_with_preview(desc, settings, progress, cancel, None)
+}
+
+/// As `render_desc`, with previews of a progressive render (see `render::PreviewFn`).
+pub fn render_desc_with_preview(
+    desc: &SceneDesc,
+    settings: RenderSettings,
+    progress: Option<Arc<crate::render::ProgressFn>>,
+    cancel: Option<Arc<AtomicBool>>,
+    preview: Option<Arc<crate::render::PreviewFn>>,
+) -> Result<RenderOutput> {
     let t0 = std::time::Instant::now();
     let scene = Scene::build_cancellable(desc, cancel.as_deref())?;
     let build_s = t0.elapsed().as_secs_f64();
@@ -451,6 +502,9 @@ pub fn render_desc(
     }
     if let Some(c) = cancel {
         r = r.cancel_flag(c);
+    }
+    if let Some(p) = preview {
+        r = r.preview(p);
     }
     let mut out = r.render()?;
     out.stats.seconds.insert("scene_build".into(), build_s);

@@ -139,3 +139,42 @@ fn invalid_budgets_name_the_flag() {
         assert!(err.to_string().contains("--time-budget"), "{err}");
     }
 }
+
+/// Progressive photon mapping under a budget: passes (each with its photon map) are added
+/// while the next fits, and the wall time lands within 5% of the budget; the same number of
+/// passes without a budget gives the same image, bit for bit.
+#[test]
+fn progressive_mode_fills_the_budget_and_replays() {
+    let _g = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let scene = scene_64();
+    let sppm = |budget: Option<f64>, spp: u32| RenderSettings {
+        seed: 3,
+        spp,
+        time_budget: budget,
+        mode: photonmap::render::settings::RenderMode::Sppm,
+        photons: photonmap::render::PhotonSettings {
+            global: 10_000,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    for budget in [1.0, 2.0, 4.0] {
+        let (out, wall) = render(&scene, sppm(Some(budget), 1));
+        let bs = out.stats.time_budget.as_ref().expect("budget stats");
+        eprintln!(
+            "sppm, budget {budget} s: wall {wall:.3} s, {} passes of {:.4} s",
+            bs.passes, bs.seconds_per_pass
+        );
+        let tolerance = (0.05 * budget).max(0.15);
+        assert!(
+            (wall - budget).abs() <= tolerance,
+            "budget {budget} s took {wall:.3} s: {bs:?}"
+        );
+        assert!(bs.passes > 4 && out.stats.sppm.as_ref().unwrap().passes == bs.passes);
+        assert_finite(&out);
+        if budget == 1.0 {
+            let (again, _) = render(&scene, sppm(None, bs.passes));
+            assert_eq!(again.film.combined(), out.film.combined());
+        }
+    }
+}

@@ -33,6 +33,10 @@ __version__ = _core.__version__
 TERMS: tuple[str, ...] = tuple(_core.TERMS)
 #: The same terms, capitalised as render-pass names (Blender).
 PASS_NAMES: tuple[str, ...] = tuple(_core.PASS_NAMES)
+#: The AOV that is not a term: each pixel's estimated standard error of ``combined``.
+ERROR_AOV: str = _core.ERROR_AOV
+#: Its render-pass name (Blender).
+ERROR_PASS: str = _core.ERROR_PASS
 #: Quality presets.
 QUALITIES: tuple[str, ...] = tuple(_core.QUALITIES)
 
@@ -40,6 +44,8 @@ __all__ = [
     "TERMS",
     "PASS_NAMES",
     "QUALITIES",
+    "ERROR_AOV",
+    "ERROR_PASS",
     "Scene",
     "Renderer",
     "CancelToken",
@@ -230,8 +236,14 @@ def render(
     max_specular_depth: int | None = None,
     filter: str | None = None,
     time_budget: float | None = None,
+    mode: str = "jensen",
+    alpha: float | None = None,
+    initial_photons: int | None = None,
+    progressive: bool | None = None,
+    gather_rays_per_sample: int | None = None,
     memory_limit: int | str | None = None,
     progress: Callable[[float, str], Any] | None = None,
+    preview: Callable[[np.ndarray, int], Any] | None = None,
     cancel: CancelToken | None = None,
 ) -> dict:
     """Renders ``scene`` (a Scene, an IR dict, JSON text, or a .json/.usd path).
@@ -242,18 +254,35 @@ def render(
     called from the calling thread; Ctrl-C or ``cancel.cancel()`` raise within ~50 ms
     (KeyboardInterrupt, RenderCancelled). ``time_budget`` (seconds; None or 0 = off) plans
     photon counts and camera passes to fill it; the plan is in ``stats["time_budget"]``.
+    ``mode="sppm"`` renders by progressive photon mapping: ``spp`` passes (or as many as fit
+    in ``time_budget``), each with a fresh map of ``photons`` stored photons, every pixel's
+    radius starting at its ``initial_photons`` (default 20) nearest photons and shrinking by
+    ``alpha`` (default 0.7). ``out["error"]`` is the estimated standard
+    error of ``combined`` per pixel and channel (not a term; see the README).
+    ``preview(image, passes)``, called from the calling thread, receives the beauty so far of
+    a progressive render (``progressive``, ``time_budget`` or ``mode="sppm"``): the core
+    previews after passes 1, 2, 4, ... and at most every 0.25 s between, and the calling
+    thread hands on the latest one every 50 ms, and the last one at the end.
     ``memory_limit`` (bytes, or a size such as ``"512M"`` or ``"8G"``, as ``--memory-limit``;
     default: the available memory) stops the render up front, with ``ValueError`` naming
     ``memory_limit`` and the estimate, when its photon maps and BVH would need more.
     """
     s = _to_scene(scene)
+
+    def show(b: bytes, w: int, h: int, passes: int) -> None:
+        preview(np.frombuffer(b, dtype="<f4").reshape(h, w, 3).copy(), passes)
+
     raw = _core.render(
         s, quality=quality, spp=spp, seed=seed, threads=threads, photons=photons,
         caustic_photons=caustic_photons, volume_photons=volume_photons, volume_step=volume_step,
         gather=gather, radius=radius,
         final_gather_rays=final_gather_rays, irradiance_cache=irradiance_cache,
         cache_tolerance=cache_tolerance, max_specular_depth=max_specular_depth, filter=filter,
-        time_budget=time_budget, memory_limit=memory_limit, progress=progress, cancel=cancel,
+        time_budget=time_budget, mode=mode, alpha=alpha, initial_photons=initial_photons,
+        progressive=progressive,
+        gather_rays_per_sample=gather_rays_per_sample, memory_limit=memory_limit,
+        progress=progress,
+        preview=show if preview is not None else None, cancel=cancel,
     )
     h, w = raw["height"], raw["width"]
 
@@ -263,6 +292,7 @@ def render(
     out: dict[str, Any] = {"combined": img(raw["combined"])}
     for t in TERMS:
         out[t] = img(raw["terms"][t])
+    out[ERROR_AOV] = img(raw[ERROR_AOV])
     out["stats"] = json.loads(raw["stats"])
     return out
 

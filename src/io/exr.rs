@@ -15,7 +15,10 @@ fn channel(name: String, img: &Image, c: usize) -> AnyChannel<FlatSamples> {
     )
 }
 
-/// Writes the beauty and every term. `metadata` becomes string attributes of the header.
+/// Name of the layer holding the `error` AOV (the estimated standard error of the beauty).
+pub const ERROR_AOV: &str = crate::render::aov::ERROR_AOV;
+
+/// Writes the beauty, every term and the `error` AOV. `metadata` becomes string attributes of the header.
 pub fn write_multilayer(
     path: impl AsRef<Path>,
     film: &Film,
@@ -35,6 +38,9 @@ pub fn write_multilayer(
         for (c, n) in ["R", "G", "B"].iter().enumerate() {
             channels.push(channel(format!("{}.{n}", t.name()), film.term(t), c));
         }
+    }
+    for (c, n) in ["R", "G", "B"].iter().enumerate() {
+        channels.push(channel(format!("{ERROR_AOV}.{n}"), &film.error, c));
     }
     let mut attrs = LayerAttributes::default();
     for (k, v) in metadata {

@@ -33,6 +33,10 @@ pub const FLAG_FIRST_HIT: u16 = 1;
 /// User flag of a photon whose last event before this surface was scattering in a medium: the
 /// light a participating medium sends straight to the surface.
 pub const FLAG_FROM_MEDIUM: u16 = 2;
+/// User flag of a photon whose every earlier interaction was a specular surface bounce
+/// (light -> specular+ -> here): the photons of a caustic map, and the caustic part of a
+/// global map.
+pub const FLAG_CAUSTIC_PATH: u16 = 4;
 
 /// Density-estimation filter (Jensen 2001, §7.2.2).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -6,7 +6,7 @@
 //! until the map holds its target number of photons (Jensen shoots until N are stored) or the
 //! emission cap is reached. The result does not depend on the thread count.
 
-use super::map::{MapKind, PhotonMap, FLAG_FIRST_HIT, FLAG_FROM_MEDIUM};
+use super::map::{MapKind, PhotonMap, FLAG_CAUSTIC_PATH, FLAG_FIRST_HIT, FLAG_FROM_MEDIUM};
 use super::{Photon, PhotonKdTree};
 use crate::geometry::Ray;
 use crate::lights::{LeSample, Light, Target};
@@ -30,6 +30,8 @@ struct RawPhoton {
     d: Vec3,
     first: bool,
     from_medium: bool,
+    /// Every earlier interaction was a specular surface bounce (light -> specular+ -> here).
+    caustic: bool,
 }
 
 pub struct TraceParams<'a> {
@@ -104,6 +106,7 @@ fn trace_path(
                             d,
                             first: false,
                             from_medium: true,
+                            caustic: false,
                         });
                     }
                     interactions += 1;
@@ -144,6 +147,7 @@ fn trace_path(
                     d: ray.d,
                     first: interactions == 0,
                     from_medium: last_scatter,
+                    caustic: interactions > 0 && specular_bounces == interactions,
                 }),
                 MapKind::Caustic => {
                     // Light -> specular+ -> here: a caustic photon. Its path ends here.
@@ -154,6 +158,7 @@ fn trace_path(
                             d: ray.d,
                             first: false,
                             from_medium: false,
+                            caustic: true,
                         });
                     }
                     break;
@@ -366,7 +371,8 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
             let mut ph = Photon::new(r.p, r.power * inv, r.d).ok()?;
             ph.set_user_flags(
                 if r.first { FLAG_FIRST_HIT } else { 0 }
-                    | if r.from_medium { FLAG_FROM_MEDIUM } else { 0 },
+                    | if r.from_medium { FLAG_FROM_MEDIUM } else { 0 }
+                    | if r.caustic { FLAG_CAUSTIC_PATH } else { 0 },
             );
             Some(ph)
         }));

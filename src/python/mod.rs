@@ -332,15 +332,30 @@ type Outcome = std::thread::Result<Result<RenderOutput, Error>>;
 /// Renders on a separate thread with the GIL released. Every 50 ms the calling thread takes the
 /// GIL back to check for Ctrl-C and to report progress to `callback`; `direct` progress (the
 /// CLI's bar) is called from the workers.
+#[allow(clippy::too_many_arguments)]
 fn render_blocking(
     py: Python<'_>,
     desc: &SceneDesc,
     settings: RenderSettings,
     direct: Option<Arc<ProgressFn>>,
     callback: Option<&Bound<'_, PyAny>>,
+    preview: Option<&Bound<'_, PyAny>>,
     cancel: Arc<AtomicBool>,
     map_err: fn(Error) -> PyErr,
 ) -> PyResult<RenderOutput> {
+    // The latest preview of a progressive render (beauty, passes), handed to `preview` by the
+    // calling thread as `preview(bytes, width, height, passes)`.
+    type Preview = (crate::render::film::Image, u32);
+    let latest_preview: Arc<Mutex<Option<Preview>>> = Arc::default();
+    let preview_fn: Option<Arc<crate::render::PreviewFn>> = preview.map(|_| {
+        let sink = latest_preview.clone();
+        let f: Arc<crate::render::PreviewFn> = Arc::new(move |film, passes| {
+            if let Ok(mut g) = sink.lock() {
+                *g = Some((film.combined(), passes));
+            }
+        });
+        f
+    });
     let latest: Arc<Mutex<Option<(f32, String)>>> = Arc::default();
     let sink = latest.clone();
     let progress: Arc<ProgressFn> = Arc::new(move |f: f32, phase: &str| {
@@ -359,12 +374,27 @@ fn render_blocking(
             None => Ok(()),
         }
     };
+    let show = |cb: &Bound<'_, PyAny>| -> PyResult<()> {
+        let last = latest_preview.lock().ok().and_then(|mut g| g.take());
+        match last {
+            Some((img, passes)) => cb
+                .call1((image_bytes(py, &img), img.width, img.height, passes))
+                .map(|_| ()),
+            None => Ok(()),
+        }
+    };
     std::thread::scope(|s| {
         let flag = cancel.clone();
         let done_ref = &done;
         s.spawn(move || {
             let r = catch_unwind(AssertUnwindSafe(|| {
-                cli::render_desc(desc, settings, Some(progress), Some(flag))
+                cli::render_desc_with_preview(
+                    desc,
+                    settings,
+                    Some(progress),
+                    Some(flag),
+                    preview_fn,
+                )
             }));
             if let Ok(mut g) = done_ref.0.lock() {
                 *g = Some(r);
@@ -388,8 +418,11 @@ fn render_blocking(
                 if let Err(e) = py.check_signals() {
                     cancel.store(true, Ordering::Relaxed);
                     pending = Some(e);
-                } else if let Some(cb) = callback {
-                    if let Err(e) = report(cb) {
+                } else {
+                    let shown = callback
+                        .map_or(Ok(()), report)
+                        .and_then(|_| preview.map_or(Ok(()), show));
+                    if let Err(e) = shown {
                         cancel.store(true, Ordering::Relaxed);
                         pending = Some(e);
                     }
@@ -403,6 +436,9 @@ fn render_blocking(
             Ok(Ok(out)) => {
                 if let Some(cb) = callback {
                     report(cb)?;
+                }
+                if let Some(cb) = preview {
+                    show(cb)?;
                 }
                 Ok(out)
             }
@@ -431,7 +467,8 @@ fn image_bytes<'py>(py: Python<'py>, img: &crate::render::film::Image) -> Bound<
 #[pyo3(signature = (scene, *, quality="medium", spp=None, seed=0, threads=0, photons=None,
     caustic_photons=None, volume_photons=None, volume_step=None, gather=None, radius=None, final_gather_rays=None,
     irradiance_cache=None, cache_tolerance=None, max_specular_depth=None, filter=None,
-    time_budget=None, memory_limit=None, progress=None, cancel=None))]
+    time_budget=None, mode="jensen", alpha=None, initial_photons=None, progressive=None, gather_rays_per_sample=None,
+    memory_limit=None, progress=None, preview=None, cancel=None))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
@@ -452,8 +489,14 @@ fn render<'py>(
     max_specular_depth: Option<u32>,
     filter: Option<&str>,
     time_budget: Option<f64>,
+    mode: &str,
+    alpha: Option<f32>,
+    initial_photons: Option<usize>,
+    progressive: Option<bool>,
+    gather_rays_per_sample: Option<u32>,
     memory_limit: Option<Bound<'py, PyAny>>,
     progress: Option<Bound<'py, PyAny>>,
+    preview: Option<Bound<'py, PyAny>>,
     cancel: Option<&CancelToken>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let mut a = RenderArgs::defaults();
@@ -493,6 +536,17 @@ fn render<'py>(
         })?;
     }
     a.time_budget = time_budget;
+    a.mode = crate::render::settings::RenderMode::parse(mode).ok_or_else(|| {
+        PyValueError::new_err(format!("unknown mode `{mode}` (expected jensen or sppm)"))
+    })?;
+    if let Some(v) = alpha {
+        a.alpha = v;
+    }
+    if let Some(v) = initial_photons {
+        a.initial_photons = v;
+    }
+    a.progressive = progressive.unwrap_or(false);
+    a.gather_rays_per_sample = gather_rays_per_sample;
     a.check().map_err(to_py)?;
     let flag = cancel
         .map(|c| c.flag.clone())
@@ -507,6 +561,7 @@ fn render<'py>(
         settings,
         None,
         progress.as_ref(),
+        preview.as_ref(),
         flag,
         to_py_keyword,
     )?;
@@ -518,6 +573,10 @@ fn render<'py>(
         terms.set_item(t.name(), image_bytes(py, out.film.term(t)))?;
     }
     d.set_item("terms", terms)?;
+    d.set_item(
+        crate::render::aov::ERROR_AOV,
+        image_bytes(py, &out.film.error),
+    )?;
     d.set_item("combined", image_bytes(py, &out.film.combined()))?;
     let stats =
         serde_json::to_string(&out.stats).map_err(|e| PhotonmapError::new_err(e.to_string()))?;
@@ -604,6 +663,7 @@ fn run_cli(
             a.settings(),
             Some(bar_fn),
             None,
+            None,
             cancel,
             to_py,
         );
@@ -680,6 +740,8 @@ fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
         "PASS_NAMES",
         Term::ALL.iter().map(|t| t.pass_name()).collect::<Vec<_>>(),
     )?;
+    m.add("ERROR_AOV", crate::render::aov::ERROR_AOV)?;
+    m.add("ERROR_PASS", crate::render::aov::ERROR_PASS)?;
     m.add(
         "QUALITIES",
         Quality::ALL.iter().map(|q| q.name()).collect::<Vec<_>>(),

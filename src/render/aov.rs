@@ -71,6 +71,13 @@ impl Term {
     }
 }
 
+/// The AOV that is not a term: the estimated standard error of each pixel of the combined
+/// image (per channel), from the spread of its samples or progressive passes. Files call it
+/// `error`, Blender `Error`. It is not part of the sum.
+pub const ERROR_AOV: &str = "error";
+/// Blender pass name of [`ERROR_AOV`].
+pub const ERROR_PASS: &str = "Error";
+
 /// A set of terms: selects which estimators run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct TermMask(pub u8);

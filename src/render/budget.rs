@@ -9,9 +9,10 @@
 //! of the budget.
 //!
 //! **Enforce.** The camera pass is progressive in whole passes over the image, one sample
-//! per pixel per pass. Sample `k` of a pixel takes its film position from point `k` of the
-//! Sobol (0,2)-sequence, digitally shifted per pixel, so every power-of-two prefix of the
-//! passes is stratified, and the pixel's random stream continues from pass to pass. The image
+//! per pixel per pass. Sample `k` of a pixel takes its film position from the Sobol
+//! (0,2)-sequence of one of the pixel's independently shifted replicates (`render::error`),
+//! so every power-of-two prefix of each replicate is stratified, and the pixel's random
+//! stream continues from pass to pass. The image
 //! after `K` passes therefore depends only on `K` (and the photon counts and seed), never on
 //! how long a pass took. Passes are added while the next one, at the measured time per
 //! pass, still fits in the budget less a margin.

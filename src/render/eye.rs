@@ -110,8 +110,53 @@ fn from_media(
     }
 }
 
+/// The camera ray of pixel (x, y) for the sample `u` in [0,1)^2, which `filter` warps into
+/// an offset from the pixel centre; the lens sample comes from `rng`.
+pub fn camera_ray(
+    scene: &Scene,
+    filter: &super::film::Filter,
+    x: usize,
+    y: usize,
+    u: glam::Vec2,
+    rng: &mut Rng,
+) -> Ray {
+    let film = glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + filter.sample(u);
+    let cr = scene.camera.generate_ray(film, rng.vec2());
+    Ray {
+        o: cr.o,
+        d: cr.d,
+        t_max: cr.t_max,
+    }
+}
+
+/// A non-specular point an eye path reached, where progressive photon mapping (`sppm`)
+/// estimates the photon terms: the point, its geometric normal on the side of `wo`, the BSDF,
+/// the path throughput, and the specular bounces before it (for routing to `specular`).
+#[derive(Clone, Copy)]
+pub struct VisiblePoint {
+    pub p: glam::Vec3,
+    pub n: glam::Vec3,
+    pub wo: glam::Vec3,
+    pub bsdf: Bsdf,
+    pub beta: Spectrum,
+    pub bounces: u32,
+}
+
 /// Radiance along `ray`, per term. Non-finite estimates are dropped (counted by the caller).
-pub fn trace(ctx: &EyeCtx, mut ray: Ray, rng: &mut Rng, scratch: &mut KnnScratch) -> TermRadiance {
+pub fn trace(ctx: &EyeCtx, ray: Ray, rng: &mut Rng, scratch: &mut KnnScratch) -> TermRadiance {
+    trace_split(ctx, ray, rng, scratch, None)
+}
+
+/// As [`trace`]; with `visible` given, the caustic and indirect estimators do not run at the
+/// non-specular points the path reaches: each point is handed to `visible` instead, for a
+/// progressive photon pass to estimate.
+pub fn trace_split(
+    ctx: &EyeCtx,
+    mut ray: Ray,
+    rng: &mut Rng,
+    scratch: &mut KnnScratch,
+    mut visible: Option<&mut dyn FnMut(VisiblePoint)>,
+) -> TermRadiance {
     let scene = ctx.scene;
     let s = &ctx.settings;
     let mut out = TermRadiance::default();
@@ -209,7 +254,18 @@ pub fn trace(ctx: &EyeCtx, mut ray: Ray, rng: &mut Rng, scratch: &mut KnnScratch
                             beta * direct::estimate(scene, &si, &bsdf, &stack, rng),
                         );
                     }
-                    if wants(Term::Caustic, bounces) {
+                    if let Some(record) = visible.as_mut() {
+                        if wants(Term::Caustic, bounces) || wants(Term::Indirect, bounces) {
+                            record(VisiblePoint {
+                                p: si.p,
+                                n: si.ng,
+                                wo: si.wo,
+                                bsdf,
+                                beta,
+                                bounces,
+                            });
+                        }
+                    } else if wants(Term::Caustic, bounces) {
                         add(
                             &mut out,
                             Term::Caustic,
@@ -217,7 +273,7 @@ pub fn trace(ctx: &EyeCtx, mut ray: Ray, rng: &mut Rng, scratch: &mut KnnScratch
                             beta * caustic::estimate(ctx.maps, &si, &bsdf, scratch),
                         );
                     }
-                    if wants(Term::Indirect, bounces) {
+                    if visible.is_none() && wants(Term::Indirect, bounces) {
                         add(
                             &mut out,
                             Term::Indirect,

@@ -119,6 +119,9 @@ pub struct Film {
     pub width: usize,
     pub height: usize,
     pub terms: Vec<Image>,
+    /// The `error` AOV: the estimated standard error of each pixel of the combined image,
+    /// per channel (see `render::error`); not a term, not part of the sum.
+    pub error: Image,
 }
 
 impl Film {
@@ -129,6 +132,7 @@ impl Film {
             terms: (0..Term::COUNT)
                 .map(|_| Image::new(width, height))
                 .collect(),
+            error: Image::new(width, height),
         }
     }
 

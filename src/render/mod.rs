@@ -2,13 +2,17 @@
 pub mod aov;
 pub mod budget;
 mod cache_fill;
+pub mod error;
 pub mod eye;
 pub mod film;
 pub mod irradiance_cache;
 pub mod photons;
 mod renderer;
 pub mod settings;
+pub mod sppm;
 pub mod terms;
 
-pub use renderer::{MemoryEstimate, ProgressFn, RenderOutput, RenderStats, Renderer, SkippedTerm};
+pub use renderer::{
+    MemoryEstimate, PreviewFn, ProgressFn, RenderOutput, RenderStats, Renderer, SkippedTerm,
+};
 pub use settings::{PhotonSettings, Quality, RenderSettings};

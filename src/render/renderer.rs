@@ -6,13 +6,16 @@
 use super::aov::Term;
 use super::budget::{self, BudgetStats};
 use super::cache_fill;
+use super::error::{replicate_of, Replicates, Shifts, REPLICATES};
 use super::eye::{self, EyeCtx, EyeSettings};
 use super::film::{Film, TermRadiance};
 use super::photons::{self, MapStats, PhotonMaps};
+use super::settings::RenderMode;
 use super::settings::{RenderSettings, BYTES_PER_PHOTON, BYTES_PER_TRIANGLE};
+use super::sppm::{SppmJob, SppmStats};
 use super::terms::volume::MarchSettings;
 use crate::error::{Error, Result};
-use crate::geometry::Ray;
+use crate::math::Spectrum;
 use crate::photon::KnnScratch;
 use crate::sampling::Rng;
 use crate::scene::Scene;
@@ -24,6 +27,23 @@ use std::time::Instant;
 
 /// Called with (fraction done in [0,1], phase name). May be called from worker threads.
 pub type ProgressFn = dyn Fn(f32, &str) + Send + Sync;
+
+/// Called during a progressive render (`progressive`, a time budget, or `RenderMode::Sppm`)
+/// with the image so far and the passes it holds: after passes 1, 2, 4, 8, ... and at most
+/// every `PREVIEW_SECONDS` between them. The Blender viewport refines through it.
+pub type PreviewFn = dyn Fn(&Film, u32) + Send + Sync;
+
+/// Shortest interval between two previews, in seconds (powers of two aside).
+pub const PREVIEW_SECONDS: f64 = 0.25;
+
+/// Whether a progressive loop that last previewed at `last` should preview after `passes`.
+pub fn preview_due(passes: u32, last: &mut Instant) -> bool {
+    if passes.is_power_of_two() || last.elapsed().as_secs_f64() >= PREVIEW_SECONDS {
+        *last = Instant::now();
+        return true;
+    }
+    false
+}
 
 /// Why a term is zero in this render.
 #[derive(Clone, Debug, Serialize)]
@@ -64,6 +84,11 @@ pub struct RenderStats {
     /// The plan of a render to a time budget, and how it went; absent without a budget.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub time_budget: Option<BudgetStats>,
+    /// Jensen's two passes or progressive photon mapping.
+    pub mode: RenderMode,
+    /// What a progressive render did; absent in Jensen's mode.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sppm: Option<SppmStats>,
 }
 
 /// Memory that the photon maps and the BVH of a render take, estimated before the photon
@@ -91,6 +116,7 @@ pub struct Renderer<'a> {
     settings: RenderSettings,
     progress: Option<Arc<ProgressFn>>,
     cancel: Option<Arc<AtomicBool>>,
+    pub(super) preview: Option<Arc<PreviewFn>>,
 }
 
 impl<'a> Renderer<'a> {
@@ -100,6 +126,7 @@ impl<'a> Renderer<'a> {
             settings: RenderSettings::default(),
             progress: None,
             cancel: None,
+            preview: None,
         }
     }
     pub fn settings(mut self, s: RenderSettings) -> Self {
@@ -124,6 +151,11 @@ impl<'a> Renderer<'a> {
     }
     pub fn cancel_flag(mut self, flag: Arc<AtomicBool>) -> Self {
         self.cancel = Some(flag);
+        self
+    }
+    /// Previews of a progressive render (see [`PreviewFn`]).
+    pub fn preview(mut self, f: Arc<PreviewFn>) -> Self {
+        self.preview = Some(f);
         self
     }
 
@@ -172,9 +204,14 @@ impl<'a> Renderer<'a> {
     /// Which maps the render reads: global, caustic, volume.
     fn needed_maps(&self) -> [bool; 3] {
         let s = &self.settings;
+        let need_volume = s.terms.contains(Term::Volume) && self.scene.has_media();
+        if s.mode == RenderMode::Sppm {
+            // One global map per pass serves both photon terms.
+            let terms = s.terms.contains(Term::Caustic) || s.terms.contains(Term::Indirect);
+            return [terms, false, need_volume];
+        }
         let need_global = s.terms.contains(Term::Indirect) && s.photons.final_gather_rays > 0;
         let need_caustic = s.terms.contains(Term::Caustic);
-        let need_volume = s.terms.contains(Term::Volume) && self.scene.has_media();
         [need_global, need_caustic, need_volume]
     }
 
@@ -373,6 +410,9 @@ impl<'a> Renderer<'a> {
         estimate: MemoryEstimate,
         start: Instant,
     ) -> Result<RenderOutput> {
+        if self.settings.mode == RenderMode::Sppm {
+            return self.render_sppm(threads, estimate, start);
+        }
         let (w, h) = (self.scene.width, self.scene.height);
         let mut seconds = std::collections::BTreeMap::new();
         let [need_global, need_caustic, need_volume] = self.needed_maps();
@@ -505,6 +545,8 @@ impl<'a> Renderer<'a> {
             bytes_per_photon: BYTES_PER_PHOTON,
             bytes_per_triangle: BYTES_PER_TRIANGLE,
             time_budget: None,
+            mode: RenderMode::Jensen,
+            sppm: None,
         };
         let mut stats = stats;
         if let Some(mut bs) = budget_stats {
@@ -525,7 +567,115 @@ impl<'a> Renderer<'a> {
         Ok(RenderOutput { film, stats })
     }
 
-    /// Traces sample `u` (in [0,1)^2, warped by the filter) of pixel (x, y) into `acc`.
+    /// A progressive photon-mapping render (`RenderMode::Sppm`, see `sppm`): `spp` passes,
+    /// or as many as fit in the time budget.
+    fn render_sppm(
+        &self,
+        threads: usize,
+        estimate: MemoryEstimate,
+        start: Instant,
+    ) -> Result<RenderOutput> {
+        let s = &self.settings;
+        let (w, h) = (self.scene.width, self.scene.height);
+        let [need_global, _, need_volume] = self.needed_maps();
+        let budget_seconds = s.time_budget.filter(|b| *b > 0.0);
+        let deadline =
+            budget_seconds.map(|b| b - budget::MARGIN_FRACTION * b - budget::MARGIN_SECONDS);
+        let non_finite = AtomicUsize::new(0);
+        let report = |f: f32, phase: &str| self.report(f, phase);
+        let job = SppmJob {
+            scene: self.scene,
+            settings: s,
+            need_global,
+            need_volume,
+            cancel: self.cancel.as_deref(),
+            report: &report,
+            deadline,
+            start,
+            non_finite: &non_finite,
+            preview: self.preview.as_deref(),
+        };
+        let out = job.run()?;
+        let mut seconds = std::collections::BTreeMap::new();
+        seconds.insert("photons".to_string(), out.stats.photon_seconds);
+        seconds.insert("render".to_string(), out.stats.camera_seconds);
+        let mut skipped = Vec::new();
+        for t in Term::ALL {
+            let reason = if !s.terms.contains(t) {
+                "disabled in the render settings"
+            } else if self.scene.lights.is_empty() && matches!(t, Term::Caustic | Term::Indirect) {
+                "the scene has no lights"
+            } else if t == Term::Caustic && photons::specular_targets(self.scene).is_empty() {
+                "the scene has no specular or transmissive surfaces"
+            } else if t == Term::Volume && !self.scene.has_media() {
+                "the scene has no participating media"
+            } else {
+                continue;
+            };
+            skipped.push(SkippedTerm {
+                term: t.name(),
+                reason: reason.to_string(),
+            });
+        }
+        let mut maps = out.maps;
+        for m in maps.iter_mut().filter(|m| m.map == "caustic") {
+            m.skipped_because =
+                Some("progressive mode: each pass's global map holds the caustic photons".into());
+        }
+        let photon_bytes: u64 = maps.iter().map(|m| m.memory_bytes).sum();
+        let time_budget = budget_seconds.map(|b| {
+            let actual = start.elapsed().as_secs_f64();
+            BudgetStats {
+                budget_seconds: b,
+                planned_seconds: out.passes as f64 * out.seconds_per_pass,
+                actual_seconds: actual,
+                passes: out.passes,
+                spp: out.passes,
+                seconds_per_pass: out.seconds_per_pass,
+                photons_global: s.photons.global,
+                photons_volume: s.photons.volume,
+                too_small: actual > 1.05 * b,
+                ..BudgetStats::default()
+            }
+        });
+        let stats = RenderStats {
+            version: env!("CARGO_PKG_VERSION"),
+            seed: s.seed,
+            width: w,
+            height: h,
+            spp: out.passes,
+            threads,
+            triangles: self.scene.triangle_count,
+            lights: self.scene.lights.len(),
+            seconds,
+            camera_rays: (w * h) as u64 * out.passes as u64,
+            photons_stored: maps
+                .iter()
+                .filter(|m| m.built)
+                .map(|m| (m.map.to_string(), m.stored))
+                .collect(),
+            photon_maps: maps,
+            irradiance_cache_records: 0,
+            skipped,
+            non_finite_samples: non_finite.load(Ordering::Relaxed) as u64,
+            memory_bytes: (w * h * (Term::COUNT + 1) * 12) as u64
+                + self.scene.triangle_count as u64 * 64
+                + photon_bytes,
+            memory_estimate: estimate,
+            bytes_per_photon: BYTES_PER_PHOTON,
+            bytes_per_triangle: BYTES_PER_TRIANGLE,
+            time_budget,
+            mode: RenderMode::Sppm,
+            sppm: Some(out.stats),
+        };
+        Ok(RenderOutput {
+            film: out.film,
+            stats,
+        })
+    }
+
+    /// Traces sample `u` (in [0,1)^2, warped by the filter) of pixel (x, y) into `acc`, and
+    /// returns the sample's value of the combined image (for the `error` AOV).
     #[allow(clippy::too_many_arguments)]
     fn sample_pixel(
         &self,
@@ -538,24 +688,20 @@ impl<'a> Renderer<'a> {
         scratch: &mut KnnScratch,
         acc: &mut TermRadiance,
         non_finite: &AtomicUsize,
-    ) {
-        let offset = s.filter.sample(u);
-        let film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
-        let cr = self.scene.camera.generate_ray(film, rng.vec2());
-        let ray = Ray {
-            o: cr.o,
-            d: cr.d,
-            t_max: cr.t_max,
-        };
+    ) -> Spectrum {
+        let ray = eye::camera_ray(self.scene, &s.filter, x, y, u, rng);
         let l = eye::trace(ctx, ray, rng, scratch);
+        let mut total = Spectrum::ZERO;
         for t in Term::ALL {
             let v = l.0[t.index()];
             if v.is_finite() {
                 acc.0[t.index()] += v;
+                total += v;
             } else {
                 non_finite.fetch_add(1, Ordering::Relaxed);
             }
         }
+        total
     }
 
     /// The camera pass in one go: `spp` samples per pixel, stratified over an nx-by-ny grid.
@@ -568,9 +714,16 @@ impl<'a> Renderer<'a> {
         let (w, h) = (self.scene.width, self.scene.height);
         self.report(0.0, "render");
         let rows_done = AtomicUsize::new(0);
-        let nx = (s.spp as f32).sqrt().floor().max(1.0) as u32;
-        let ny = s.spp.div_ceil(nx);
-        let rows: Vec<Option<Vec<TermRadiance>>> = {
+        // Sample i belongs to replicate i mod R (see `error`); each replicate is stratified
+        // over its own nx-by-ny grid.
+        let grids: Vec<(u32, u32)> = (0..REPLICATES as u32)
+            .map(|r| {
+                let n = s.spp.saturating_sub(r).div_ceil(REPLICATES as u32).max(1);
+                let nx = (n as f32).sqrt().floor().max(1.0) as u32;
+                (nx, n.div_ceil(nx))
+            })
+            .collect();
+        let rows: Vec<Option<Vec<(TermRadiance, Spectrum)>>> = {
             use rayon::prelude::*;
             (0..h)
                 .into_par_iter()
@@ -585,23 +738,27 @@ impl<'a> Renderer<'a> {
                         }
                         let mut rng = Rng::new(s.seed, (y * w + x) as u64);
                         let mut acc = TermRadiance::default();
+                        let mut batches = Replicates::default();
                         for i in 0..s.spp {
-                            // Stratified over an nx-by-ny grid, then warped by the filter.
-                            let (cx, cy) = (i % nx, (i / nx) % ny);
+                            // Stratified over the replicate's grid, then warped by the filter.
+                            let (r, j) = replicate_of(i);
+                            let (nx, ny) = grids[r];
+                            let (cx, cy) = (j % nx, (j / nx) % ny);
                             let j = rng.vec2();
                             let u = Vec2::new(
                                 (cx as f32 + j.x) / nx as f32,
                                 (cy as f32 + j.y) / ny as f32,
                             );
-                            self.sample_pixel(
+                            let v = self.sample_pixel(
                                 ctx, s, x, y, u, &mut rng, scratch, &mut acc, non_finite,
                             );
+                            batches.add(i, v);
                         }
                         let inv = 1.0 / s.spp as f32;
                         for v in acc.0.iter_mut() {
                             *v *= inv;
                         }
-                        row.push(acc);
+                        row.push((acc, batches.standard_error()));
                     }
                     let done = rows_done.fetch_add(1, Ordering::Relaxed) + 1;
                     self.report(done as f32 / h as f32, "render");
@@ -615,15 +772,16 @@ impl<'a> Renderer<'a> {
         let mut film = Film::new(w, h);
         for (y, row) in rows.into_iter().enumerate() {
             let row = row.ok_or(Error::Cancelled)?;
-            for (x, px) in row.iter().enumerate() {
+            for (x, (px, err)) in row.iter().enumerate() {
                 film.set_pixel(x, y, px);
+                film.error.data[y * w + x] = err.to_array();
             }
         }
         Ok(film)
     }
 
     /// The camera pass in whole passes over the image, one sample per pixel each: sample `k`
-    /// of a pixel is point `k` of the Sobol (0,2)-sequence, digitally shifted per pixel, and
+    /// of a pixel comes from its replicated Sobol (0,2)-sequence (`error::Shifts`), and
     /// the pixel's random stream continues across passes, so the image after `k` passes is
     /// the same however many follow. Without a deadline it runs `spp` passes; with one (seconds
     /// since `start`) it adds passes while the next, at the mean time per pass so far, ends
@@ -640,23 +798,39 @@ impl<'a> Renderer<'a> {
         use rayon::prelude::*;
         struct PixelState {
             rng: Rng,
-            shift: (u32, u32),
+            shifts: Shifts,
             acc: TermRadiance,
+            batches: Replicates,
         }
         let (w, h) = (self.scene.width, self.scene.height);
         let mut pixels: Vec<PixelState> = (0..w * h)
             .into_par_iter()
             .map(|i| {
                 let mut rng = Rng::new(s.seed, i as u64);
-                let shift = (rng.next_u32(), rng.next_u32());
+                let shifts = Shifts::draw(&mut rng);
                 PixelState {
                     rng,
-                    shift,
+                    shifts,
                     acc: TermRadiance::default(),
+                    batches: Replicates::default(),
                 }
             })
             .collect();
+        let film_of = |pixels: &[PixelState], passes: u32| {
+            let mut film = Film::new(w, h);
+            let inv = 1.0 / passes.max(1) as f32;
+            for (i, px) in pixels.iter().enumerate() {
+                let mut v = px.acc;
+                for c in v.0.iter_mut() {
+                    *c *= inv;
+                }
+                film.set_pixel(i % w, i / w, &v);
+                film.error.data[i] = px.batches.standard_error().to_array();
+            }
+            film
+        };
         let t = Instant::now();
+        let mut last_preview = Instant::now();
         let mut passes: u32 = 0;
         loop {
             match deadline {
@@ -685,12 +859,8 @@ impl<'a> Renderer<'a> {
                         if self.is_cancelled() {
                             return;
                         }
-                        let (sx, sy) = budget::sobol02(k);
-                        let u = Vec2::new(
-                            budget::to_unit(sx ^ px.shift.0),
-                            budget::to_unit(sy ^ px.shift.1),
-                        );
-                        self.sample_pixel(
+                        let u = px.shifts.point(k);
+                        let v = self.sample_pixel(
                             ctx,
                             s,
                             x,
@@ -701,6 +871,7 @@ impl<'a> Renderer<'a> {
                             &mut px.acc,
                             non_finite,
                         );
+                        px.batches.add(k, v);
                     }
                 },
             );
@@ -708,17 +879,14 @@ impl<'a> Renderer<'a> {
                 return Err(Error::Cancelled);
             }
             passes += 1;
+            if let Some(p) = &self.preview {
+                if preview_due(passes, &mut last_preview) {
+                    p(&film_of(&pixels, passes), passes);
+                }
+            }
         }
         self.report(1.0, "render");
         let per_pass = t.elapsed().as_secs_f64() / passes.max(1) as f64;
-        let mut film = Film::new(w, h);
-        let inv = 1.0 / passes as f32;
-        for (i, px) in pixels.iter_mut().enumerate() {
-            for v in px.acc.0.iter_mut() {
-                *v *= inv;
-            }
-            film.set_pixel(i % w, i / w, &px.acc);
-        }
-        Ok((film, passes, per_pass))
+        Ok((film_of(&pixels, passes), passes, per_pass))
     }
 }

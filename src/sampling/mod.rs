@@ -5,4 +5,4 @@ mod rng;
 pub mod warp;
 
 pub use distribution::{Distribution1D, Distribution2D};
-pub use rng::Rng;
+pub use rng::{mix64, Rng};

@@ -77,7 +77,7 @@ def test_passes_in_the_result_and_in_multilayer_exr(photonmap_scene, addon, tmp_
     parts = exr_parts(path)
     layer = bpy.context.view_layer.name
     names = {n.split(".", 1)[1] for n in parts if n.startswith(layer + ".")}
-    assert names == {"Combined", *photonmap.PASS_NAMES}, names
+    assert names == {"Combined", *photonmap.PASS_NAMES, photonmap.ERROR_PASS}, names
     comb = np.stack([parts[f"{layer}.Combined"][f"{layer}.Combined.{c}"] for c in "RGB"], -1)
     total = sum(np.stack([parts[f"{layer}.{p}"][f"{layer}.{p}.{c}"] for c in "RGB"], -1)
                 for p in photonmap.PASS_NAMES)
@@ -363,7 +363,15 @@ def test_viewport_refines_progressively(photonmap_scene, addon):
     gen = vp.generation
     orig = viewport.RenderJob
 
+    previews = []
+
     class Spy(orig):
+        def __init__(self, ir, settings, preview=None):
+            def spy(img, passes):
+                previews.append((img.shape[:2], passes))
+                preview(img, passes)
+            super().__init__(ir, settings, preview=spy)
+
         def _run(self):
             super()._run()
             sizes.append(self.out["combined"].shape[:2])
@@ -373,5 +381,11 @@ def test_viewport_refines_progressively(photonmap_scene, addon):
         vp._refine(gen, dict(vp.ir, camera=cam), 48, 32, dict(vp.settings))
     finally:
         viewport.RenderJob = orig
-    assert sizes == [(8, 12), (32, 48), (32, 48)]
-    assert Engine.redraws == 3 and vp.image.shape == (32, 48, 3) and vp.image.mean() > 0.01
+    # A quarter-resolution draft, then one progressive render whose passes refine the image.
+    assert sizes == [(8, 12), (32, 48)]
+    # The calling thread hands on the latest preview every 50 ms, and the last at the end.
+    passes = [p for _, p in previews]
+    assert passes and passes == sorted(passes) and passes[-1] <= sc.photonmap.spp, previews
+    assert all(s == (32, 48) for s, _ in previews), previews
+    assert Engine.redraws == 1 + len(previews) + 1  # the draft, each preview, the end
+    assert vp.image.shape == (32, 48, 3) and vp.image.mean() > 0.01

@@ -1,0 +1,74 @@
+"""Progressive photon mapping, previews and the error AOV through the Python API."""
+
+import json
+import os
+
+import numpy as np
+import pytest
+
+import photonmap
+
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+def spheres(size=32):
+    """The caustic test scene (glass and mirror spheres in a Cornell box), small."""
+    with open(os.path.join(ROOT, "tests", "data", "scenes", "cornell_spheres.json")) as f:
+        ir = json.load(f)
+    ir["film"] = dict(ir.get("film", {}), width=size, height=size)
+    return ir
+
+
+def test_sppm_renders_converging_passes_with_previews_and_an_error_aov():
+    s = spheres()
+    seen = []
+    out = photonmap.render(s, mode="sppm", spp=8, photons=5000, seed=2,
+                           preview=lambda img, passes: seen.append((img.shape, passes, img.mean())))
+    st = out["stats"]
+    assert st["mode"] == "sppm" and st["sppm"]["passes"] == 8
+    assert st["sppm"]["mean_final_radius"] < st["sppm"]["mean_initial_radius"]
+    # No caustic map in progressive mode, and the stats say why.
+    caustic = [m for m in st["photon_maps"] if m["map"] == "caustic"][0]
+    assert not caustic["built"] and "progressive" in caustic["skipped_because"]
+    # Previews (the calling thread gets the latest every 50 ms), each the beauty so far.
+    passes = [p for _, p, _ in seen]
+    assert passes and passes == sorted(passes) and passes[-1] <= 8
+    assert all(shape == out["combined"].shape for shape, _, _ in seen)
+    # The error AOV: finite, non-negative, not a term (the terms still sum to the beauty).
+    err = out[photonmap.ERROR_AOV]
+    assert err.shape == out["combined"].shape and np.isfinite(err).all() and (err >= 0).all()
+    assert err.mean() > 0
+    total = sum(out[t] for t in photonmap.TERMS)
+    np.testing.assert_allclose(total, out["combined"], rtol=1e-5, atol=1e-6)
+
+
+def test_error_aov_shrinks_with_samples_in_jensen_mode():
+    s = spheres()
+    a = photonmap.render(s, quality="draft", spp=8, seed=1)
+    b = photonmap.render(s, quality="draft", spp=128, seed=1)
+    # Standard error ~ 1/sqrt(spp): 16x the samples, about a quarter of the error.
+    ratio = b["error"].mean() / a["error"].mean()
+    assert 0.15 < ratio < 0.4, ratio
+
+
+def test_bad_mode_and_alpha_name_the_setting():
+    s = spheres()
+    with pytest.raises(ValueError, match="mode"):
+        photonmap.render(s, mode="progressive")
+    with pytest.raises(ValueError, match="alpha"):
+        photonmap.render(s, mode="sppm", alpha=1.5)
+
+
+def test_cli_writes_the_error_layer(tmp_path):
+    oiio = pytest.importorskip("OpenImageIO")
+    path = tmp_path / "s.json"
+    path.write_text(json.dumps(spheres(24)))
+    exr = tmp_path / "out.exr"
+    from photonmap.cli import main
+
+    assert main(["render", str(path), "-o", str(exr), "--mode", "sppm", "--spp", "4",
+                 "--photons", "2000", "--quiet"]) == 0
+    spec = oiio.ImageInput.open(str(exr)).spec()
+    names = list(spec.channelnames)
+    assert {"error.R", "error.G", "error.B", "caustic.R"} <= set(names), names
