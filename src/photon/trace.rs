@@ -24,6 +24,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 /// Photon paths per batch.
 pub const BATCH: u64 = 2048;
 
+/// Bytes a photon takes while its map is being traced, before it becomes a stored record.
+pub const RAW_PHOTON_BYTES: u64 = std::mem::size_of::<RawPhoton>() as u64;
+
 /// A photon before normalisation by the number emitted.
 #[derive(Clone, Copy)]
 struct RawPhoton {

@@ -33,6 +33,15 @@ pub type ProgressFn = dyn Fn(f32, &str) + Send + Sync;
 /// every `PREVIEW_SECONDS` between them. The Blender viewport refines through it.
 pub type PreviewFn = dyn Fn(&Film, u32) + Send + Sync;
 
+/// Bytes per photon held, besides the finished record, while a map is built: the traced
+/// photon (`RAW_PHOTON_BYTES`) until it is converted, or the kd-tree's scratch copy of the
+/// record during balancing, whichever is more (measured at 10^8 photons: 40 B/photon peak).
+fn build_extra(record: u64) -> u64 {
+    crate::photon::trace::RAW_PHOTON_BYTES
+        .saturating_sub(record)
+        .max(record)
+}
+
 /// Shortest interval between two previews, in seconds (powers of two aside).
 pub const PREVIEW_SECONDS: f64 = 0.25;
 
@@ -104,6 +113,10 @@ pub struct MemoryEstimate {
     pub bvh_bytes: u64,
     /// `photon_bytes + bvh_bytes`.
     pub total_bytes: u64,
+    /// The most the render holds at once, which the memory limit is checked against: the
+    /// BVH, the maps, and, while the largest map is built, its photons a second time (as
+    /// traced, `RAW_PHOTON_BYTES` each, or as the kd-tree's scratch copy, whichever is more).
+    pub peak_bytes: u64,
 }
 
 pub struct RenderOutput {
@@ -220,8 +233,8 @@ impl<'a> Renderer<'a> {
     pub fn memory_estimate(&self) -> MemoryEstimate {
         let p = &self.settings.photons;
         let [need_global, need_caustic, need_volume] = self.needed_maps();
-        let photons = if self.scene.lights.is_empty() {
-            0
+        let built: Vec<u64> = if self.scene.lights.is_empty() {
+            Vec::new()
         } else {
             let caustic =
                 need_caustic && p.caustic > 0 && !photons::specular_targets(self.scene).is_empty();
@@ -231,18 +244,24 @@ impl<'a> Renderer<'a> {
                 (need_volume, p.volume),
             ]
             .iter()
-            .filter(|(built, _)| *built)
-            .fold(0u64, |acc, (_, n)| acc.saturating_add(*n as u64))
+            .filter(|(b, _)| *b)
+            .map(|(_, n)| *n as u64)
+            .collect()
         };
+        let photons = built.iter().fold(0u64, |acc, n| acc.saturating_add(*n));
+        let largest = built.iter().copied().max().unwrap_or(0);
         let triangles = self.scene.triangle_count as u64;
-        let photon_bytes = photons.saturating_mul(p.bytes_per_photon());
+        let record = p.bytes_per_photon();
+        let photon_bytes = photons.saturating_mul(record);
         let bvh_bytes = triangles.saturating_mul(BYTES_PER_TRIANGLE);
+        let total_bytes = photon_bytes.saturating_add(bvh_bytes);
         MemoryEstimate {
             photons,
             photon_bytes,
             triangles,
             bvh_bytes,
-            total_bytes: photon_bytes.saturating_add(bvh_bytes),
+            total_bytes,
+            peak_bytes: total_bytes.saturating_add(largest.saturating_mul(build_extra(record))),
         }
     }
 
@@ -263,20 +282,23 @@ impl<'a> Renderer<'a> {
         }
         let estimate = self.memory_estimate();
         if let Some(limit) = s.memory_limit {
-            if estimate.total_bytes > limit {
+            if estimate.peak_bytes > limit {
                 return Err(Error::InvalidSetting {
                     setting: "--memory-limit".into(),
                     message: format!(
-                        "the render needs an estimated {} bytes ({} photons x {} B = {} B for \
-                         the photon maps, {} triangles x {} B = {} B for the BVH), over the \
-                         limit of {limit} bytes; store fewer photons or raise the limit",
-                        estimate.total_bytes,
+                        "the render needs an estimated {} bytes at its peak ({} photons x {} B \
+                         = {} B for the photon maps, {} triangles x {} B = {} B for the BVH, \
+                         {} B in all, plus the largest map's photons once more while it is \
+                         built), over the limit of {limit} bytes; store fewer photons or \
+                         raise the limit",
+                        estimate.peak_bytes,
                         estimate.photons,
                         s.photons.bytes_per_photon(),
                         estimate.photon_bytes,
                         estimate.triangles,
                         BYTES_PER_TRIANGLE,
-                        estimate.bvh_bytes
+                        estimate.bvh_bytes,
+                        estimate.total_bytes
                     ),
                 });
             }
@@ -374,7 +396,8 @@ impl<'a> Renderer<'a> {
             }
             if let Some(limit) = s.memory_limit {
                 let bvh = self.scene.triangle_count as u64 * BYTES_PER_TRIANGLE;
-                let fit = limit.saturating_sub(bvh) / s.photons.bytes_per_photon();
+                let record = s.photons.bytes_per_photon();
+                let fit = limit.saturating_sub(bvh) / (record + build_extra(record));
                 scale = scale.min(fit as f64 / preset_photons);
             }
         }
