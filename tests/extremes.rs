@@ -199,6 +199,7 @@ fn closed_box(albedo: f32, light: [f32; 3]) -> SceneDesc {
             power: 10.0,
             color: [1.0; 3],
             radius: 0.0,
+            soft_falloff: false,
         }],
         ..Default::default()
     }
@@ -480,9 +481,11 @@ fn zero_area_lights_are_rejected_naming_the_field() {
         name: "disk".into(),
         transform: IDENTITY,
         radius: 0.0,
+        radius_y: None,
         power: 1.0,
         color: [1.0; 3],
         two_sided: false,
+        spread: std::f32::consts::PI,
     };
     let e = photonmap::scene::validate(&desc).expect_err("radius 0 is rejected");
     assert!(e.to_string().contains("/lights/0/radius"), "{e}");
@@ -638,6 +641,7 @@ fn every_field_scene() -> SceneDesc {
         cone_angle: 0.8,
         blend: 0.1,
         radius: 0.0,
+        soft_falloff: false,
     });
     desc.lights.push(LightDesc::Distant {
         name: "sun".into(),

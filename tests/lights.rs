@@ -67,6 +67,7 @@ fn rect_light() -> Light {
         10.0,
         Spectrum::ONE,
         false,
+        PI,
     ))
 }
 
@@ -80,6 +81,34 @@ fn disk_light() -> Light {
         5.0,
         Spectrum::ONE,
         true,
+        PI,
+    ))
+}
+
+/// A rectangle whose emission is narrowed by Blender's Spread (60 degrees).
+fn rect_spread_light() -> Light {
+    Light::Area(AreaLight::new(
+        AreaShape::Rect,
+        Vec3::new(0.1, 1.0, 0.0),
+        Vec3::X * 0.4,
+        Vec3::Z * 0.25,
+        -Vec3::Y,
+        10.0,
+        Spectrum::ONE,
+        false,
+        60f32.to_radians(),
+    ))
+}
+
+/// A sphere light as Blender draws it with Soft Falloff: a disk facing the shading point.
+fn soft_sphere_light() -> Light {
+    Light::Point(PointLight::new(
+        Vec3::new(0.3, 1.2, -0.2),
+        20.0,
+        Spectrum::ONE,
+        0.4,
+        None,
+        true,
     ))
 }
 
@@ -87,10 +116,7 @@ fn disk_light() -> Light {
 fn hit_light(light: &Light, o: Vec3, d: Vec3, ctx: &LightCtx) -> Option<(Vec3, Vec3)> {
     match light {
         Light::Area(a) => a.intersect(o, d, f32::INFINITY).map(|t| (o + d * t, a.n)),
-        Light::Point(p) => p.intersect(o, d, f32::INFINITY).map(|t| {
-            let q = o + d * t;
-            (q, (q - p.position).normalize())
-        }),
+        Light::Point(p) => p.intersect(o, d, f32::INFINITY).map(|(t, n)| (o + d * t, n)),
         Light::Triangle(tri) => {
             let _ = ctx;
             let (e1, e2) = (tri.v[1] - tri.v[0], tri.v[2] - tri.v[0]);
@@ -121,9 +147,12 @@ fn lights_under_test() -> Vec<(&'static str, Light)> {
                 Spectrum::ONE,
                 0.4,
                 None,
+                false,
             )),
         ),
+        ("sphere_soft_falloff", soft_sphere_light()),
         ("rect", rect_light()),
+        ("rect_spread", rect_spread_light()),
         ("disk", disk_light()),
         (
             "distant_with_angle",
@@ -220,6 +249,7 @@ fn light_power_matches_monte_carlo_flux() {
             Spectrum::new(1.0, 0.5, 0.2),
             0.0,
             None,
+            false,
         )),
     ));
     lights.push((
@@ -230,18 +260,26 @@ fn light_power_matches_monte_carlo_flux() {
             Spectrum::ONE,
             0.0,
             Some(spot),
+            false,
         )),
     ));
-    lights.push((
-        "spot_with_radius",
-        Light::Point(PointLight::new(
-            Vec3::ZERO,
-            7.0,
-            Spectrum::ONE,
-            0.1,
-            Some(spot),
-        )),
-    ));
+    for soft in [false, true] {
+        lights.push((
+            if soft {
+                "spot_with_radius_soft_falloff"
+            } else {
+                "spot_with_radius"
+            },
+            Light::Point(PointLight::new(
+                Vec3::ZERO,
+                7.0,
+                Spectrum::ONE,
+                0.1,
+                Some(spot),
+                soft,
+            )),
+        ));
+    }
     let radius = 25.0f32;
     let n = 400_000;
     for (name, light) in &lights {
@@ -297,7 +335,14 @@ fn photon_emission_directions_and_flux() {
     let cases: Vec<(&str, Light, Box<dyn Fn(Vec3) -> f32 + Sync>)> = vec![
         (
             "point",
-            Light::Point(PointLight::new(Vec3::ZERO, 7.0, Spectrum::ONE, 0.0, None)),
+            Light::Point(PointLight::new(
+                Vec3::ZERO,
+                7.0,
+                Spectrum::ONE,
+                0.0,
+                None,
+                false,
+            )),
             Box::new(|_| 1.0 / (4.0 * PI)),
         ),
         (
@@ -308,6 +353,7 @@ fn photon_emission_directions_and_flux() {
                 Spectrum::ONE,
                 0.0,
                 Some(spot),
+                false,
             )),
             {
                 let s = spot;
@@ -322,7 +368,14 @@ fn photon_emission_directions_and_flux() {
         ),
         (
             "sphere",
-            Light::Point(PointLight::new(Vec3::ONE, 3.0, Spectrum::ONE, 0.3, None)),
+            Light::Point(PointLight::new(
+                Vec3::ONE,
+                3.0,
+                Spectrum::ONE,
+                0.3,
+                None,
+                false,
+            )),
             Box::new(|_| 1.0 / (4.0 * PI)),
         ),
         (

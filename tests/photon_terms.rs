@@ -71,6 +71,7 @@ fn white_furnace_indirect_matches_kd_over_one_minus_kd() {
                 power: 100.0,
                 color: [1.0; 3],
                 radius: 0.0,
+                soft_falloff: false,
             }],
             ..Default::default()
         };
@@ -128,6 +129,7 @@ fn first_hit_power_equals_light_power() {
                 power: 30.0,
                 color: [1.0, 0.5, 0.25],
                 two_sided: false,
+                spread: std::f32::consts::PI,
             },
             LightDesc::Point {
                 name: "bulb".into(),
@@ -135,6 +137,7 @@ fn first_hit_power_equals_light_power() {
                 power: 10.0,
                 color: [1.0; 3],
                 radius: 0.0,
+                soft_falloff: false,
             },
             LightDesc::Sphere {
                 name: "ball".into(),

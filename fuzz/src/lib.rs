@@ -417,6 +417,7 @@ impl Light {
                 power: w.0 * 100.0,
                 color: rgb(*c),
                 radius: r.0 / 8.0,
+                soft_falloff: w.0.to_bits() & 1 == 1,
             },
             Light::Spot(p, d, w, cone, blend, r) => LightDesc::Spot {
                 name,
@@ -431,6 +432,7 @@ impl Light {
                 },
                 blend: unit(*blend),
                 radius: r.0 / 8.0,
+                soft_falloff: w.0.to_bits() & 1 == 1,
             },
             Light::Rect(t, w, h, p, two) => LightDesc::Rect {
                 name,
@@ -440,14 +442,17 @@ impl Light {
                 power: p.0 * 100.0,
                 color: white,
                 two_sided: *two,
+                spread: if p.0.to_bits() & 1 == 1 { 1.0 } else { std::f32::consts::PI },
             },
             Light::Disk(t, r, p, two) => LightDesc::Disk {
                 name,
                 transform: t.matrix(),
                 radius: r.0,
+                radius_y: (p.0.to_bits() & 2 == 2).then_some(0.5 * r.0),
                 power: p.0 * 100.0,
                 color: white,
                 two_sided: *two,
+                spread: if p.0.to_bits() & 1 == 1 { 0.7 } else { std::f32::consts::PI },
             },
             Light::Sphere(p, r, w) => LightDesc::Sphere {
                 name,

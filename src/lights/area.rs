@@ -5,8 +5,12 @@
 //! | `transform` | light-to-world; the light lies in its local XY plane and emits along local -Z |
 //! | `width`, `height` / `radius` | size in local units (scaled by the transform) |
 //! | `power` P (W) x `color` | radiance L = P / (pi A) with A the world-space area; halved per side when `two_sided` |
+//! | `spread` | Blender's Spread, the full angle of the emission cone (pi: the whole hemisphere). Cycles' soft-box grid: L(theta) = L (tan a - tan theta) / (tan a - a) for theta < a = spread/2, which keeps the power P |
 //!
-//! Sampled uniformly by area; multiple importance sampling with the BSDF handles the rest.
+//! A disk's two radius vectors may differ: an ellipse. The light is one-sided unless
+//! `two_sided`: from behind it is invisible, and it never occludes anything (rays pass
+//! through it). Sampled uniformly by area; multiple importance sampling with the BSDF handles
+//! the rest.
 
 use super::LightSample;
 use crate::math::{Spectrum, PI};
@@ -31,6 +35,7 @@ pub struct AreaLight {
     pub area: f32,
     pub radiance: Spectrum,
     pub two_sided: bool,
+    pub spread: Spread,
     /// Inverse Gram matrix of (ex, ey), for planar coordinates of a hit point.
     gram_inv: [f32; 4],
 }
@@ -45,6 +50,7 @@ impl AreaLight {
         power: f32,
         color: Spectrum,
         two_sided: bool,
+        spread: f32,
     ) -> Self {
         let cross = ex.cross(ey).length();
         let area = match shape {
@@ -73,6 +79,7 @@ impl AreaLight {
             area,
             radiance,
             two_sided,
+            spread: Spread::new(spread),
             gram_inv,
         }
     }
@@ -85,10 +92,10 @@ impl AreaLight {
         self.center + self.ex * q.x + self.ey * q.y
     }
 
-    /// Radiance leaving towards a point in direction `-w_to_light` from the light's side `cos_l`.
-    fn emitted(&self, cos_l: f32) -> Spectrum {
+    /// Radiance leaving at cosine `cos_l` to the emission normal (negative: the back face).
+    pub fn emitted(&self, cos_l: f32) -> Spectrum {
         if cos_l > 0.0 || (self.two_sided && cos_l < 0.0) {
-            self.radiance
+            self.radiance * self.spread.attenuation(cos_l.abs())
         } else {
             Spectrum::ZERO
         }
@@ -131,13 +138,13 @@ impl AreaLight {
 
     /// Radiance seen along direction `d` hitting the light.
     pub fn le(&self, d: Vec3) -> Spectrum {
-        self.emitted(-d.dot(self.n))
+        self.emitted(-d.normalize_or_zero().dot(self.n))
     }
 
-    /// Ray parameter of a hit on the light's surface.
+    /// Ray parameter of a hit on the light's emitting side (either side when two-sided).
     pub fn intersect(&self, o: Vec3, d: Vec3, t_max: f32) -> Option<f32> {
         let denom = d.dot(self.n);
-        if denom.abs() < 1e-12 {
+        if denom.abs() < 1e-12 || (denom > 0.0 && !self.two_sided) {
             return None;
         }
         let t = (self.center - o).dot(self.n) / denom;
@@ -158,5 +165,59 @@ impl AreaLight {
     pub fn power(&self) -> Spectrum {
         let sides = if self.two_sided { 2.0 } else { 1.0 };
         self.radiance * (PI * self.area * sides)
+    }
+}
+
+/// Cycles' area-light spread: a soft-box grid passing the fraction (tan a - tan theta) /
+/// (tan a - a) of the light at angle theta to the normal, a the half spread angle. The
+/// normalisation keeps the power: the integral of (tan a - tan theta) cos sin over [0, a] is
+/// (tan a - a)/2, the Lambertian hemisphere's 1/2 times (tan a - a).
+#[derive(Clone, Copy, Debug)]
+pub struct Spread {
+    /// Half angle a; None for the whole hemisphere (spread pi).
+    half: Option<f32>,
+    tan_half: f32,
+    norm: f32,
+}
+
+impl Spread {
+    pub fn new(spread: f32) -> Self {
+        if !(spread < PI - 1e-6) {
+            return Spread {
+                half: None,
+                tan_half: f32::INFINITY,
+                norm: 1.0,
+            };
+        }
+        let a = 0.5 * spread.max(1e-4);
+        let tan_half = a.tan();
+        // 1 / (tan a - a), by its Taylor series a^3/3 + 2a^5/15 where the difference cancels.
+        let diff = if a > 0.05 {
+            tan_half - a
+        } else {
+            a * a * a / 3.0 + 2.0 * a.powi(5) / 15.0
+        };
+        Spread {
+            half: Some(a),
+            tan_half,
+            norm: 1.0 / diff,
+        }
+    }
+
+    /// The half angle a of the emission cone (pi/2 for the whole hemisphere).
+    pub fn half_angle(&self) -> f32 {
+        self.half.unwrap_or(0.5 * PI)
+    }
+
+    /// Factor on the radiance leaving at cosine `cos` (> 0) to the normal.
+    pub fn attenuation(&self, cos: f32) -> f32 {
+        if self.half.is_none() {
+            return 1.0;
+        }
+        if !(cos > 0.0) {
+            return 0.0;
+        }
+        let tan = (1.0 - cos * cos).max(0.0).sqrt() / cos;
+        ((self.tan_half - tan) * self.norm).max(0.0)
     }
 }

@@ -1,13 +1,16 @@
 //! Photon emission (Jensen 2001, §5.1): a ray leaving a light, with the flux it carries.
 //!
-//! Each light kind has its own sampling: point lights uniformly over the sphere (spots over
-//! their cone), area and emissive surfaces at a uniform point with a cosine-weighted direction,
-//! distant and environment lights through a disk covering the scene. `sample_le_towards` aims
+//! Each light kind has its own sampling: point lights a direction uniformly over the sphere
+//! (spots over their cone), then, with a radius, an origin on the emitter's disk across that
+//! direction (`point.rs`); area and emissive surfaces a uniform point and a cosine-weighted
+//! direction (a uniform cone for an area light's narrower spread); distant and environment
+//! lights through a disk covering the scene. `sample_le_towards` aims
 //! the same emission at bounding spheres of specular objects, for the caustic map (§5.1.4,
 //! "projection maps"), with the density of every overlapping target accounted for, so the
 //! estimate stays unbiased for every path whose first hit is inside a target.
 
-use super::{Light, LightCtx};
+use super::point::soft_disk_min_travel;
+use super::{Light, LightCtx, PointLight};
 use crate::math::{Frame, Spectrum, PI};
 use crate::sampling::warp;
 use glam::{Vec2, Vec3};
@@ -18,6 +21,9 @@ pub struct LeSample {
     pub o: Vec3,
     pub d: Vec3,
     pub weight: Spectrum,
+    /// The photon counts only if its first interaction is at least this far from `o` (the
+    /// soft-falloff disk, `point::soft_disk_min_travel`); 0 for every other light.
+    pub min_travel: f32,
 }
 
 /// A sphere bounding a specular object.
@@ -40,24 +46,6 @@ struct LightPoint {
 impl Light {
     fn sample_point(&self, u: Vec2) -> Option<LightPoint> {
         match self {
-            Light::Point(l) if l.radius == 0.0 => Some(LightPoint {
-                p: l.position,
-                n: Vec3::ZERO,
-                pdf_pos: 1.0,
-                two_sided: false,
-                uv: Vec2::ZERO,
-            }),
-            Light::Point(l) => {
-                let n = warp::square_to_uniform_sphere(u);
-                let area = 4.0 * PI * l.radius * l.radius;
-                Some(LightPoint {
-                    p: l.position + n * l.radius,
-                    n,
-                    pdf_pos: 1.0 / area,
-                    two_sided: false,
-                    uv: Vec2::ZERO,
-                })
-            }
             Light::Area(a) if a.area > 0.0 => {
                 let q = match a.shape {
                     super::AreaShape::Rect => 2.0 * u - Vec2::ONE,
@@ -89,22 +77,55 @@ impl Light {
         }
     }
 
-    /// Radiance (or intensity, for a point) leaving `lp` along `d`, times |cos| to the normal.
+    /// Radiance leaving the surface point `lp` along `d`, times |cos| to the normal.
     fn emitted_cos(&self, lp: &LightPoint, d: Vec3, ctx: &LightCtx) -> Spectrum {
-        let cos = if lp.n == Vec3::ZERO { 1.0 } else { d.dot(lp.n) };
+        let cos = d.dot(lp.n);
         if cos <= 0.0 && !(lp.two_sided && cos < 0.0) {
             return Spectrum::ZERO;
         }
-        let cos = cos.abs();
         match self {
-            Light::Point(l) if l.radius == 0.0 => {
-                l.intensity * l.spot.map_or(1.0, |s| s.attenuation(d))
-            }
-            Light::Point(l) => l.le(lp.p) * cos,
-            Light::Area(a) => a.radiance * cos,
-            Light::Triangle(t) => t.emission(lp.uv, ctx) * cos,
+            Light::Area(a) => a.emitted(cos) * cos.abs(),
+            Light::Triangle(t) => t.emission(lp.uv, ctx) * cos.abs(),
             _ => Spectrum::ZERO,
         }
+    }
+
+    /// A photon of a point, spot or sphere light leaving along `d`, drawn with density
+    /// `pdf_dir`: from the centre, or with a radius from a uniform point `u_pos` of the disk
+    /// across `d` (on the sphere, or through the centre for the soft-falloff disk).
+    fn point_photon(l: &PointLight, d: Vec3, pdf_dir: f32, u_pos: Vec2) -> Option<LeSample> {
+        if !(pdf_dir > 0.0) {
+            return None;
+        }
+        let weight = l.intensity * (l.spot_att(d) / pdf_dir);
+        let r = l.radius;
+        if r == 0.0 {
+            return Some(LeSample {
+                o: l.position,
+                d,
+                weight,
+                min_travel: 0.0,
+            });
+        }
+        let q = warp::square_to_uniform_disk_concentric(u_pos) * r;
+        let frame = Frame::from_normal(d);
+        let across = frame.s * q.x + frame.t * q.y;
+        let h2 = q.length_squared();
+        Some(if l.soft_falloff {
+            LeSample {
+                o: l.position + across,
+                d,
+                weight,
+                min_travel: soft_disk_min_travel(h2.sqrt(), r),
+            }
+        } else {
+            LeSample {
+                o: l.position + across - d * (r * r - h2).max(0.0).sqrt(),
+                d,
+                weight,
+                min_travel: 0.0,
+            }
+        })
     }
 
     /// A photon from this light, over its whole emission.
@@ -117,44 +138,60 @@ impl Light {
                 };
                 self.sample_infinite(u_pos, u_dir, &[target], 0.5, ctx)
             }
+            Light::Point(l) => {
+                let (d, pdf_dir) = match l.spot {
+                    Some(s) => (
+                        Frame::from_normal(s.axis)
+                            .to_world(warp::square_to_uniform_cone(u_dir, s.cos_half)),
+                        warp::uniform_cone_pdf(s.cos_half),
+                    ),
+                    None => (
+                        warp::square_to_uniform_sphere(u_dir),
+                        warp::UNIFORM_SPHERE_PDF,
+                    ),
+                };
+                Self::point_photon(l, d, pdf_dir, u_pos)
+            }
             _ => {
                 let lp = self.sample_point(u_pos)?;
-                let (d, pdf_dir) = match self {
-                    Light::Point(l) if l.radius == 0.0 => match l.spot {
-                        Some(s) => {
-                            let d = Frame::from_normal(s.axis)
-                                .to_world(warp::square_to_uniform_cone(u_dir, s.cos_half));
-                            (d, warp::uniform_cone_pdf(s.cos_half))
-                        }
-                        None => (
-                            warp::square_to_uniform_sphere(u_dir),
-                            warp::UNIFORM_SPHERE_PDF,
-                        ),
-                    },
-                    _ => {
-                        // Cosine-weighted about the normal; a two-sided emitter picks a face.
-                        let (mut u, mut n, mut side_pdf) = (u_dir, lp.n, 1.0);
-                        if lp.two_sided {
-                            side_pdf = 0.5;
-                            if u.x < 0.5 {
-                                u.x *= 2.0;
-                            } else {
-                                u.x = (u.x - 0.5) * 2.0;
-                                n = -n;
-                            }
-                        }
-                        let local = warp::square_to_cosine_hemisphere(u);
-                        (
-                            Frame::from_normal(n).to_world(local),
-                            side_pdf * warp::cosine_hemisphere_pdf(local),
-                        )
+                // Cosine-weighted about the normal (a uniform cone over a narrower spread);
+                // a two-sided emitter picks a face.
+                let (mut u, mut n, mut side_pdf) = (u_dir, lp.n, 1.0);
+                if lp.two_sided {
+                    side_pdf = 0.5;
+                    if u.x < 0.5 {
+                        u.x *= 2.0;
+                    } else {
+                        u.x = (u.x - 0.5) * 2.0;
+                        n = -n;
                     }
+                }
+                let half = match self {
+                    Light::Area(a) => a.spread.half_angle(),
+                    _ => 0.5 * PI,
                 };
+                let (local, pdf) = if half < 0.5 * PI {
+                    let cos_max = half.cos();
+                    (
+                        warp::square_to_uniform_cone(u, cos_max),
+                        warp::uniform_cone_pdf(cos_max),
+                    )
+                } else {
+                    let local = warp::square_to_cosine_hemisphere(u);
+                    (local, warp::cosine_hemisphere_pdf(local))
+                };
+                let d = Frame::from_normal(n).to_world(local);
+                let pdf_dir = side_pdf * pdf;
                 if !(pdf_dir > 0.0) {
                     return None;
                 }
                 let weight = self.emitted_cos(&lp, d, ctx) / (lp.pdf_pos * pdf_dir);
-                Some(LeSample { o: lp.p, d, weight })
+                Some(LeSample {
+                    o: lp.p,
+                    d,
+                    weight,
+                    min_travel: 0.0,
+                })
             }
         }
     }
@@ -175,14 +212,23 @@ impl Light {
         if matches!(self, Light::Distant(_) | Light::Environment(_)) {
             return self.sample_infinite(u_pos, u_dir, targets, u_sel, ctx);
         }
-        let lp = self.sample_point(u_pos)?;
-        // Cones towards each target; a light point inside a target sees it over the whole sphere.
+        // Cones from the light point (a point light's centre) towards each target, widened by
+        // a point light's radius: a photon line of direction d passing within r of the centre
+        // can reach the target only if d is within asin((R + r) / D) of it. A light point
+        // inside a target sees it over the whole sphere.
+        let (origin, widen, lp) = match self {
+            Light::Point(l) => (l.position, l.radius, None),
+            _ => {
+                let lp = self.sample_point(u_pos)?;
+                (lp.p, 0.0, Some(lp))
+            }
+        };
         let cones: Vec<(Vec3, f32, f32)> = targets
             .iter()
             .map(|t| {
-                let to = t.center - lp.p;
+                let to = t.center - origin;
                 let d2 = to.length_squared();
-                let r2 = t.radius * t.radius;
+                let r2 = (t.radius + widen) * (t.radius + widen);
                 if d2 <= r2 * 1.0001 {
                     (Vec3::Z, -1.0, 4.0 * PI)
                 } else {
@@ -219,11 +265,20 @@ impl Light {
                     }
             })
             .sum();
+        let Some(lp) = lp else {
+            let Light::Point(l) = self else { return None };
+            return Self::point_photon(l, d, pdf_dir, u_pos);
+        };
         if !(pdf_dir > 0.0) {
             return None;
         }
         let weight = self.emitted_cos(&lp, d, ctx) / (lp.pdf_pos * pdf_dir);
-        Some(LeSample { o: lp.p, d, weight })
+        Some(LeSample {
+            o: lp.p,
+            d,
+            weight,
+            min_travel: 0.0,
+        })
     }
 
     /// Distant and environment lights: a direction, then a point on a disk perpendicular to it
@@ -281,6 +336,7 @@ impl Light {
             o: on_disk - d * back,
             d,
             weight: radiance_over_pdf / pdf_pos,
+            min_travel: 0.0,
         })
     }
 }

@@ -76,7 +76,7 @@ impl Light {
     /// the light at point `p_light` with normal `n_light` (ignored for lights at infinity).
     pub fn pdf_li(&self, p: Vec3, wi: Vec3, p_light: Vec3, n_light: Vec3) -> f32 {
         match self {
-            Light::Point(l) => l.pdf_li(p, wi),
+            Light::Point(l) => l.pdf_li(p, p_light),
             Light::Area(l) => l.pdf_li(p, p_light, n_light),
             Light::Distant(l) => l.pdf_li(wi),
             Light::Environment(l) => l.pdf_li(wi),

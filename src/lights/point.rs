@@ -1,12 +1,26 @@
-//! Point, spot and sphere lights: one emitter at a position, with an optional radius
-//! (a sphere of uniform radiance) and an optional spot cone.
+//! Point, spot and sphere lights: one emitter at a position, with an optional radius and an
+//! optional spot cone, drawn as Cycles draws them.
 //!
 //! | parameter | meaning |
 //! |---|---|
 //! | `position` | centre |
-//! | `power` P (W) x `color` | radius 0: intensity I = P/(4 pi); radius r > 0: radiance P/(4 pi^2 r^2) |
-//! | `radius` | sphere radius (soft shadows), 0 for a true point |
+//! | `power` P (W) x `color` | intensity I = P/(4 pi); with a radius r > 0 the emitter has radiance L = P/(4 pi^2 r^2) |
+//! | `radius` | emitter radius (soft shadows), 0 for a true point |
+//! | `soft_falloff` | Blender's "Soft Falloff" (on by default): the emitter is a disk of radius r facing the shading point, so irradiance falls as 1/(d^2 + r^2) near the light; off: a sphere of radius r, exactly 1/d^2 outside it |
 //! | spot `cone_angle`, `blend` | full cone angle; Cycles' smoothstep falloff over `blend` of the cone |
+//!
+//! The spot attenuation is taken along the direction the light travels, from the point on the
+//! emitter to the receiver (Cycles' `spot_light_attenuation(-D)`), so the cone stays sharp for
+//! any radius. Seen from a ray, the emitter is the sphere (or the disk facing the ray's origin)
+//! with radiance L times that attenuation; it never occludes anything.
+//!
+//! Photons (`emit.rs`) pick a direction w first (uniform over the sphere or the spot's cone),
+//! then an origin uniformly on the disk of radius r through the centre perpendicular to w
+//! (moved back onto the sphere for a sphere emitter): for points outside the emitter these
+//! rays are exactly the sphere's light field. For the soft-falloff disk a photon whose origin
+//! is at h from the centre counts only where it first lands at least h^2/sqrt(r^2 - h^2) from
+//! its origin: there, and only there, the disk facing the landing point contains the photon's
+//! line (`soft_disk_min_travel`).
 
 use super::LightSample;
 use crate::math::{Frame, Spectrum, PI};
@@ -31,7 +45,7 @@ impl SpotShape {
         }
     }
 
-    /// Attenuation for light leaving along `w` (unit, away from the light), as Cycles' spot.
+    /// Attenuation for light travelling along `w` (unit, away from the light), as Cycles' spot.
     pub fn attenuation(&self, w: Vec3) -> f32 {
         let t = w.dot(self.axis);
         if t <= self.cos_half {
@@ -46,18 +60,10 @@ impl SpotShape {
 
     /// Exact integral of the attenuation over the sphere of directions (for the power).
     pub fn solid_angle(&self) -> f32 {
-        // Full cone plus the smoothstep band; integrate the band numerically in cos.
-        let inner = self.cos_half + self.smooth;
-        let mut band = 0.0;
-        let n = 256;
-        if self.smooth > 0.0 {
-            for i in 0..n {
-                let x = (i as f32 + 0.5) / n as f32;
-                band += x * x * (3.0 - 2.0 * x);
-            }
-            band *= self.smooth / n as f32;
-        }
-        2.0 * PI * ((1.0 - inner.min(1.0)) + band)
+        // Full cone plus the smoothstep band: in cos units the band integrates to smooth / 2.
+        let inner = (self.cos_half + self.smooth).min(1.0);
+        let band = 0.5 * (inner - self.cos_half);
+        2.0 * PI * ((1.0 - inner) + band)
     }
 }
 
@@ -68,6 +74,8 @@ pub struct PointLight {
     /// Intensity P/(4 pi) x colour (W/sr).
     pub intensity: Spectrum,
     pub spot: Option<SpotShape>,
+    /// The emitter is a disk facing the shading point (Blender's soft falloff), not a sphere.
+    pub soft_falloff: bool,
 }
 
 impl PointLight {
@@ -77,22 +85,25 @@ impl PointLight {
         color: Spectrum,
         radius: f32,
         spot: Option<SpotShape>,
+        soft_falloff: bool,
     ) -> Self {
         PointLight {
             position,
             radius,
             intensity: color * (power / (4.0 * PI)),
             spot,
+            soft_falloff,
         }
     }
 
-    /// Sphere radiance; intensity = radiance x pi r^2.
+    /// Emitter radiance; intensity = radiance x pi r^2.
     pub fn radiance(&self) -> Spectrum {
         self.intensity / (PI * self.radius * self.radius)
     }
 
-    fn spot_att(&self, from_light: Vec3) -> f32 {
-        self.spot.map_or(1.0, |s| s.attenuation(from_light))
+    /// Spot attenuation of light travelling along `w` (unit).
+    pub fn spot_att(&self, w: Vec3) -> f32 {
+        self.spot.map_or(1.0, |s| s.attenuation(w))
     }
 
     pub fn sample_li(&self, p: Vec3, u: Vec2) -> Option<LightSample> {
@@ -116,6 +127,30 @@ impl PointLight {
             });
         }
         let r = self.radius;
+        if self.soft_falloff {
+            // A uniform point on the disk facing p.
+            let frame = Frame::from_normal(-wc);
+            let q = warp::square_to_uniform_disk_concentric(u) * r;
+            let pl = self.position + frame.s * q.x + frame.t * q.y;
+            let to_l = pl - p;
+            let t2 = to_l.length_squared();
+            if !(t2 > 0.0) {
+                return None;
+            }
+            let t = t2.sqrt();
+            let wi = to_l / t;
+            let n = -wc;
+            let pdf = warp::area_to_solid_angle(1.0 / (PI * r * r), t2, wi.dot(n));
+            return Some(LightSample {
+                wi,
+                li: self.radiance() * self.spot_att(-wi),
+                pdf,
+                dist: t,
+                p: pl,
+                n,
+                delta: false,
+            });
+        }
         if dist <= r * 1.0001 {
             return None; // inside the sphere light: no defined direction
         }
@@ -130,10 +165,9 @@ impl PointLight {
         let t = (b - disc.sqrt()).max(0.0);
         let pl = p + wi * t;
         let n = (pl - self.position) / r;
-        let att = self.spot_att((pl - self.position).normalize());
         Some(LightSample {
             wi,
-            li: self.radiance() * att,
+            li: self.radiance() * self.spot_att(-wi),
             pdf: warp::uniform_cone_pdf(cos_max),
             dist: t,
             p: pl,
@@ -142,12 +176,25 @@ impl PointLight {
         })
     }
 
-    pub fn pdf_li(&self, p: Vec3, _wi: Vec3) -> f32 {
+    /// Solid-angle density of `sample_li` at `p` for the point `p_light` on the emitter.
+    pub fn pdf_li(&self, p: Vec3, p_light: Vec3) -> f32 {
         if self.radius == 0.0 {
             return 0.0;
         }
         let d2 = (self.position - p).length_squared();
         let r2 = self.radius * self.radius;
+        if self.soft_falloff {
+            if !(d2 > 0.0) {
+                return 0.0;
+            }
+            let n = (p - self.position) / d2.sqrt();
+            let to = p_light - p;
+            let t2 = to.length_squared();
+            if !(t2 > 0.0) {
+                return 0.0;
+            }
+            return warp::area_to_solid_angle(1.0 / (PI * r2), t2, (to / t2.sqrt()).dot(n));
+        }
         if d2 <= r2 {
             return 0.0;
         }
@@ -155,22 +202,57 @@ impl PointLight {
         warp::uniform_cone_pdf(cos_max)
     }
 
-    /// Radiance leaving the sphere surface at `p_light` towards `-wi`.
-    pub fn le(&self, p_light: Vec3) -> Spectrum {
-        self.radiance() * self.spot_att((p_light - self.position).normalize_or_zero())
+    /// Radiance leaving the emitter along the ray direction `d` (unit or not).
+    pub fn le(&self, d: Vec3) -> Spectrum {
+        self.radiance() * self.spot_att(d.normalize_or_zero())
     }
 
-    /// Ray-sphere distance for rays that can see the light, or None.
-    pub fn intersect(&self, o: Vec3, d: Vec3, t_max: f32) -> Option<f32> {
+    /// Ray distance to the emitter as the ray's origin sees it (the sphere from outside, or
+    /// the disk facing the origin), and the emitter's normal there; None without a radius.
+    pub fn intersect(&self, o: Vec3, d: Vec3, t_max: f32) -> Option<(f32, Vec3)> {
         if self.radius == 0.0 {
             return None;
         }
-        sphere_hit(self.position, self.radius, o, d, t_max)
+        let oc = o - self.position;
+        let d2 = oc.length_squared();
+        if self.soft_falloff {
+            if !(d2 > 0.0) {
+                return None;
+            }
+            let n = oc / d2.sqrt();
+            let denom = d.dot(n);
+            if !(denom < 0.0) {
+                return None;
+            }
+            let t = -oc.dot(n) / denom;
+            let q = oc + d * t;
+            return (t > 0.0 && t < t_max && q.length_squared() <= self.radius * self.radius)
+                .then_some((t, n));
+        }
+        if d2 <= self.radius * self.radius {
+            return None; // from inside, the sphere is not seen (it emits outwards)
+        }
+        let t = sphere_hit(self.position, self.radius, o, d, t_max)?;
+        Some((t, (o + d * t - self.position) / self.radius))
     }
 
+    /// Emitted power over all directions (for soft falloff the nominal power: the disk model
+    /// delivers a little less near the light).
     pub fn power(&self) -> Spectrum {
         let solid = self.spot.map_or(4.0 * PI, |s| s.solid_angle());
         self.intensity * solid
+    }
+}
+
+/// For a soft-falloff photon leaving the disk through the centre at distance `h` from it
+/// (disk radius `r`): the distance it must travel before a surface it reaches sees its line
+/// inside the disk facing that surface (h^2 (d^2 + r^2) <= r^2 d^2 with d^2 = h^2 + t^2).
+pub fn soft_disk_min_travel(h: f32, r: f32) -> f32 {
+    let rest = r * r - h * h;
+    if rest <= 0.0 {
+        f32::INFINITY
+    } else {
+        h * h / rest.sqrt()
     }
 }
 

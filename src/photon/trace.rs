@@ -87,15 +87,23 @@ fn trace_path(
     let mut specular_bounces = 0u32;
     let mut crossings = 0u32;
     let mut last_scatter = false;
+    // Distance travelled before the first interaction, against the light's `min_travel`.
+    let mut travelled = 0.0f32;
     while interactions < max_bounces && crossings < 4 * max_bounces + 16 {
         let hit = scene.accel.intersect(&ray);
         let dir_len = ray.d.length();
         let dist = hit.as_ref().map_or(f32::INFINITY, |h| h.t * dir_len);
+        // A photon that would first interact before its light's `min_travel` does not exist
+        // in the light's emission (the soft-falloff disk): drop it.
+        let too_near = |t: f32| interactions == 0 && travelled + t < le.min_travel;
         if let Some(m) = stack.current(scene.world_medium) {
             let med = &scene.media[m as usize];
             let d = ray.d / dir_len;
             match free_flight(med, ray.o, d, dist, rng) {
                 Flight::Collide { t, weight } => {
+                    if too_near(t) {
+                        break;
+                    }
                     // Scatter with probability P = mean expected throughput, else absorbed.
                     let p = mean(weight).min(1.0);
                     if kind == MapKind::Caustic || !(p > 0.0) || rng.f32() >= p {
@@ -144,7 +152,11 @@ fn trace_path(
             scene.update_stack(&mut stack, &si, ray.d);
             ray = si.spawn_ray(ray.d);
             crossings += 1;
+            travelled += dist;
             continue;
+        }
+        if too_near(dist) {
+            break;
         }
         let bsdf = crate::render::eye::shading_bsdf(scene, mat, &mut si);
         if bsdf.has_non_delta() {

@@ -173,15 +173,33 @@ pub fn trace_split(
     let mut crossings = 0u32;
     loop {
         let hit = scene.intersect(&ray);
+        let len = ray.d.length();
+        let t_end = match &hit {
+            SceneHit::Surface(si) => si.t,
+            SceneHit::Miss => f32::INFINITY,
+        };
+        // Analytic lights in front of the hit: seen, and seen through.
+        if wants(Term::Emission, bounces) {
+            let medium = stack.current(scene.world_medium);
+            scene.lights_crossed(&ray, t_end, |lh| {
+                let tr = match medium {
+                    Some(m) => {
+                        scene.media[m as usize].transmittance_along(ray.o, ray.d / len, lh.t * len)
+                    }
+                    None => Spectrum::ONE,
+                };
+                add(
+                    &mut out,
+                    Term::Emission,
+                    bounces,
+                    beta * tr * scene.light_le(lh.index, ray.d),
+                );
+            });
+        }
         // Participating medium between the ray origin and the hit: in-scattered light, and
         // attenuation of whatever lies behind.
         if let Some(m) = stack.current(scene.world_medium) {
-            let len = ray.d.length();
-            let dist = match &hit {
-                SceneHit::Surface(si) => si.t * len,
-                SceneHit::Light { t, .. } => *t * len,
-                SceneHit::Miss => f32::INFINITY,
-            };
+            let dist = t_end * len;
             let tr = if wants(Term::Volume, bounces) {
                 let (lv, tr) = volume::march(
                     scene,
@@ -212,15 +230,6 @@ pub fn trace_split(
                     Term::Emission,
                     bounces,
                     beta * emission::background(scene, ray.d),
-                );
-                break;
-            }
-            SceneHit::Light { index, p, .. } => {
-                add(
-                    &mut out,
-                    Term::Emission,
-                    bounces,
-                    beta * scene.light_le(index, p, ray.d),
                 );
                 break;
             }

@@ -44,17 +44,21 @@ pub struct Scene {
     pub light_stacks: Vec<crate::media::MediumStack>,
 }
 
-/// What a ray found first.
+/// What a ray found first. Analytic lights are not surfaces: they never occlude, and rays
+/// see them through [`Scene::lights_crossed`].
 pub enum SceneHit {
     Surface(SurfaceInteraction),
-    /// The surface of an analytic light (lights do not occlude other light).
-    Light {
-        index: u32,
-        t: f32,
-        p: Vec3,
-        n: Vec3,
-    },
     Miss,
+}
+
+/// A ray crossing the emitting side of an analytic light (area, sphere or disk emitter).
+#[derive(Clone, Copy, Debug)]
+pub struct LightHit {
+    pub index: u32,
+    /// Ray parameter (in units of the ray's direction vector).
+    pub t: f32,
+    pub p: Vec3,
+    pub n: Vec3,
 }
 
 fn v3(a: [f32; 3]) -> Vec3 {
@@ -230,42 +234,41 @@ impl Scene {
         }
     }
 
-    /// Closest surface or light surface along the ray.
+    /// Closest surface along the ray.
     pub fn intersect(&self, ray: &Ray) -> SceneHit {
-        let hit = self.accel.intersect(ray);
-        let mut t_max = hit.as_ref().map_or(ray.t_max, |h| h.t);
-        let mut light_hit = None;
-        for &i in &self.hittable_lights {
-            let t = match &self.lights[i as usize] {
-                Light::Area(a) => a.intersect(ray.o, ray.d, t_max),
-                Light::Point(p) => p.intersect(ray.o, ray.d, t_max),
-                _ => None,
-            };
-            if let Some(t) = t {
-                t_max = t;
-                light_hit = Some((i, t));
-            }
-        }
-        if let Some((index, t)) = light_hit {
-            let p = ray.o + ray.d * t;
-            let n = match &self.lights[index as usize] {
-                Light::Area(a) => a.n,
-                Light::Point(pl) => (p - pl.position).normalize(),
-                _ => Vec3::Z,
-            };
-            return SceneHit::Light { index, t, p, n };
-        }
-        match hit {
+        match self.accel.intersect(ray) {
             Some(h) => SceneHit::Surface(self.accel.interaction(ray, &h)),
             None => SceneHit::Miss,
         }
     }
 
-    /// Radiance leaving an analytic light's surface at `p` along the ray direction `d`.
-    pub fn light_le(&self, index: u32, p: Vec3, d: Vec3) -> Spectrum {
+    /// Every analytic light whose emitting side the ray crosses before `t_end` (in units of
+    /// the ray's direction), in no particular order. Cycles draws lights this way: a ray
+    /// adds what each light it crosses emits towards its origin and goes on.
+    pub fn lights_crossed(&self, ray: &Ray, t_end: f32, mut f: impl FnMut(LightHit)) {
+        for &i in &self.hittable_lights {
+            let hit = match &self.lights[i as usize] {
+                Light::Area(a) => a.intersect(ray.o, ray.d, t_end).map(|t| (t, a.n)),
+                Light::Point(p) => p.intersect(ray.o, ray.d, t_end),
+                _ => None,
+            };
+            if let Some((t, n)) = hit {
+                f(LightHit {
+                    index: i,
+                    t,
+                    p: ray.o + ray.d * t,
+                    n,
+                });
+            }
+        }
+    }
+
+    /// Radiance leaving an analytic light's surface towards the origin of a ray of
+    /// direction `d` that crossed it.
+    pub fn light_le(&self, index: u32, d: Vec3) -> Spectrum {
         match &self.lights[index as usize] {
             Light::Area(a) => a.le(d),
-            Light::Point(pl) => pl.le(p),
+            Light::Point(pl) => pl.le(d),
             _ => Spectrum::ZERO,
         }
     }
@@ -333,6 +336,7 @@ fn light_from_desc(l: &LightDesc) -> Light {
             power,
             color,
             radius,
+            soft_falloff,
             ..
         } => Light::Point(PointLight::new(
             v3(*position),
@@ -340,6 +344,7 @@ fn light_from_desc(l: &LightDesc) -> Light {
             v3(*color),
             *radius,
             None,
+            *soft_falloff,
         )),
         LightDesc::Sphere {
             position,
@@ -353,6 +358,7 @@ fn light_from_desc(l: &LightDesc) -> Light {
             v3(*color),
             *radius,
             None,
+            false,
         )),
         LightDesc::Spot {
             position,
@@ -362,6 +368,7 @@ fn light_from_desc(l: &LightDesc) -> Light {
             cone_angle,
             blend,
             radius,
+            soft_falloff,
             ..
         } => {
             let spot = SpotShape::new(v3(*direction), *cone_angle, *blend);
@@ -371,6 +378,7 @@ fn light_from_desc(l: &LightDesc) -> Light {
                 v3(*color),
                 *radius,
                 Some(spot),
+                *soft_falloff,
             ))
         }
         LightDesc::Rect {
@@ -380,6 +388,7 @@ fn light_from_desc(l: &LightDesc) -> Light {
             power,
             color,
             two_sided,
+            spread,
             ..
         } => area_light(
             AreaShape::Rect,
@@ -389,22 +398,26 @@ fn light_from_desc(l: &LightDesc) -> Light {
             *power,
             v3(*color),
             *two_sided,
+            *spread,
         ),
         LightDesc::Disk {
             transform,
             radius,
+            radius_y,
             power,
             color,
             two_sided,
+            spread,
             ..
         } => area_light(
             AreaShape::Disk,
             transform,
             *radius,
-            *radius,
+            radius_y.unwrap_or(*radius),
             *power,
             v3(*color),
             *two_sided,
+            *spread,
         ),
         LightDesc::Distant {
             direction,
@@ -429,6 +442,7 @@ fn area_light(
     power: f32,
     color: Spectrum,
     two_sided: bool,
+    spread: f32,
 ) -> Light {
     let t = Transform::from_rows(m).unwrap_or_default();
     let center = t.point(Vec3::ZERO);
@@ -436,6 +450,6 @@ fn area_light(
     let ey = t.vector(Vec3::Y * hy);
     let n = t.normal(-Vec3::Z);
     Light::Area(AreaLight::new(
-        shape, center, ex, ey, n, power, color, two_sided,
+        shape, center, ex, ey, n, power, color, two_sided, spread,
     ))
 }

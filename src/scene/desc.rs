@@ -470,10 +470,10 @@ impl MaterialDesc {
 ///
 /// | type | parameters |
 /// |---|---|
-/// | `point` | `position`, `power` W, `radius` (0 = a true point; > 0 a sphere light) |
-/// | `spot` | `position`, `direction`, `power` W (as the unshaded point light), `cone_angle` (full angle, rad), `blend` in [0,1], `radius` |
-/// | `rect` | `transform` (light emits along local -Z), `width`, `height`, `power` W, `two_sided` |
-/// | `disk` | `transform`, `radius`, `power` W, `two_sided` |
+/// | `point` | `position`, `power` W, `radius` (0 = a true point; > 0 a sphere light), `soft_falloff` (Blender's Soft Falloff: a disk of `radius` facing the shading point instead of a sphere; default false) |
+/// | `spot` | `position`, `direction`, `power` W (as the unshaded point light), `cone_angle` (full angle, rad), `blend` in [0,1], `radius`, `soft_falloff` |
+/// | `rect` | `transform` (light emits along local -Z), `width`, `height`, `power` W, `two_sided`, `spread` (full emission angle, rad, (0, pi]; default pi) |
+/// | `disk` | `transform`, `radius`, `radius_y` (an ellipse's second radius; default `radius`), `power` W, `two_sided`, `spread` |
 /// | `sphere` | `position`, `radius` > 0, `power` W |
 /// | `distant` | `direction` (travel direction of the light), `irradiance` W/m^2, `angle` (angular diameter, rad) |
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -488,6 +488,8 @@ pub enum LightDesc {
         color: Rgb,
         #[serde(default)]
         radius: f32,
+        #[serde(default)]
+        soft_falloff: bool,
     },
     Spot {
         #[serde(default)]
@@ -502,6 +504,8 @@ pub enum LightDesc {
         blend: f32,
         #[serde(default)]
         radius: f32,
+        #[serde(default)]
+        soft_falloff: bool,
     },
     Rect {
         #[serde(default)]
@@ -515,6 +519,8 @@ pub enum LightDesc {
         color: Rgb,
         #[serde(default)]
         two_sided: bool,
+        #[serde(default = "full_spread")]
+        spread: f32,
     },
     Disk {
         #[serde(default)]
@@ -522,11 +528,15 @@ pub enum LightDesc {
         #[serde(default = "identity")]
         transform: Matrix,
         radius: f32,
+        #[serde(default)]
+        radius_y: Option<f32>,
         power: f32,
         #[serde(default = "white")]
         color: Rgb,
         #[serde(default)]
         two_sided: bool,
+        #[serde(default = "full_spread")]
+        spread: f32,
     },
     Sphere {
         #[serde(default)]
@@ -547,6 +557,10 @@ pub enum LightDesc {
         #[serde(default)]
         angle: f32,
     },
+}
+
+fn full_spread() -> f32 {
+    std::f32::consts::PI
 }
 
 impl LightDesc {

@@ -5,7 +5,7 @@ pub mod desc;
 mod transmit;
 mod validate;
 
-pub use build::{Scene, SceneHit};
+pub use build::{LightHit, Scene, SceneHit};
 pub use desc::SceneDesc;
 pub use validate::validate;
 

@@ -1,7 +1,7 @@
 //! Rays through media and their invisible boundaries: transmittance for shadow rays, and the
 //! first visible surface with the transmittance up to it.
 
-use super::{Scene, SceneHit};
+use super::{LightHit, Scene, SceneHit};
 use crate::geometry::{Ray, SurfaceInteraction};
 use crate::math::Spectrum;
 use crate::media::MediumStack;
@@ -70,17 +70,42 @@ impl Scene {
     /// The first visible thing along the ray, passing invisible boundaries (updating
     /// `stack`), with the media's transmittance up to it.
     pub fn intersect_through(&self, ray: &Ray, stack: &mut MediumStack) -> (SceneHit, Spectrum) {
+        self.intersect_through_lights(ray, stack, None)
+    }
+
+    /// As [`Scene::intersect_through`], also handing every analytic light crossed on the way
+    /// to `on_light`, with the media's transmittance up to it.
+    pub fn intersect_through_lights(
+        &self,
+        ray: &Ray,
+        stack: &mut MediumStack,
+        mut on_light: Option<&mut dyn FnMut(LightHit, Spectrum)>,
+    ) -> (SceneHit, Spectrum) {
         let mut ray = *ray;
         let mut t = Spectrum::ONE;
         for _ in 0..MAX_CROSSINGS {
             let hit = self.intersect(&ray);
-            let seg = match &hit {
-                SceneHit::Surface(si) => si.t * ray.d.length(),
-                SceneHit::Light { t, .. } => *t * ray.d.length(),
+            let len = ray.d.length();
+            let t_end = match &hit {
+                SceneHit::Surface(si) => si.t,
                 SceneHit::Miss => f32::INFINITY,
             };
-            if let Some(m) = stack.current(self.world_medium) {
-                t *= self.media[m as usize].transmittance_along(ray.o, ray.d.normalize(), seg);
+            let medium = stack.current(self.world_medium);
+            if let Some(f) = on_light.as_mut() {
+                self.lights_crossed(&ray, t_end, |lh| {
+                    let tr = match medium {
+                        Some(m) => self.media[m as usize].transmittance_along(
+                            ray.o,
+                            ray.d / len,
+                            lh.t * len,
+                        ),
+                        None => Spectrum::ONE,
+                    };
+                    f(lh, t * tr);
+                });
+            }
+            if let Some(m) = medium {
+                t *= self.media[m as usize].transmittance_along(ray.o, ray.d / len, t_end * len);
             }
             match hit {
                 SceneHit::Surface(si) if self.is_null(&si) => {

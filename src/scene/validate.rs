@@ -468,6 +468,18 @@ fn validate_mesh(i: usize, m: &MeshDesc, scene: &SceneDesc) -> Result<()> {
     c.matrix("transform", &m.transform)
 }
 
+/// An area light's spread: the full emission angle, in (0, pi] radians.
+fn spread_ok(c: &Ctx, spread: f32) -> Result<()> {
+    if spread.is_finite() && spread > 0.0 && spread <= std::f32::consts::PI * (1.0 + 1e-6) {
+        Ok(())
+    } else {
+        Err(c.err(
+            "spread",
+            format!("must be in (0, pi] radians, got {spread}"),
+        ))
+    }
+}
+
 fn validate_light(i: usize, l: &LightDesc) -> Result<()> {
     let c = Ctx::new(format!("/lights/{i}"), l.name());
     match l {
@@ -513,25 +525,33 @@ fn validate_light(i: usize, l: &LightDesc) -> Result<()> {
             height,
             power,
             color,
+            spread,
             ..
         } => {
             c.matrix("transform", transform)?;
             c.positive("width", *width)?;
             c.positive("height", *height)?;
             c.non_negative("power", *power)?;
-            c.rgb("color", color)
+            c.rgb("color", color)?;
+            spread_ok(&c, *spread)
         }
         LightDesc::Disk {
             transform,
             radius,
+            radius_y,
             power,
             color,
+            spread,
             ..
         } => {
             c.matrix("transform", transform)?;
             c.positive("radius", *radius)?;
+            if let Some(ry) = radius_y {
+                c.positive("radius_y", *ry)?;
+            }
             c.non_negative("power", *power)?;
-            c.rgb("color", color)
+            c.rgb("color", color)?;
+            spread_ok(&c, *spread)
         }
         LightDesc::Sphere {
             position,

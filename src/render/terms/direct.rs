@@ -8,7 +8,7 @@ use crate::materials::bsdf::{Bsdf, LobeFlags};
 use crate::math::Spectrum;
 use crate::media::MediumStack;
 use crate::sampling::Rng;
-use crate::scene::{Scene, SceneHit};
+use crate::scene::{LightHit, Scene, SceneHit};
 
 #[inline]
 fn power_heuristic(a: f32, b: f32) -> f32 {
@@ -74,14 +74,22 @@ pub fn estimate(
             if bs.flags & LobeFlags::TRANSMISSION != 0 {
                 scene.update_stack(&mut ray_stack, si, bs.wi);
             }
-            let (hit, tr) = scene.intersect_through(&ray, &mut ray_stack);
+            // Every analytic light the ray crosses adds what it emits (lights do not occlude),
+            // then the surface it reaches or the background.
+            let mut from_lights = Spectrum::ZERO;
+            let (hit, tr) = scene.intersect_through_lights(
+                &ray,
+                &mut ray_stack,
+                Some(&mut |lh: LightHit, tr: Spectrum| {
+                    let light = &scene.lights[lh.index as usize];
+                    let pdf = scene.light_sampler.pmf(lh.index as usize)
+                        * light.pdf_li(si.p, bs.wi, lh.p, lh.n);
+                    let le = scene.light_le(lh.index, bs.wi);
+                    from_lights += le * tr * power_heuristic(bs.pdf, pdf);
+                }),
+            );
+            l += bs.weight * from_lights;
             let (le, light_pdf) = match hit {
-                SceneHit::Light { index, p, n, .. } => {
-                    let light = &scene.lights[index as usize];
-                    let pdf =
-                        scene.light_sampler.pmf(index as usize) * light.pdf_li(si.p, bs.wi, p, n);
-                    (scene.light_le(index, p, bs.wi), pdf)
-                }
                 SceneHit::Surface(hit) => match scene.emissive.get(&(hit.instance, hit.prim)) {
                     Some(&index) => {
                         let light = &scene.lights[index as usize];
