@@ -66,6 +66,7 @@ fn main() {
             targets: &[],
             cancel: None,
             f32_power: false,
+            irradiance: None,
         };
         let t = Instant::now();
         let map = pool(threads)
@@ -101,6 +102,7 @@ fn main() {
             targets: t,
             cancel: None,
             f32_power: false,
+            irradiance: None,
         };
         let t0 = Instant::now();
         let map = build_map(&scene, &params).expect("map");

@@ -395,7 +395,10 @@ def world_area_scale(M):
 
 def light_objects(ir):
     out = {}
-    black = {"type": "diffuse", "reflectance": rgb([0, 0, 0])}
+    # Our lights are not surfaces: they reflect nothing and rays pass through them (Cycles
+    # draws lights this way). Mitsuba's `null` BSDF lets paths through while the shape's
+    # emitter stays visible.
+    black = {"type": "null"}
     for i, l in enumerate(ir.get("lights", [])):
         t = l["type"]
         col = np.array(l.get("color", [1, 1, 1]), dtype=np.float64)
@@ -519,7 +522,8 @@ def translate(ir, spp):
     Rules: matrices are used as they stand (both are column-vector convention); mesh vertices
     are moved to world space here, normals by the inverse transpose. Area lights become
     Mitsuba shapes with an `area` emitter of radiance P/(pi A) * color, A the world-space area,
-    and a black BSDF (our lights reflect nothing); point lights have intensity P/(4 pi).
+    and a `null` BSDF (our lights reflect nothing and occlude nothing); point lights have
+    intensity P/(4 pi).
     """
     if ir.get("textures"):
         raise Unsupported("/textures: textures are not translated")

@@ -866,7 +866,12 @@ fn memory_limit_fails_fast_with_the_estimate() {
         est.bvh_bytes,
         BYTES_PER_TRIANGLE * scene.triangle_count as u64
     );
-    assert_eq!(est.total_bytes, est.photon_bytes + est.bvh_bytes);
+    // Precomputed irradiance at every fourth photon of the global map, 24 B each.
+    assert_eq!(est.irradiance_bytes, 24 * 25_000_000);
+    assert_eq!(
+        est.total_bytes,
+        est.photon_bytes + est.bvh_bytes + est.irradiance_bytes
+    );
     // While the map is built its photons are held twice (traced, 40 B, or the kd-tree's
     // scratch copy): the peak measured at 10^8 photons was 40.4 B/photon (BENCHMARKS.md).
     assert_eq!(est.peak_bytes, est.total_bytes + 20 * 100_000_000);

@@ -82,7 +82,8 @@ fn wall_time_is_within_five_percent_of_the_budget() {
 fn tiny_budget_still_renders_one_pass_and_says_so() {
     let _g = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     let scene = scene_64();
-    let (out, _) = render(&scene, budgeted(0.05, 3, 0));
+    // A millisecond: the calibration alone takes longer.
+    let (out, _) = render(&scene, budgeted(0.001, 3, 0));
     let bs = out.stats.time_budget.as_ref().expect("budget stats");
     assert!(out.stats.spp >= 1 && bs.passes >= 1);
     assert!(bs.too_small, "{bs:?}");

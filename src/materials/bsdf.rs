@@ -112,6 +112,25 @@ impl Selection {
     }
 }
 
+/// Bands of incident directions over which irradiance is kept apart for layered diffuse
+/// lobes (equal slices of sin^2 theta: equal cosine-weighted solid angle), so that a lobe whose
+/// response depends on the incident angle reads the right sum from an irradiance record.
+pub const IRRADIANCE_BANDS: usize = 4;
+
+/// The band of a direction with cos theta = `cos` to the normal.
+#[inline]
+pub fn irradiance_band(cos: f32) -> usize {
+    let s = (1.0 - cos * cos).max(0.0);
+    ((s * IRRADIANCE_BANDS as f32) as usize).min(IRRADIANCE_BANDS - 1)
+}
+
+/// Glossy (non-delta, non-diffuse) lobes on both sides.
+const SELECT_GLOSSY: Selection = Selection {
+    mask: LobeFlags::REFLECTION | LobeFlags::TRANSMISSION,
+    include: LobeFlags::GLOSSY,
+    exclude: LobeFlags::DIFFUSE | LobeFlags::SPECULAR,
+};
+
 /// Maximum number of lobes in one BSDF.
 pub const MAX_LOBES: usize = 4;
 
@@ -203,9 +222,64 @@ impl Bsdf {
     }
 
     /// True when every lobe is Lambertian, so f is the same for all directions in the
-    /// hemisphere (irradiance caching applies).
+    /// hemisphere.
     pub fn is_lambertian(&self) -> bool {
         self.lobes().next().is_some() && self.lobes().all(|(_, l)| matches!(l, Lobe::Lambert(_)))
+    }
+
+    /// The diffuse part's radiance towards `wo` (world space) per unit irradiance arriving in
+    /// each band of incident directions ([`IRRADIANCE_BANDS`]), summed over the diffuse
+    /// lobes; None without a diffuse lobe. Irradiance caching applies to this part.
+    pub fn diffuse_response(&self, wo: Vec3) -> Option<[Spectrum; IRRADIANCE_BANDS]> {
+        let wo = self.frame.to_local(wo);
+        let mut out: Option<[Spectrum; IRRADIANCE_BANDS]> = None;
+        for (w, l) in self.lobes() {
+            if l.flags() & LobeFlags::DIFFUSE == 0 {
+                continue;
+            }
+            if let Some(r) = l.band_response(wo) {
+                let acc = out.get_or_insert([Vec3::ZERO; IRRADIANCE_BANDS]);
+                for (a, b) in acc.iter_mut().zip(r) {
+                    *a += w * b;
+                }
+            }
+        }
+        out
+    }
+
+    /// Whether a glossy (non-delta, non-diffuse) lobe is present.
+    pub fn has_glossy(&self) -> bool {
+        self.lobes().any(|(_, l)| SELECT_GLOSSY.keeps(l))
+    }
+
+    /// Samples the glossy lobes alone; the weight is f_glossy |cos| / pdf_glossy.
+    pub fn sample_glossy(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        let s = self.sample_sel(self.frame.to_local(wo), u_lobe, u, SELECT_GLOSSY)?;
+        Some(BsdfSample {
+            wi: self.frame.to_world(s.wi),
+            ..s
+        })
+    }
+
+    /// Directional albedo of the glossy lobes towards `wo` (world space), each lobe's
+    /// estimate (`Lobe::albedo`): the glossy part's reflected radiance under uniform light.
+    pub fn glossy_albedo(&self, wo: Vec3) -> Spectrum {
+        let wo = self.frame.to_local(wo);
+        self.lobes()
+            .filter(|(_, l)| SELECT_GLOSSY.keeps(l))
+            .map(|(w, l)| w * l.albedo(wo, SELECT_GLOSSY.mask).max(Vec3::ZERO))
+            .sum()
+    }
+
+    /// The same BSDF with its glossy lobes only.
+    pub fn glossy_part(&self) -> Bsdf {
+        let mut b = Bsdf::new(self.frame);
+        for (w, l) in self.lobes() {
+            if SELECT_GLOSSY.keeps(l) {
+                b.add(w, *l);
+            }
+        }
+        b
     }
 
     /// [`Bsdf::eval`] with local directions.

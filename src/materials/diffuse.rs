@@ -1,6 +1,6 @@
 //! Lambertian reflection.
 
-use super::bsdf::{BsdfSample, LobeFlags};
+use super::bsdf::{BsdfSample, LobeFlags, IRRADIANCE_BANDS};
 use crate::math::{Spectrum, INV_PI};
 use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
 use glam::{Vec2, Vec3};
@@ -49,6 +49,15 @@ impl Lambert {
             flags: self.flags(),
             eta: 1.0,
         })
+    }
+
+    /// Radiance towards `wo` per unit irradiance, the same for every band of incident
+    /// directions: albedo / pi.
+    pub fn band_response(&self, wo: Vec3) -> [Spectrum; IRRADIANCE_BANDS] {
+        if wo.z <= 0.0 {
+            return [Vec3::ZERO; IRRADIANCE_BANDS];
+        }
+        [self.albedo * INV_PI; IRRADIANCE_BANDS]
     }
 
     /// Exact: the albedo itself.

@@ -2,6 +2,7 @@
 
 use super::bsdf::{BsdfSample, LobeFlags};
 use super::fresnel::Fresnel;
+use super::layer::{CoatAlbedoTable, SchlickAlbedoTable};
 use super::microfacet::{reflect, Ggx};
 use crate::math::Spectrum;
 use glam::{Vec2, Vec3};
@@ -15,10 +16,12 @@ use glam::{Vec2, Vec3};
 /// |---|---|
 /// | `ggx` | distribution; alpha = roughness^2 |
 /// | `fresnel` | conductor (complex IOR), Schlick (F0 tint) or dielectric (coat IOR) |
+/// | `coat` | for a dielectric Fresnel, the coat's albedo table (its exact albedo) |
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MicrofacetReflection {
     pub ggx: Ggx,
     pub fresnel: Fresnel,
+    pub coat: Option<&'static CoatAlbedoTable>,
 }
 
 impl MicrofacetReflection {
@@ -77,11 +80,23 @@ impl MicrofacetReflection {
         })
     }
 
-    /// Estimate: F(cos theta_o) (ignores the energy lost to single-scattering masking).
+    /// The single-scattering directional albedo from tables: exact (to the tables) for
+    /// Schlick and constant reflectance and, with its `coat` table, for a dielectric; a
+    /// conductor is read as Schlick with its normal-incidence reflectance.
     pub fn albedo(&self, wo: Vec3, mask: u8) -> Spectrum {
         if mask & LobeFlags::REFLECTION == 0 || wo.z <= 0.0 {
             return Vec3::ZERO;
         }
-        self.fresnel.eval(wo.z)
+        let r = self.ggx.alpha.sqrt();
+        let t = SchlickAlbedoTable::get();
+        match (self.fresnel, self.coat) {
+            (Fresnel::Dielectric { .. }, Some(c)) => Spectrum::splat(c.albedo(wo.z, r)),
+            (Fresnel::Schlick { f0 }, _) => t.albedo(wo.z, r, f0),
+            (Fresnel::Constant(c), _) => {
+                let (a, b) = t.ab(wo.z, r);
+                c * (a + b)
+            }
+            (f, _) => t.albedo(wo.z, r, f.eval(1.0)),
+        }
     }
 }

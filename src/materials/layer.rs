@@ -1,7 +1,7 @@
 //! A Lambertian base under a dielectric specular coat, energy-conserving through the coat's
 //! tabulated directional albedo (Kelemen & Szirmay-Kalos 2001; Kulla & Conty 2017).
 
-use super::bsdf::{BsdfSample, LobeFlags};
+use super::bsdf::{BsdfSample, LobeFlags, IRRADIANCE_BANDS};
 use super::fresnel::{fresnel_dielectric, ior_from_f0};
 use super::microfacet::{alpha_from_roughness, reflect, Ggx};
 use crate::math::{Spectrum, INV_PI};
@@ -22,19 +22,28 @@ pub struct CoatAlbedoTable {
     f0: f32,
     e: Vec<f32>,
     e_avg: Vec<f32>,
+    /// Per roughness row, the average of E over each band of incident directions
+    /// ([`IRRADIANCE_BANDS`] equal slices of sin^2 theta, the cosine-weighted measure).
+    bands: Vec<[f32; IRRADIANCE_BANDS]>,
 }
 
 fn coat_albedo(mu: f32, roughness: f32, eta: f32) -> f32 {
-    let mu = mu.clamp(1e-3, 1.0);
     if roughness <= 0.0 {
-        return fresnel_dielectric(mu, eta).0;
+        return fresnel_dielectric(mu.clamp(1e-3, 1.0), eta).0;
     }
+    ggx_albedo(mu, roughness, |c| fresnel_dielectric(c, eta).0)
+}
+
+/// Directional albedo of GGX reflection with the microfacet reflectance `fresnel(wo . m)`,
+/// integral of F(wo.m) G2/G1 over the visible normals: a midpoint rule over the
+/// visible-normal warp in t, where sin t = sqrt(u1) is the radius on the projected disk (the
+/// integrand is smooth in t; it has a square-root edge in u1 at the rim and at the centre),
+/// and du1 = sin 2t dt.
+fn ggx_albedo(mu: f32, roughness: f32, fresnel: impl Fn(f32) -> f32) -> f32 {
+    let mu = mu.clamp(1e-3, 1.0);
     let ggx = Ggx::new(alpha_from_roughness(roughness));
     let wo = Vec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu);
     let lo = ggx.lambda(wo);
-    // Midpoint rule over the visible-normal warp in t, where sin t = sqrt(u1) is the radius
-    // on the projected disk: the integrand is smooth in t (it has a square-root edge in u1 at
-    // the rim and at the centre), and du1 = sin 2t dt.
     let mut sum = 0.0f64;
     let h = std::f64::consts::FRAC_PI_2 / STRATA as f64;
     for i in 0..STRATA {
@@ -46,12 +55,70 @@ fn coat_albedo(mu: f32, roughness: f32, eta: f32) -> f32 {
             let m = ggx.sample_visible(wo, u);
             let wi = reflect(wo, m);
             if wi.z > 0.0 {
-                let f = fresnel_dielectric(wo.dot(m), eta).0;
+                let f = fresnel(wo.dot(m));
                 sum += w * (f * (1.0 + lo) / (1.0 + lo + ggx.lambda(wi))) as f64;
             }
         }
     }
     (sum / STRATA as f64) as f32
+}
+
+/// Directional albedo of GGX reflection with Schlick's Fresnel, F = F0 + (1 - F0)(1 - c)^5:
+/// linear in F0, so two tables over (sqrt(mu), perceptual roughness) give it for any F0 (and
+/// per channel): E = F0 A + B with A the albedo of weight 1 - (1 - c)^5 and B of (1 - c)^5.
+/// A + B is the albedo of a perfect reflector, 1 less the single-scattering energy loss.
+#[derive(Debug)]
+pub struct SchlickAlbedoTable {
+    a: Vec<f32>,
+    b: Vec<f32>,
+}
+
+impl SchlickAlbedoTable {
+    /// The table, built on first use.
+    pub fn get() -> &'static SchlickAlbedoTable {
+        static TABLE: std::sync::OnceLock<SchlickAlbedoTable> = std::sync::OnceLock::new();
+        TABLE.get_or_init(|| {
+            let mut a = vec![0.0f32; N_MU * N_ROUGH];
+            let mut b = vec![0.0f32; N_MU * N_ROUGH];
+            for j in 0..N_ROUGH {
+                let r = j as f32 / (N_ROUGH - 1) as f32;
+                for i in 0..N_MU {
+                    let s = i as f32 / (N_MU - 1) as f32;
+                    let mu = s * s;
+                    let idx = j * N_MU + i;
+                    if r <= 0.0 {
+                        let t = (1.0 - mu.clamp(1e-3, 1.0)).powi(5);
+                        a[idx] = 1.0 - t;
+                        b[idx] = t;
+                    } else {
+                        a[idx] = ggx_albedo(mu, r, |c| 1.0 - (1.0 - c.clamp(0.0, 1.0)).powi(5));
+                        b[idx] = ggx_albedo(mu, r, |c| (1.0 - c.clamp(0.0, 1.0)).powi(5));
+                    }
+                }
+            }
+            SchlickAlbedoTable { a, b }
+        })
+    }
+
+    /// (A, B) at (mu, perceptual roughness), bilinear in (sqrt(mu), roughness).
+    pub fn ab(&self, mu: f32, roughness: f32) -> (f32, f32) {
+        let (j, tj) = CoatAlbedoTable::cell(roughness, N_ROUGH);
+        let (i, ti) = CoatAlbedoTable::cell(mu.max(0.0).sqrt(), N_MU);
+        let lerp = |t: &[f32]| {
+            let at = |j: usize| {
+                let b = j * N_MU + i;
+                t[b] * (1.0 - ti) + t[b + 1] * ti
+            };
+            at(j) * (1.0 - tj) + at(j + 1) * tj
+        };
+        (lerp(&self.a), lerp(&self.b))
+    }
+
+    /// Albedo of GGX reflection with Schlick's F0 `f0` at (mu, perceptual roughness).
+    pub fn albedo(&self, mu: f32, roughness: f32, f0: Spectrum) -> Spectrum {
+        let (a, b) = self.ab(mu, roughness);
+        f0 * a + Spectrum::splat(b)
+    }
 }
 
 /// 3-point Gauss-Legendre on [0, 1] (exact to degree 5).
@@ -66,6 +133,7 @@ impl CoatAlbedoTable {
         let eta = ior_from_f0(f0);
         let mut e = vec![0.0f32; N_MU * N_ROUGH];
         let mut e_avg = vec![0.0f32; N_ROUGH];
+        let mut bands = vec![[0.0f32; IRRADIANCE_BANDS]; N_ROUGH];
         let h = 1.0 / (N_MU - 1) as f64;
         for j in 0..N_ROUGH {
             let r = j as f32 / (N_ROUGH - 1) as f32;
@@ -85,8 +153,27 @@ impl CoatAlbedoTable {
                 }
             }
             e_avg[j] = acc as f32;
+            // Band averages of the interpolant in s = sin^2 theta (mu = sqrt(1 - s)),
+            // midpoint rule; the bands' mean is E_avg = integral of E ds.
+            const STEPS: usize = 64;
+            for (k, band) in bands[j].iter_mut().enumerate() {
+                let mut sum = 0.0f64;
+                for i in 0..STEPS {
+                    let s = (k as f64 + (i as f64 + 0.5) / STEPS as f64) / IRRADIANCE_BANDS as f64;
+                    let sq = (1.0 - s).max(0.0).sqrt().sqrt() * (N_MU - 1) as f64;
+                    let i0 = (sq as usize).min(N_MU - 2);
+                    let t = sq - i0 as f64;
+                    sum += row[i0] as f64 * (1.0 - t) + row[i0 + 1] as f64 * t;
+                }
+                *band = (sum / STEPS as f64) as f32;
+            }
         }
-        CoatAlbedoTable { f0, e, e_avg }
+        CoatAlbedoTable {
+            f0,
+            e,
+            e_avg,
+            bands,
+        }
     }
 
     /// The table for a coat of normal reflectance `f0`, built on first use (about a
@@ -136,6 +223,12 @@ impl CoatAlbedoTable {
     pub fn average(&self, roughness: f32) -> f32 {
         let (j, tj) = Self::cell(roughness, N_ROUGH);
         self.e_avg[j] * (1.0 - tj) + self.e_avg[j + 1] * tj
+    }
+
+    /// The mean of E over each band of incident directions, interpolated in roughness.
+    pub fn band_averages(&self, roughness: f32) -> [f32; IRRADIANCE_BANDS] {
+        let (j, tj) = Self::cell(roughness, N_ROUGH);
+        std::array::from_fn(|k| self.bands[j][k] * (1.0 - tj) + self.bands[j + 1][k] * tj)
     }
 }
 
@@ -215,6 +308,17 @@ impl CoatedDiffuse {
             flags: self.flags(),
             eta: 1.0,
         })
+    }
+
+    /// Radiance towards `wo` per unit irradiance arriving in each band of incident
+    /// directions: albedo (1 - E(wo)) (1 - mean E over the band) / (pi (1 - E_avg)).
+    pub fn band_response(&self, wo: Vec3) -> [Spectrum; IRRADIANCE_BANDS] {
+        if wo.z <= 0.0 {
+            return [Vec3::ZERO; IRRADIANCE_BANDS];
+        }
+        let k = self.albedo * (self.transmitted(wo.z) * self.scale());
+        let bands = self.table.band_averages(self.roughness);
+        bands.map(|e| k * (1.0 - e).max(0.0))
     }
 
     /// Exact (up to the table): albedo x (1 - E(wo)).

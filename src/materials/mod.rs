@@ -20,7 +20,9 @@ pub mod principled;
 pub mod rough_dielectric;
 pub mod texture;
 
-pub use bsdf::{Bsdf, BsdfSample, Component, LobeFlags, MAX_LOBES};
+pub use bsdf::{
+    irradiance_band, Bsdf, BsdfSample, Component, LobeFlags, IRRADIANCE_BANDS, MAX_LOBES,
+};
 pub use lobe::Lobe;
 pub use principled::Principled;
 pub use texture::{ColorParam, FloatParam, Texture};
@@ -47,9 +49,25 @@ pub fn reflection_lobe(roughness: f32, fresnel: Fresnel) -> Lobe {
         Lobe::MicrofacetReflection(MicrofacetReflection {
             ggx: Ggx::new(alpha_from_roughness(roughness)),
             fresnel,
+            coat: None,
         })
     } else {
         Lobe::SpecularReflection(SpecularReflection { fresnel })
+    }
+}
+
+/// The reflection of a dielectric coat whose albedo table is `table` (its F0 fixes the
+/// Fresnel), of perceptual `roughness`.
+pub fn coat_lobe(roughness: f32, table: &'static layer::CoatAlbedoTable) -> Lobe {
+    let fresnel = Fresnel::Dielectric {
+        eta: fresnel::ior_from_f0(table.f0()),
+    };
+    match reflection_lobe(roughness, fresnel) {
+        Lobe::MicrofacetReflection(m) => Lobe::MicrofacetReflection(MicrofacetReflection {
+            coat: Some(table),
+            ..m
+        }),
+        other => other,
     }
 }
 

@@ -1,11 +1,11 @@
 //! The Blender Principled BSDF / OpenPBR surface, mapped onto the lobes.
 
 use super::bsdf::Bsdf;
-use super::fresnel::{f0_from_ior, ior_from_f0, Fresnel};
+use super::fresnel::{f0_from_ior, Fresnel};
 use super::layer::{CoatAlbedoTable, CoatedDiffuse};
 use super::lobe::Lobe;
 use super::texture::{ColorParam, FloatParam, Texture};
-use super::{dielectric_lobe, reflection_lobe};
+use super::{coat_lobe, dielectric_lobe, reflection_lobe};
 use crate::math::{Frame, Spectrum};
 use crate::scene::desc::PrincipledDesc;
 use glam::Vec2;
@@ -97,11 +97,8 @@ impl Principled {
         bsdf.add(m, reflection_lobe(r, Fresnel::Schlick { f0: base }));
         bsdf.add((1.0 - m) * t, dielectric_lobe(self.ior, r, base));
         let w_base = (1.0 - m) * (1.0 - t);
-        let f0 = self.coat_f0();
-        if f0 > 0.0 {
-            let eta = ior_from_f0(f0);
-            let coat = reflection_lobe(r, Fresnel::Dielectric { eta });
-            bsdf.add(w_base, coat);
+        if self.coat_f0() > 0.0 {
+            bsdf.add(w_base, coat_lobe(r, self.coat_table));
         }
         bsdf.add(
             w_base,

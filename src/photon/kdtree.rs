@@ -26,7 +26,7 @@
 use glam::{Vec3, Vec3A};
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use super::photon::{PhotonRecord, LEAF_AXIS};
+use super::photon::{KdRecord, LEAF_AXIS};
 
 /// Subsets at least this large build their two subtrees with `rayon::join`.
 pub const PARALLEL_BUILD_THRESHOLD: usize = 50_000;
@@ -141,7 +141,7 @@ fn subtree_size(node: usize, n: usize) -> usize {
 }
 
 #[inline]
-fn widest_axis<P: PhotonRecord>(seg: &[P]) -> usize {
+fn widest_axis<P: KdRecord>(seg: &[P]) -> usize {
     let first = Vec3A::from_array(*seg[0].pos());
     let (lo, hi) = seg[1..].iter().fold((first, first), |(lo, hi), p| {
         let v = Vec3A::from_array(*p.pos());
@@ -172,7 +172,7 @@ fn coord_less(a: f32, b: f32) -> std::cmp::Ordering {
 
 /// `select_nth_unstable_by` on one coordinate, monomorphised per axis.
 #[inline]
-fn select_on_axis<P: PhotonRecord>(seg: &mut [P], m: usize, axis: usize) {
+fn select_on_axis<P: KdRecord>(seg: &mut [P], m: usize, axis: usize) {
     match axis {
         0 => seg.select_nth_unstable_by(m, |a, b| coord_less(a.pos()[0], b.pos()[0])),
         1 => seg.select_nth_unstable_by(m, |a, b| coord_less(a.pos()[1], b.pos()[1])),
@@ -186,7 +186,7 @@ fn select_on_axis<P: PhotonRecord>(seg: &mut [P], m: usize, axis: usize) {
 ///
 /// With a `cancel` flag, segments of at least [`PARALLEL_BUILD_THRESHOLD`] records read it
 /// and, once it is set, return without writing their sub-heap, after setting `aborted`.
-fn build_segment<P: PhotonRecord>(
+fn build_segment<P: KdRecord>(
     seg: &mut [P],
     node: usize,
     n: usize,
@@ -258,7 +258,7 @@ fn farthest_dist2(buf: &[Neighbor]) -> f32 {
     buf.iter().fold(0.0f32, |m, nb| m.max(nb.dist2))
 }
 
-impl<P: PhotonRecord> PhotonKdTree<P> {
+impl<P: KdRecord> PhotonKdTree<P> {
     /// Builds the left-balanced tree from `photons` (consumed; it is used as
     /// the build scratch and a new heap-ordered `Vec` of the same length is
     /// returned). O(n log n); parallel above [`PARALLEL_BUILD_THRESHOLD`].
@@ -553,7 +553,7 @@ fn prefetch<P>(nodes: &[P], i: usize) {
     let _ = (nodes, i);
 }
 
-impl<P: PhotonRecord> FromIterator<P> for PhotonKdTree<P> {
+impl<P: KdRecord> FromIterator<P> for PhotonKdTree<P> {
     fn from_iter<I: IntoIterator<Item = P>>(iter: I) -> Self {
         Self::build(iter.into_iter().collect())
     }
@@ -583,7 +583,7 @@ mod tests {
         }
     }
 
-    fn make<P: PhotonRecord>(
+    fn make<P: KdRecord>(
         pts: &[Vec3],
         ctor: fn(Vec3, Vec3, Vec3) -> Result<P, crate::photon::PhotonError>,
     ) -> Vec<P> {
@@ -595,7 +595,7 @@ mod tests {
 
     /// Checks the heap shape and the split invariant: every record in the
     /// left subtree is ≤ the node on its axis, every record in the right ≥.
-    fn check_invariants<P: PhotonRecord>(tree: &PhotonKdTree<P>) {
+    fn check_invariants<P: KdRecord>(tree: &PhotonKdTree<P>) {
         let nodes = tree.photons();
         let n = nodes.len();
         for (j, p) in nodes.iter().enumerate() {
@@ -626,7 +626,7 @@ mod tests {
         }
     }
 
-    fn brute_knn<P: PhotonRecord>(pts: &[P], q: Vec3, k: usize, max_d2: f32) -> Vec<f32> {
+    fn brute_knn<P: KdRecord>(pts: &[P], q: Vec3, k: usize, max_d2: f32) -> Vec<f32> {
         let qa = q.to_array();
         let mut d: Vec<f32> = pts
             .iter()
@@ -638,7 +638,7 @@ mod tests {
         d
     }
 
-    fn compare<P: PhotonRecord + std::fmt::Debug>(
+    fn compare<P: KdRecord + std::fmt::Debug>(
         pts: &[P],
         queries: &[Vec3],
         ks: &[usize],

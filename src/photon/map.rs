@@ -1,6 +1,6 @@
 //! Photon maps (Jensen 2001, chapter 7): a kd-tree of photons and the radiance estimate.
 
-use super::{KnnScratch, Neighbor, Photon, PhotonF32, PhotonKdTree, PhotonRecord};
+use super::{KdRecord, KnnScratch, Neighbor, Photon, PhotonF32, PhotonKdTree, PhotonRecord};
 use crate::materials::bsdf::Bsdf;
 use crate::math::{Spectrum, PI};
 use glam::Vec3;
@@ -137,8 +137,8 @@ impl PhotonRef<'_> {
     #[inline]
     pub fn position(self) -> Vec3 {
         match self {
-            PhotonRef::Rgbe(p) => PhotonRecord::position(p),
-            PhotonRef::F32(p) => PhotonRecord::position(p),
+            PhotonRef::Rgbe(p) => KdRecord::position(p),
+            PhotonRef::F32(p) => KdRecord::position(p),
         }
     }
     /// Power (flux), decoded from RGBE if stored so.
@@ -170,6 +170,8 @@ impl PhotonRef<'_> {
 pub struct PhotonMap {
     pub kind: MapKind,
     pub tree: PhotonTree,
+    /// Precomputed irradiance at a subset of the photons (global map only).
+    pub irradiance: Option<super::irradiance::IrradianceMap>,
     /// Photon paths emitted to fill the map (the photons' power is already divided by it).
     pub emitted: u64,
     /// Seconds the kd-tree took to build (balance).
@@ -253,6 +255,26 @@ fn radiance_in<P: PhotonRecord>(
     sum / (norm * PI * r2)
 }
 
+/// [`PhotonMap::for_each_nearest`] over one kind of photon record.
+#[inline]
+fn for_each_nearest_in<P: PhotonRecord>(
+    tree: &PhotonKdTree<P>,
+    p: Vec3,
+    k: usize,
+    max_r2: f32,
+    scratch: &mut KnnScratch,
+    mut f: impl FnMut(Spectrum, Vec3, u16),
+) -> Option<f32> {
+    let (found, r2, skip) = nearest(tree, p, k, max_r2, scratch)?;
+    for (i, nb) in found.iter().enumerate() {
+        if Some(i) != skip {
+            let ph = tree.get(nb.index);
+            f(ph.power(), ph.incoming(), ph.user_flags());
+        }
+    }
+    Some(r2)
+}
+
 /// [`PhotonMap::volume_radiance`] over one kind of photon record.
 #[inline]
 fn volume_radiance_in<P: PhotonRecord>(
@@ -285,12 +307,27 @@ impl PhotonMap {
     pub fn is_empty(&self) -> bool {
         self.tree.is_empty()
     }
+    /// The photons' memory and the precomputed irradiance points'.
     pub fn memory_bytes(&self) -> usize {
-        self.tree.memory_bytes()
+        self.tree.memory_bytes() + self.irradiance.as_ref().map_or(0, |m| m.memory_bytes())
     }
     /// Bytes per stored photon: 20 (RGBE power) or 28 (`f32` power).
     pub fn bytes_per_photon(&self) -> usize {
         self.tree.bytes_per_photon()
+    }
+
+    /// Calls `f(power, incoming direction, user flags)` for the photons of a k-nearest estimate at `p`
+    /// (the k-th, on the boundary, left out) and returns the estimate's squared radius; None
+    /// when no photon is within `max_r2`.
+    pub fn for_each_nearest(
+        &self,
+        p: Vec3,
+        k: usize,
+        max_r2: f32,
+        scratch: &mut KnnScratch,
+        f: impl FnMut(Spectrum, Vec3, u16),
+    ) -> Option<f32> {
+        with_tree!(&self.tree, t => for_each_nearest_in(t, p, k, max_r2, scratch, f))
     }
 
     /// Reflected radiance at `p` towards `wo` (Jensen 2001, eq. 7.6):

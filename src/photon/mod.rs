@@ -15,6 +15,7 @@
 //!   ([`PhotonKdTree::knn`]) and radius ([`PhotonKdTree::for_each_in_radius`])
 //!   queries.
 
+pub mod irradiance;
 pub mod kdtree;
 pub mod map;
 #[allow(clippy::module_inception)]
@@ -26,8 +27,8 @@ pub use kdtree::{
 };
 pub use photon::{
     decode_direction, direction_tables, encode_direction, rgbe_decode, rgbe_encode,
-    DirectionTables, Photon, PhotonF32, PhotonRecord, AXIS_MASK, DIRECTION_ERROR_BOUND, LEAF_AXIS,
-    RGBE_MAX,
+    DirectionTables, KdRecord, Photon, PhotonF32, PhotonRecord, AXIS_MASK, DIRECTION_ERROR_BOUND,
+    LEAF_AXIS, RGBE_MAX,
 };
 
 /// Errors raised when creating photon records.

@@ -26,7 +26,7 @@ pub const LEAF_AXIS: u8 = 3;
 
 /// Common interface of the photon records stored in a
 /// [`PhotonKdTree`](super::PhotonKdTree).
-pub trait PhotonRecord: Copy + Send + Sync {
+pub trait KdRecord: Copy + Send + Sync {
     /// Position as a plain array (the hot path of the kd-tree queries).
     fn pos(&self) -> &[f32; 3];
     /// Position as a vector.
@@ -34,6 +34,15 @@ pub trait PhotonRecord: Copy + Send + Sync {
     fn position(&self) -> Vec3 {
         Vec3::from_array(*self.pos())
     }
+    /// kd-tree split axis (0, 1, 2) or [`LEAF_AXIS`].
+    fn axis(&self) -> u8;
+    /// Sets the kd-tree split axis (low two bits of the flag only; the other
+    /// flag bits are preserved).
+    fn set_axis(&mut self, axis: u8);
+}
+
+/// A photon record: a point of the kd-tree with the photon's power and direction.
+pub trait PhotonRecord: KdRecord {
     /// Photon power (flux), decoded to `f32` if stored compressed.
     fn power(&self) -> Vec3;
     /// Unit vector pointing from the surface back towards where the photon
@@ -41,11 +50,6 @@ pub trait PhotonRecord: Copy + Send + Sync {
     fn incoming(&self) -> Vec3;
     /// The 14 free flag bits (bits 2–15 of the flag word, shifted down).
     fn user_flags(&self) -> u16;
-    /// kd-tree split axis (0, 1, 2) or [`LEAF_AXIS`].
-    fn axis(&self) -> u8;
-    /// Sets the kd-tree split axis (low two bits of the flag only; the other
-    /// flag bits are preserved).
-    fn set_axis(&mut self, axis: u8);
 }
 
 // ---------------------------------------------------------------------------
@@ -97,7 +101,7 @@ impl Photon {
     /// Position of the photon.
     #[inline]
     pub fn position(&self) -> Vec3 {
-        PhotonRecord::position(self)
+        KdRecord::position(self)
     }
 
     /// Decoded power (flux) of the photon.
@@ -145,11 +149,22 @@ impl Photon {
     }
 }
 
-impl PhotonRecord for Photon {
+impl KdRecord for Photon {
     #[inline(always)]
     fn pos(&self) -> &[f32; 3] {
         &self.pos
     }
+    #[inline(always)]
+    fn axis(&self) -> u8 {
+        (self.flag & AXIS_MASK) as u8
+    }
+    #[inline]
+    fn set_axis(&mut self, axis: u8) {
+        self.flag = (self.flag & !AXIS_MASK) | (axis as u16 & AXIS_MASK);
+    }
+}
+
+impl PhotonRecord for Photon {
     #[inline]
     fn power(&self) -> Vec3 {
         rgbe_decode(self.rgbe)
@@ -161,14 +176,6 @@ impl PhotonRecord for Photon {
     #[inline]
     fn user_flags(&self) -> u16 {
         self.flag >> 2
-    }
-    #[inline(always)]
-    fn axis(&self) -> u8 {
-        (self.flag & AXIS_MASK) as u8
-    }
-    #[inline]
-    fn set_axis(&mut self, axis: u8) {
-        self.flag = (self.flag & !AXIS_MASK) | (axis as u16 & AXIS_MASK);
     }
 }
 
@@ -262,11 +269,22 @@ impl From<Photon> for PhotonF32 {
     }
 }
 
-impl PhotonRecord for PhotonF32 {
+impl KdRecord for PhotonF32 {
     #[inline(always)]
     fn pos(&self) -> &[f32; 3] {
         &self.pos
     }
+    #[inline(always)]
+    fn axis(&self) -> u8 {
+        (self.flag & AXIS_MASK) as u8
+    }
+    #[inline]
+    fn set_axis(&mut self, axis: u8) {
+        self.flag = (self.flag & !AXIS_MASK) | (axis as u16 & AXIS_MASK);
+    }
+}
+
+impl PhotonRecord for PhotonF32 {
     #[inline]
     fn power(&self) -> Vec3 {
         Vec3::from_array(self.power)
@@ -278,14 +296,6 @@ impl PhotonRecord for PhotonF32 {
     #[inline]
     fn user_flags(&self) -> u16 {
         self.flag >> 2
-    }
-    #[inline(always)]
-    fn axis(&self) -> u8 {
-        (self.flag & AXIS_MASK) as u8
-    }
-    #[inline]
-    fn set_axis(&mut self, axis: u8) {
-        self.flag = (self.flag & !AXIS_MASK) | (axis as u16 & AXIS_MASK);
     }
 }
 

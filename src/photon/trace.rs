@@ -6,10 +6,11 @@
 //! until the map holds its target number of photons (Jensen shoots until N are stored) or the
 //! emission cap is reached. The result does not depend on the thread count.
 
+use super::irradiance::{self, IrradianceMap};
 use super::map::{
     MapKind, PhotonMap, PhotonTree, FLAG_CAUSTIC_PATH, FLAG_FIRST_HIT, FLAG_FROM_MEDIUM,
 };
-use super::{Photon, PhotonError, PhotonF32, PhotonKdTree};
+use super::{decode_direction, encode_direction, Photon, PhotonError, PhotonF32, PhotonKdTree};
 use crate::geometry::Ray;
 use crate::lights::{LeSample, Light, Target};
 use crate::materials::bsdf::{Component, LobeFlags};
@@ -26,17 +27,19 @@ pub const BATCH: u64 = 2048;
 
 /// Bytes a photon takes while its map is being traced, before it becomes a stored record.
 pub const RAW_PHOTON_BYTES: u64 = std::mem::size_of::<RawPhoton>() as u64;
+const _: () = assert!(RAW_PHOTON_BYTES == 40);
 
-/// A photon before normalisation by the number emitted.
+/// A photon before normalisation by the number emitted (40 bytes).
 #[derive(Clone, Copy)]
 struct RawPhoton {
     p: Vec3,
     power: Spectrum,
     d: Vec3,
-    first: bool,
-    from_medium: bool,
-    /// Every earlier interaction was a specular surface bounce (light -> specular+ -> here).
-    caustic: bool,
+    /// The surface normal on the side the photon arrived from (quantised as a direction).
+    n: (u8, u8),
+    /// The map's `FLAG_*` bits: first hit, from a medium, caustic path (every earlier
+    /// interaction a specular surface bounce: light -> specular+ -> here).
+    flags: u8,
 }
 
 pub struct TraceParams<'a> {
@@ -53,6 +56,17 @@ pub struct TraceParams<'a> {
     /// Store the photons' power as `f32` ([`PhotonF32`], 28 bytes) instead of RGBE
     /// ([`Photon`], 20 bytes).
     pub f32_power: bool,
+    /// Precompute irradiance at every [`irradiance::STRIDE`]-th photon from its `k` nearest
+    /// photons within the squared radius (global maps, for final gathering).
+    pub irradiance: Option<(usize, f32)>,
+}
+
+/// The `FLAG_*` bits of a raw photon: first hit, from a medium, caustic path.
+fn raw_flags(first: bool, from_medium: bool, caustic: bool) -> u8 {
+    let bit = |b: bool, f: u16| if b { f as u8 } else { 0 };
+    bit(first, FLAG_FIRST_HIT)
+        | bit(from_medium, FLAG_FROM_MEDIUM)
+        | bit(caustic, FLAG_CAUSTIC_PATH)
 }
 
 /// Mean of a colour, the probability used for Russian roulette.
@@ -120,9 +134,8 @@ fn trace_path(
                             p: x,
                             power,
                             d,
-                            first: false,
-                            from_medium: true,
-                            caustic: false,
+                            n: (0, 0),
+                            flags: FLAG_FROM_MEDIUM as u8,
                         });
                     }
                     interactions += 1;
@@ -160,14 +173,22 @@ fn trace_path(
         }
         let bsdf = crate::render::eye::shading_bsdf(scene, mat, &mut si);
         if bsdf.has_non_delta() {
+            let n = encode_direction(if si.ng.dot(si.wo) >= 0.0 {
+                si.ng
+            } else {
+                -si.ng
+            });
             match kind {
                 MapKind::Global => out.push(RawPhoton {
                     p: si.p,
                     power,
                     d: ray.d,
-                    first: interactions == 0,
-                    from_medium: last_scatter,
-                    caustic: interactions > 0 && specular_bounces == interactions,
+                    n,
+                    flags: raw_flags(
+                        interactions == 0,
+                        last_scatter,
+                        interactions > 0 && specular_bounces == interactions,
+                    ),
                 }),
                 MapKind::Caustic => {
                     // Light -> specular+ -> here: a caustic photon. Its path ends here.
@@ -176,9 +197,8 @@ fn trace_path(
                             p: si.p,
                             power,
                             d: ray.d,
-                            first: false,
-                            from_medium: false,
-                            caustic: true,
+                            n,
+                            flags: FLAG_CAUSTIC_PATH as u8,
                         });
                     }
                     break;
@@ -385,6 +405,15 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
     }
     let emitted = batches * BATCH;
     let inv = 1.0 / emitted as f32;
+    let points: Vec<(Vec3, Vec3)> = match params.irradiance {
+        Some(_) => rounds
+            .iter()
+            .flatten()
+            .step_by(irradiance::STRIDE)
+            .map(|r| (r.p, decode_direction(r.n.0, r.n.1)))
+            .collect(),
+        None => Vec::new(),
+    };
     let t = std::time::Instant::now();
     let tree = if params.f32_power {
         PhotonTree::F32(balance(
@@ -399,12 +428,23 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
             params.cancel,
         )?)
     };
-    Some(PhotonMap {
+    let mut map = PhotonMap {
         kind: params.kind,
         tree,
+        irradiance: None,
         emitted,
         build_seconds: t.elapsed().as_secs_f64(),
-    })
+    };
+    if let Some((k, max_r2)) = params.irradiance {
+        map.irradiance = Some(IrradianceMap::build(
+            &map,
+            &points,
+            k,
+            max_r2,
+            params.cancel,
+        )?);
+    }
+    Some(map)
 }
 
 /// The kd-tree of `photons`, balanced with the cancel flag polled if there is one (`None`
@@ -436,12 +476,7 @@ fn records<P>(
     for raw in rounds {
         photons.extend(raw.iter().filter_map(|r| {
             let mut ph = new(r.p, r.power * inv, r.d).ok()?;
-            set_flags(
-                &mut ph,
-                if r.first { FLAG_FIRST_HIT } else { 0 }
-                    | if r.from_medium { FLAG_FROM_MEDIUM } else { 0 }
-                    | if r.caustic { FLAG_CAUSTIC_PATH } else { 0 },
-            );
+            set_flags(&mut ph, r.flags as u16);
             Some(ph)
         }));
     }

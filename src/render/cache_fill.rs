@@ -1,5 +1,5 @@
 //! Fills the irradiance cache before the camera pass, in deterministic rounds: pixel centres
-//! on a grid of stride 32, 16, ..., 1; in each round, the first Lambertian surface seen through
+//! on a grid of stride 32, 16, ..., 1; in each round, the first surface with a diffuse component seen through
 //! each pixel (following perfect specular bounces) that the cache does not yet cover gets a
 //! record, computed in parallel and inserted in pixel order. The camera pass then only reads
 //! the cache, so the image is the same for any thread count.
@@ -22,8 +22,8 @@ use rayon::prelude::*;
 const R_MIN_PIXELS: f32 = 1.5;
 const R_MAX_PIXELS: f32 = 30.0;
 
-/// First Lambertian point seen through pixel (x, y), with its normal and the path length.
-fn first_lambertian(
+/// First point with a diffuse component seen through pixel (x, y), with its normal and the path length.
+fn first_diffuse(
     ctx: &EyeCtx,
     x: usize,
     y: usize,
@@ -47,9 +47,7 @@ fn first_lambertian(
         let mat = scene.materials.get(si.material as usize)?;
         let bsdf = shading_bsdf(scene, mat, &mut si);
         if bsdf.has_non_delta() {
-            if !bsdf.is_lambertian() {
-                return None;
-            }
+            bsdf.diffuse_response(si.wo)?;
             let n = si.ng.dot(si.ns).signum() * si.ns;
             return Some((si, n, length));
         }
@@ -96,7 +94,7 @@ pub fn fill(
             .filter_map(|&(x, y)| {
                 let idx = y * w + x;
                 let mut rng = Rng::derive(s.seed, 0x1C, idx as u64);
-                let (si, n, len) = first_lambertian(ctx, x, y, &mut rng)?;
+                let (si, n, len) = first_diffuse(ctx, x, y, &mut rng)?;
                 cache.lookup(si.p, n).is_none().then_some((idx, si, n, len))
             })
             .collect();

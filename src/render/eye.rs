@@ -4,14 +4,15 @@
 
 use super::aov::{Term, TermMask};
 use super::film::TermRadiance;
-use super::irradiance_cache::IrradianceCache;
+use super::irradiance_cache::{band_fraction, CachedIrradiance, IrradianceCache};
 use super::photons::PhotonMaps;
 use super::terms::volume::{self, MarchSettings};
 use super::terms::{caustic, direct, emission, indirect, specular};
 use crate::geometry::{Ray, SurfaceInteraction};
 use crate::materials::bsdf::{Bsdf, LobeFlags};
 use crate::materials::Material;
-use crate::math::{is_finite3, Frame, Spectrum};
+use crate::materials::IRRADIANCE_BANDS;
+use crate::math::{is_finite3, Frame, Spectrum, PI};
 use crate::media::MediumStack;
 use crate::photon::map::{EstimateFilter, FLAG_FROM_MEDIUM};
 use crate::photon::KnnScratch;
@@ -57,7 +58,9 @@ pub fn shading_bsdf(scene: &Scene, mat: &Material, si: &mut SurfaceInteraction) 
     bsdf
 }
 
-/// Indirect light reflected at a non-specular point.
+/// Indirect light reflected at a non-specular point: the diffuse part from the irradiance
+/// cache (or a hemisphere gather where no record covers the point), times the diffuse lobes'
+/// response per band of incident angle; the glossy part by sampling the glossy lobes.
 pub fn indirect_at(
     ctx: &EyeCtx,
     si: &SurfaceInteraction,
@@ -70,19 +73,41 @@ pub fn indirect_at(
     if ctx.maps.global.is_none() || rays == 0 {
         return Spectrum::ZERO;
     }
-    if bsdf.is_lambertian() {
+    let mut l = from_media(ctx, si, bsdf, scratch);
+    let response = bsdf.diffuse_response(si.wo);
+    if let Some(response) = response {
         let n = si.ng.dot(si.ns).signum() * si.ns;
         let e = match ctx.cache.and_then(|c| c.lookup(si.p, n)) {
             Some(e) => e,
             None => {
-                indirect::gather_hemisphere(ctx.scene, ctx.maps, si, n, rays, stack, rng, scratch)
-                    .irradiance
+                let g = indirect::gather_hemisphere(
+                    ctx.scene, ctx.maps, si, n, rays, stack, rng, scratch,
+                );
+                CachedIrradiance {
+                    irradiance: g.irradiance,
+                    band_fraction: band_fraction(&g),
+                }
             }
         };
-        return bsdf.eval(si.wo, n) * e + from_media(ctx, si, bsdf, scratch);
+        l += e.reflect(&response);
     }
-    indirect::gather_bsdf(ctx.scene, ctx.maps, si, bsdf, rays, stack, rng, scratch)
-        + from_media(ctx, si, bsdf, scratch)
+    if bsdf.has_glossy() {
+        // Gather rays in proportion to the glossy lobes' share of the reflection the gather
+        // has to find (the cache answers for the diffuse part), at least one.
+        let glossy = crate::math::luminance(bsdf.glossy_albedo(si.wo));
+        let diffuse = response.map_or(0.0, |r| {
+            crate::math::luminance(r.iter().copied().sum::<Spectrum>()) * PI
+                / IRRADIANCE_BANDS as f32
+        });
+        let share = if glossy + diffuse > 0.0 {
+            glossy / (glossy + diffuse)
+        } else {
+            1.0
+        };
+        let n = ((rays as f32 * share).ceil() as u32).clamp(1, rays);
+        l += indirect::gather_glossy(ctx.scene, ctx.maps, si, bsdf, n, stack, rng, scratch);
+    }
+    l
 }
 
 /// Light that participating media scatter straight onto the surface: the global map's photons

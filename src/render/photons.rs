@@ -35,6 +35,8 @@ pub struct MapStats {
     pub seconds: f64,
     /// Of `seconds`, the kd-tree build.
     pub kdtree_seconds: f64,
+    /// Points of precomputed irradiance (global map: every fourth photon), in `memory_bytes`.
+    pub irradiance_points: u64,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub skipped_because: Option<String>,
 }
@@ -133,6 +135,7 @@ pub fn build(
                 max_radius: max_r,
                 seconds: 0.0,
                 kdtree_seconds: 0.0,
+                irradiance_points: 0,
                 skipped_because: Some(r),
             });
             return None;
@@ -149,6 +152,7 @@ pub fn build(
             targets,
             cancel,
             f32_power: s.f32_power,
+            irradiance: (kind == MapKind::Global).then_some((s.gather, max_r * max_r)),
         };
         let map = build_map(scene, &params)?;
         stats.push(MapStats {
@@ -161,6 +165,7 @@ pub fn build(
             max_radius: max_r,
             seconds: t0.elapsed().as_secs_f64(),
             kdtree_seconds: map.build_seconds,
+            irradiance_points: map.irradiance.as_ref().map_or(0, |m| m.len() as u64),
             skipped_because: None,
         });
         Some(map)

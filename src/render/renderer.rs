@@ -111,7 +111,10 @@ pub struct MemoryEstimate {
     pub triangles: u64,
     /// `triangles * BYTES_PER_TRIANGLE`.
     pub bvh_bytes: u64,
-    /// `photon_bytes + bvh_bytes`.
+    /// The global map's precomputed irradiance points: one per `irradiance::STRIDE` photons,
+    /// `size_of::<IrradiancePoint>()` (24) bytes each.
+    pub irradiance_bytes: u64,
+    /// `photon_bytes + bvh_bytes + irradiance_bytes`.
     pub total_bytes: u64,
     /// The most the render holds at once, which the memory limit is checked against: the
     /// BVH, the maps, and, while the largest map is built, its photons a second time (as
@@ -249,17 +252,30 @@ impl<'a> Renderer<'a> {
             .collect()
         };
         let photons = built.iter().fold(0u64, |acc, n| acc.saturating_add(*n));
+        let global = if need_global && !self.scene.lights.is_empty() {
+            p.global as u64
+        } else {
+            0
+        };
+        let irradiance_bytes = global
+            .div_ceil(crate::photon::irradiance::STRIDE as u64)
+            .saturating_mul(
+                std::mem::size_of::<crate::photon::irradiance::IrradiancePoint>() as u64,
+            );
         let largest = built.iter().copied().max().unwrap_or(0);
         let triangles = self.scene.triangle_count as u64;
         let record = p.bytes_per_photon();
         let photon_bytes = photons.saturating_mul(record);
         let bvh_bytes = triangles.saturating_mul(BYTES_PER_TRIANGLE);
-        let total_bytes = photon_bytes.saturating_add(bvh_bytes);
+        let total_bytes = photon_bytes
+            .saturating_add(bvh_bytes)
+            .saturating_add(irradiance_bytes);
         MemoryEstimate {
             photons,
             photon_bytes,
             triangles,
             bvh_bytes,
+            irradiance_bytes,
             total_bytes,
             peak_bytes: total_bytes.saturating_add(largest.saturating_mul(build_extra(record))),
         }
@@ -287,14 +303,15 @@ impl<'a> Renderer<'a> {
                     setting: "--memory-limit".into(),
                     message: format!(
                         "the render needs an estimated {} bytes at its peak ({} photons x {} B \
-                         = {} B for the photon maps, {} triangles x {} B = {} B for the BVH, \
-                         {} B in all, plus the largest map's photons once more while it is \
-                         built), over the limit of {limit} bytes; store fewer photons or \
-                         raise the limit",
+                         = {} B for the photon maps, {} B of precomputed irradiance, {} \
+                         triangles x {} B = {} B for the BVH, {} B in all, plus the largest \
+                         map's photons once more while it is built), over the limit of \
+                         {limit} bytes; store fewer photons or raise the limit",
                         estimate.peak_bytes,
                         estimate.photons,
                         s.photons.bytes_per_photon(),
                         estimate.photon_bytes,
+                        estimate.irradiance_bytes,
                         estimate.triangles,
                         BYTES_PER_TRIANGLE,
                         estimate.bvh_bytes,

@@ -34,8 +34,14 @@ pub fn render_settings(desc: &SceneDesc, settings: RenderSettings) -> RenderOutp
 /// relMSE of block means (block x block pixels), which keeps a path-traced reference's own
 /// noise (fireflies of its caustic paths) out of a comparison of low-frequency bias.
 pub fn block_rel_mse(a: &Image, b: &Image, block: usize) -> f64 {
+    block_rel_mse_trimmed(a, b, block, 0)
+}
+
+/// [`block_rel_mse`] without the `drop` worst blocks: a single firefly (a rare specular path
+/// to a light, seen at a few samples per pixel) can outweigh every other block.
+pub fn block_rel_mse_trimmed(a: &Image, b: &Image, block: usize, drop: usize) -> f64 {
     let (bw, bh) = (a.width / block, a.height / block);
-    let mut sum = 0.0;
+    let mut errs = Vec::with_capacity(bw * bh);
     for by in 0..bh {
         for bx in 0..bw {
             let (mut p, mut q) = ([0.0f64; 3], [0.0f64; 3]);
@@ -48,12 +54,16 @@ pub fn block_rel_mse(a: &Image, b: &Image, block: usize) -> f64 {
                 }
             }
             let n = (block * block) as f64;
+            let mut e = 0.0;
             for c in 0..3 {
-                sum += ((p[c] - q[c]) / n).powi(2) / ((q[c] / n).powi(2) + REL_EPS as f64);
+                e += ((p[c] - q[c]) / n).powi(2) / ((q[c] / n).powi(2) + REL_EPS as f64);
             }
+            errs.push(e / 3.0);
         }
     }
-    sum / (bw * bh * 3) as f64
+    errs.sort_by(f64::total_cmp);
+    let kept = &errs[..errs.len().saturating_sub(drop)];
+    kept.iter().sum::<f64>() / kept.len().max(1) as f64
 }
 
 /// Renders only the given terms (the others' estimators do not run at all).

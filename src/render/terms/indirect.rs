@@ -7,7 +7,7 @@
 //! On Lambertian surfaces the irradiance is cached (`render::irradiance_cache`).
 
 use crate::geometry::{Ray, SurfaceInteraction};
-use crate::materials::bsdf::{Bsdf, LobeFlags};
+use crate::materials::bsdf::{irradiance_band, Bsdf, LobeFlags, IRRADIANCE_BANDS};
 use crate::math::{Frame, Spectrum, PI};
 use crate::media::MediumStack;
 use crate::photon::map::EstimateFilter;
@@ -16,6 +16,10 @@ use crate::render::photons::PhotonMaps;
 use crate::sampling::Rng;
 use crate::scene::{Scene, SceneHit};
 use glam::Vec3;
+
+/// Gather rays shorter than this many largest search radii take the full radiance estimate
+/// at their hit rather than a precomputed irradiance point.
+const NEAR_HIT_RADII: f32 = 1.0;
 
 /// Specular bounces a gather ray may make before reaching a non-specular surface.
 const GATHER_SPECULAR_DEPTH: u32 = 6;
@@ -57,18 +61,10 @@ pub fn gather_radiance(
         };
         let bsdf = crate::render::eye::shading_bsdf(scene, mat, &mut si);
         if bsdf.has_non_delta() {
-            acc += beta
-                * global.radiance(
-                    si.p,
-                    si.ng,
-                    si.wo,
-                    &bsdf,
-                    maps.gather,
-                    maps.global_r2,
-                    EstimateFilter::Constant,
-                    0,
-                    scratch,
-                );
+            // Short rays (corners, contact) take the full estimate: there the irradiance
+            // changes within a point's reach.
+            let near = si.t * ray.d.length() < NEAR_HIT_RADII * maps.global_r2.sqrt();
+            acc += beta * hit_radiance(scene, global, &si, &bsdf, maps, near, &stack, rng, scratch);
         }
         if bsdf.flags() & LobeFlags::SPECULAR == 0 {
             break;
@@ -90,8 +86,63 @@ pub fn gather_radiance(
     (acc, first_t)
 }
 
-/// Final gathering by sampling the BSDF's non-specular lobes: the reflected indirect radiance.
-pub fn gather_bsdf(
+/// Radiance leaving a gather ray's hit towards the gather point, from the global map. On an
+/// opaque surface it reads the nearest precomputed irradiance point (Christensen 1999): the
+/// diffuse lobes' response per band of incident angle times the point's irradiance; the
+/// glossy lobes reflect the indirect part as uniform light (their albedo times E / pi) and
+/// the direct part through one light sample, since light straight from a lamp leaves a
+/// glossy surface as a highlight. Elsewhere, and where no point matches, the full radiance
+/// estimate with the BSDF (Jensen 2001, eq. 7.6).
+fn hit_radiance(
+    scene: &Scene,
+    global: &crate::photon::map::PhotonMap,
+    si: &SurfaceInteraction,
+    bsdf: &Bsdf,
+    maps: &PhotonMaps,
+    near: bool,
+    stack: &MediumStack,
+    rng: &mut Rng,
+    scratch: &mut KnnScratch,
+) -> Spectrum {
+    if !near && bsdf.flags() & LobeFlags::TRANSMISSION == 0 {
+        if let Some(pt) = global
+            .irradiance
+            .as_ref()
+            .and_then(|m| m.lookup(si.p, si.ng, scratch))
+        {
+            let e = pt.irradiance();
+            let mut l = Spectrum::ZERO;
+            if let Some(resp) = bsdf.diffuse_response(si.wo) {
+                for (r, f) in resp.iter().zip(pt.band_fraction()) {
+                    l += *r * (e * f);
+                }
+            }
+            if bsdf.has_glossy() {
+                let indirect = e * (1.0 - pt.direct_fraction());
+                l += bsdf.glossy_albedo(si.wo) * (indirect * crate::math::INV_PI);
+                if pt.direct_fraction() > 0.0 {
+                    l += super::direct::light_sample(scene, si, &bsdf.glossy_part(), stack, rng);
+                }
+            }
+            return l;
+        }
+    }
+    global.radiance(
+        si.p,
+        si.ng,
+        si.wo,
+        bsdf,
+        maps.gather,
+        maps.global_r2,
+        EstimateFilter::Constant,
+        0,
+        scratch,
+    )
+}
+
+/// Final gathering of the glossy lobes alone (the diffuse part is the irradiance cache's):
+/// the reflected indirect radiance through them, by sampling them.
+pub fn gather_glossy(
     scene: &Scene,
     maps: &PhotonMaps,
     si: &SurfaceInteraction,
@@ -103,12 +154,9 @@ pub fn gather_bsdf(
 ) -> Spectrum {
     let mut sum = Spectrum::ZERO;
     for _ in 0..rays {
-        let Some(bs) = bsdf.sample(si.wo, rng.f32(), rng.vec2()) else {
+        let Some(bs) = bsdf.sample_glossy(si.wo, rng.f32(), rng.vec2()) else {
             continue;
         };
-        if bs.is_delta() {
-            continue;
-        }
         let (l, _) = gather_radiance(scene, maps, si.spawn_ray(bs.wi), stack, rng, scratch);
         sum += bs.weight * l;
     }
@@ -118,6 +166,9 @@ pub fn gather_bsdf(
 /// A stratified hemisphere gather with the data Ward and Heckbert's gradients need.
 pub struct HemisphereGather {
     pub irradiance: Spectrum,
+    /// The irradiance split by bands of incident directions ([`IRRADIANCE_BANDS`]); the
+    /// bands sum to `irradiance`.
+    pub bands: [Spectrum; IRRADIANCE_BANDS],
     /// Harmonic mean distance to the surfaces seen.
     pub harmonic_distance: f32,
     /// Rotational and translational gradients, one vector per colour channel.
@@ -150,6 +201,7 @@ pub fn gather_hemisphere(
     let mut l = vec![Spectrum::ZERO; m * nn];
     let mut r = vec![f32::INFINITY; m * nn];
     let mut theta = vec![0.0f32; m * nn];
+    let mut band = vec![0usize; m * nn];
     for j in 0..m {
         for k in 0..nn {
             let u = rng.vec2();
@@ -169,10 +221,15 @@ pub fn gather_hemisphere(
             l[j * nn + k] = li;
             r[j * nn + k] = t;
             theta[j * nn + k] = sin_t.asin();
+            band[j * nn + k] = irradiance_band(cos_t);
         }
     }
     let norm = PI / (m * nn) as f32;
     let irradiance: Spectrum = l.iter().copied().sum::<Spectrum>() * norm;
+    let mut bands = [Spectrum::ZERO; IRRADIANCE_BANDS];
+    for (li, &b) in l.iter().zip(&band) {
+        bands[b] += *li * norm;
+    }
     let inv_sum: f32 = r
         .iter()
         .map(|&t| {
@@ -232,6 +289,7 @@ pub fn gather_hemisphere(
     }
     HemisphereGather {
         irradiance,
+        bands,
         harmonic_distance,
         grad_r,
         grad_t,

@@ -1,0 +1,223 @@
+//! Precomputed irradiance at photon positions (Christensen 1999, "Faster Photon Map Global
+//! Illumination", JGT 4(3)): at a subset of the global map's photons the irradiance estimate
+//! from the map's k nearest photons is computed once, with the surface normal there and the
+//! division of the irradiance into bands of incident angle (`materials::IRRADIANCE_BANDS`).
+//! A final-gathering ray then reads the nearest such point with a matching normal instead of
+//! running a k-nearest-neighbour radiance estimate with the BSDF at every photon.
+//!
+//! Each point also keeps the share of its irradiance that came straight from the lights
+//! (photons at their first hit): that part is directional, and a glossy surface reflects it
+//! as a highlight, not as it reflects uniform light (`render::terms::indirect`).
+//!
+//! The points are kept in their own left-balanced kd-tree of 24-byte records.
+
+use super::kdtree::{KnnScratch, PhotonKdTree};
+use super::map::{PhotonMap, FLAG_FIRST_HIT};
+use super::photon::{decode_direction, encode_direction, rgbe_decode, rgbe_encode, KdRecord};
+use crate::materials::{irradiance_band, IRRADIANCE_BANDS};
+use crate::math::{Spectrum, PI};
+use glam::Vec3;
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Every `STRIDE`-th photon of the global map becomes an irradiance point (Christensen uses
+/// every fourth: the estimate spans about k photons, so neighbouring points would repeat it).
+pub const STRIDE: usize = 4;
+
+/// Smallest cosine between a query's normal and a point's for the point to answer it.
+const MIN_COS: f32 = 0.9;
+
+/// Points considered per query: the nearest with a matching normal among them answers.
+const CANDIDATES: usize = 4;
+
+/// A point of precomputed irradiance: position, RGBE irradiance, the quantised normal (on the
+/// side the photons arrived from), the irradiance's share in each band of incident angle
+/// (luminance, of 255), the share of direct light (luminance, of 255), and the kd-tree split
+/// axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
+pub struct IrradiancePoint {
+    pos: [f32; 3],
+    rgbe: [u8; 4],
+    normal: (u8, u8),
+    bands: [u8; IRRADIANCE_BANDS],
+    axis: u8,
+    direct: u8,
+}
+
+const _: () = assert!(std::mem::size_of::<IrradiancePoint>() == 24);
+
+impl KdRecord for IrradiancePoint {
+    #[inline(always)]
+    fn pos(&self) -> &[f32; 3] {
+        &self.pos
+    }
+    #[inline(always)]
+    fn axis(&self) -> u8 {
+        self.axis
+    }
+    #[inline]
+    fn set_axis(&mut self, axis: u8) {
+        self.axis = axis;
+    }
+}
+
+impl IrradiancePoint {
+    fn new(p: Vec3, n: Vec3, est: &IrradianceEstimate) -> Option<Self> {
+        let rgbe = rgbe_encode(est.irradiance).ok()?;
+        let bands = est.bands;
+        let total: f32 = bands.iter().sum();
+        let q = bands.map(|b| {
+            if total > 0.0 {
+                (b / total * 255.0).round().clamp(0.0, 255.0) as u8
+            } else {
+                (255 / IRRADIANCE_BANDS) as u8
+            }
+        });
+        let lum = crate::math::luminance(est.irradiance);
+        let direct = if lum > 0.0 {
+            (est.direct / lum * 255.0).round().clamp(0.0, 255.0) as u8
+        } else {
+            0
+        };
+        Some(IrradiancePoint {
+            pos: p.to_array(),
+            rgbe,
+            normal: encode_direction(n),
+            bands: q,
+            axis: 0,
+            direct,
+        })
+    }
+
+    pub fn irradiance(&self) -> Spectrum {
+        rgbe_decode(self.rgbe)
+    }
+
+    pub fn normal(&self) -> Vec3 {
+        decode_direction(self.normal.0, self.normal.1)
+    }
+
+    /// The share of the irradiance that came straight from the lights.
+    pub fn direct_fraction(&self) -> f32 {
+        self.direct as f32 / 255.0
+    }
+
+    /// The share of the irradiance in each band (summing to 1).
+    pub fn band_fraction(&self) -> [f32; IRRADIANCE_BANDS] {
+        let total: u32 = self.bands.iter().map(|&b| b as u32).sum();
+        if total == 0 {
+            return [1.0 / IRRADIANCE_BANDS as f32; IRRADIANCE_BANDS];
+        }
+        self.bands.map(|b| b as f32 / total as f32)
+    }
+}
+
+/// The irradiance points of a global map.
+pub struct IrradianceMap {
+    tree: PhotonKdTree<IrradiancePoint>,
+    max_r2: f32,
+}
+
+impl IrradianceMap {
+    /// Irradiance at each of `points` (position, normal on the photons' side) from the `k`
+    /// nearest photons of `global` within `max_r2`; None when cancelled. Deterministic: each
+    /// point's estimate depends on the map alone.
+    pub fn build(
+        global: &PhotonMap,
+        points: &[(Vec3, Vec3)],
+        k: usize,
+        max_r2: f32,
+        cancel: Option<&AtomicBool>,
+    ) -> Option<IrradianceMap> {
+        let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
+        let records: Vec<Option<IrradiancePoint>> = points
+            .par_chunks(4096)
+            .map_init(KnnScratch::new, |scratch, chunk| {
+                if cancelled() {
+                    return Vec::new();
+                }
+                chunk
+                    .iter()
+                    .map(|&(p, n)| {
+                        let est = global.irradiance_estimate(p, n, k, max_r2, scratch);
+                        IrradiancePoint::new(p, n, &est)
+                    })
+                    .collect()
+            })
+            .flatten_iter()
+            .collect();
+        if cancelled() {
+            return None;
+        }
+        let tree = PhotonKdTree::build(records.into_iter().flatten().collect());
+        Some(IrradianceMap { tree, max_r2 })
+    }
+
+    pub fn len(&self) -> usize {
+        self.tree.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.tree.is_empty()
+    }
+
+    pub fn memory_bytes(&self) -> usize {
+        self.tree.memory_bytes()
+    }
+
+    /// The nearest point to `p` whose normal is within about 25 degrees of `n`, within the
+    /// map's search radius.
+    pub fn lookup(&self, p: Vec3, n: Vec3, scratch: &mut KnnScratch) -> Option<&IrradiancePoint> {
+        let found = self.tree.knn(p, CANDIDATES, self.max_r2, scratch);
+        let best = found
+            .iter()
+            .filter(|nb| self.tree.get(nb.index).normal().dot(n) >= MIN_COS)
+            .min_by(|a, b| a.dist2.total_cmp(&b.dist2))?;
+        Some(self.tree.get(best.index))
+    }
+}
+
+/// An irradiance estimate from a photon map: the total, its division into bands of incident
+/// angle (luminance), and the luminance of the part from photons at their first hit.
+#[derive(Clone, Copy, Debug)]
+pub struct IrradianceEstimate {
+    pub irradiance: Spectrum,
+    pub bands: [f32; IRRADIANCE_BANDS],
+    pub direct: f32,
+}
+
+impl PhotonMap {
+    /// Irradiance at `p` (normal `n`) from the `k` nearest photons that arrived on the side of
+    /// `n`: E = sum Phi_p / (pi r^2) (the k-th photon on the boundary left out, as in the
+    /// radiance estimate).
+    pub fn irradiance_estimate(
+        &self,
+        p: Vec3,
+        n: Vec3,
+        k: usize,
+        max_r2: f32,
+        scratch: &mut KnnScratch,
+    ) -> IrradianceEstimate {
+        let mut sum = Spectrum::ZERO;
+        let mut bands = [0.0f32; IRRADIANCE_BANDS];
+        let mut direct = 0.0f32;
+        let r2 = self.for_each_nearest(p, k, max_r2, scratch, |power, wi, flags| {
+            let c = wi.dot(n);
+            if c > 0.0 {
+                sum += power;
+                let lum = crate::math::luminance(power);
+                bands[irradiance_band(c)] += lum;
+                if flags & FLAG_FIRST_HIT != 0 {
+                    direct += lum;
+                }
+            }
+        });
+        let norm = r2.map_or(0.0, |r2| 1.0 / (PI * r2));
+        IrradianceEstimate {
+            irradiance: sum * norm,
+            bands: bands.map(|b| b * norm),
+            direct: direct * norm,
+        }
+    }
+}
