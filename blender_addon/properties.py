@@ -69,6 +69,13 @@ class PhotonMapSettings(bpy.types.PropertyGroup):
                                  description="Largest memory the photon maps and the BVH may "
                                  "take, in bytes or as 512M, 8G (empty = the available memory); "
                                  "a render that would need more stops up front")
+    filter: EnumProperty(
+        name="Pixel Filter", default="gaussian",
+        items=[("gaussian", "Gaussian", "Gaussian of standard deviation 0.5 px (the core's "
+                "default)"),
+               ("box", "Box", "Uniform over the pixel (Cycles' Box filter of width 1 px)"),
+               ("tent", "Tent", "Triangle of radius 1 px")],
+        description="Pixel reconstruction filter (as --filter)")
     seed: IntProperty(name="Seed", default=0, min=0, description="Random seed")
     threads: IntProperty(name="Threads", default=0, min=0, description="Worker threads (0 = all)")
 
@@ -81,7 +88,8 @@ def render_settings(s: PhotonMapSettings) -> dict:
         "volume_step": s.volume_step if s.volume_step > 0 else None, "gather": s.gather,
         "radius": s.radius if s.radius > 0 else None, "final_gather_rays": s.final_gather_rays,
         "irradiance_cache": s.irradiance_cache, "cache_tolerance": s.cache_tolerance,
-        "max_specular_depth": s.max_specular_depth, "seed": s.seed, "threads": s.threads,
+        "max_specular_depth": s.max_specular_depth, "filter": s.filter, "seed": s.seed,
+        "threads": s.threads,
         "time_budget": s.time_budget if s.time_budget > 0 else None,
         "mode": s.mode, "alpha": s.alpha, "initial_photons": s.initial_photons,
         "memory_limit": s.memory_limit.strip() or None,

@@ -44,6 +44,7 @@ class PHOTONMAP_PT_quality(PhotonMapPanel, bpy.types.Panel):
         layout.prop(s, "spp")
         layout.prop(s, "time_budget")
         layout.prop(s, "memory_limit")
+        layout.prop(s, "filter")
         layout.prop(s, "seed")
         layout.prop(s, "threads")
 

@@ -1,0 +1,1 @@
+"""The Cycles parity corpus (see scenes.py, make_references.py, compare.py)."""

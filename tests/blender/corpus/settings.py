@@ -1,0 +1,37 @@
+"""Render settings of the corpus comparisons, shared by both paths (no bpy).
+
+Each setting is the keywords of ``photonmap.render`` (the add-on's ``scene.photonmap`` fields
+of the same names): a quality preset, optionally with some of its numbers changed. Every
+corpus render uses the box filter of the references (Cycles' Box filter, 1 px).
+"""
+
+from __future__ import annotations
+
+FILTER = "box"
+
+SETTINGS: dict[str, dict] = {
+    # The CI setting: the draft preset, two seeds per scene; scenes with fog (ray marching
+    # dominates their time) with fewer camera samples. The whole corpus renders in a few
+    # minutes on two cores.
+    "ci": {"quality": "draft", "by_tag": {"fog": {"spp": 2}}},
+    # The sensitivity tests (test_corpus.py): noise low enough for a 2% error to show.
+    "sensitivity": {"quality": "medium"},
+    "draft": {"quality": "draft"},
+    "medium": {"quality": "medium"},
+    "high": {"quality": "high"},
+    "final": {"quality": "final"},
+}
+
+
+def settings(name: str, tags=()) -> dict:
+    """``photonmap.render`` keywords of the setting ``name`` for a scene of ``tags`` (with the
+    box filter)."""
+    try:
+        s = dict(SETTINGS[name])
+    except KeyError:
+        raise ValueError(f"unknown corpus setting {name!r}; one of {sorted(SETTINGS)}") from None
+    by_tag = s.pop("by_tag", {})
+    for tag in tags:
+        s.update(by_tag.get(tag, {}))
+    s["filter"] = FILTER
+    return s
