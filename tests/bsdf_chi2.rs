@@ -87,7 +87,7 @@ fn chi2_ggx_reflection() {
         k: Vec3::new(3.42, 2.35, 1.77),
     };
     for roughness in [0.05f32, 0.3, 1.0] {
-        let bsdf = Bsdf::new(local()).with(1.0, reflection_lobe(roughness, gold));
+        let bsdf = Bsdf::new(local()).with(1.0, reflection_lobe(roughness, gold, false));
         for deg in [0.0f32, 30.0, 60.0, 85.0] {
             let wo = wo_at(deg);
             // The reflected lobe is about alpha x cos(theta_o) wide across the plane of

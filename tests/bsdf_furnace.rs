@@ -65,14 +65,17 @@ fn white_materials() -> Vec<(String, MaterialDesc)> {
                 roughness: r,
             },
         ));
-        v.push((
-            format!("glossy r={r}"),
-            MaterialDesc::Glossy {
-                name: String::new(),
-                color: [1.0; 3],
-                roughness: r,
-            },
-        ));
+        for multiscatter in [true, false] {
+            v.push((
+                format!("glossy multiscatter={multiscatter} r={r}"),
+                MaterialDesc::Glossy {
+                    name: String::new(),
+                    color: [1.0; 3],
+                    roughness: r,
+                    multiscatter,
+                },
+            ));
+        }
         for ior in [1.0001f32, 1.5, 2.4] {
             v.push((
                 format!("dielectric ior={ior} r={r}"),
@@ -150,6 +153,66 @@ fn albedo_by_sampling(bsdf: &Bsdf, wo: Vec3, n: usize, seed: u64) -> (f64, f64) 
     (mean[i], (var[i] / n as f64).sqrt())
 }
 
+/// The albedo photons see: the mean flux weight with the reflection lobes evaluated with the
+/// directions swapped, f(wi, wo) |cos wi| / pdf (the adjoint of a lobe that depends on the
+/// view direction only), refraction and delta lobes as sampled. Red channel.
+fn adjoint_albedo_by_sampling(bsdf: &Bsdf, wo: Vec3, n: usize, seed: u64) -> (f64, f64) {
+    let mut rng = Rng::new(seed, 3);
+    let (mut s, mut s2) = (0.0f64, 0.0f64);
+    for _ in 0..n {
+        if let Some(x) = bsdf.sample(wo, rng.f32(), rng.vec2()) {
+            let w = if !x.is_delta() && x.wi.z * wo.z > 0.0 {
+                bsdf.eval(x.wi, wo).x * x.wi.z.abs() / x.pdf
+            } else {
+                x.importance_weight().x
+            } as f64;
+            s += w;
+            s2 += w * w;
+        }
+    }
+    let mean = s / n as f64;
+    (
+        mean,
+        ((s2 / n as f64 - mean * mean).max(0.0) / n as f64).sqrt(),
+    )
+}
+
+/// Photons leave a surface with the adjoint of the BSDF: for every material, the weight of a
+/// reflection the photon pass samples (`Bsdf::sample_component`) is f(wi, wo) |cos wi| / pdf,
+/// the BSDF with the photon's directions swapped, which for the reciprocal lobes is the BSDF
+/// itself and for the view-dependent ones (Cycles' layering and multiple-scattering
+/// compensation) is what light leaving along wi carries.
+#[test]
+fn photon_scattering_uses_the_adjoint() {
+    let mut rng = Rng::new(8, 0);
+    for (name, desc) in white_materials() {
+        let m = Material::from_desc(&desc);
+        let bsdf = m.bsdf(local(), Vec2::ZERO, &[]);
+        for deg in [10.0f32, 50.0, 80.0] {
+            let wo = wo_at(deg);
+            for c in [Component::Diffuse, Component::Specular] {
+                for _ in 0..200 {
+                    let Some(x) = bsdf.sample_component(wo, c, rng.f32(), rng.vec2()) else {
+                        continue;
+                    };
+                    if x.is_delta() {
+                        continue;
+                    }
+                    let f = bsdf.eval_component(x.wi, wo, c);
+                    let pdf = bsdf.pdf_component(wo, x.wi, c);
+                    let expect = f * (x.wi.z.abs() / pdf);
+                    let scale = expect.max_element().max(1e-6);
+                    assert!(
+                        (x.weight - expect).abs().max_element() <= 1e-4 * scale,
+                        "{name} {c:?} at {deg}: weight {:?}, f(wi, wo) |cos| / pdf {expect:?}",
+                        x.weight
+                    );
+                }
+            }
+        }
+    }
+}
+
 /// Relative IOR crossed from wo's side to wi's side for a material of IOR `ior`.
 fn eta_crossed(wo: Vec3, wi: Vec3, ior: f32) -> f32 {
     if wo.z * wi.z > 0.0 {
@@ -195,17 +258,20 @@ fn white_furnace_every_material() {
     for (name, desc) in white_materials() {
         let m = Material::from_desc(&desc);
         let bsdf = m.bsdf(local(), Vec2::new(0.5, 0.5), &[]);
+        // The multiple-scattering compensation reads its albedo tables bilinearly: up to
+        // about 0.3% above one between their rows.
+        let slack = if reciprocal(&desc) { 1e-5 } else { 3e-3 };
         let mut line = format!("{name:38}");
         for (k, deg) in ANGLES.iter().enumerate() {
             let wo = wo_at(*deg);
             let (a, sa) = albedo_by_sampling(&bsdf, wo, n, k as u64);
             assert!(
-                a <= 1.0 + 3.0 * sa + 1e-5,
+                a <= 1.0 + 3.0 * sa + slack,
                 "{name} at {deg} deg: sampled albedo {a} +- {sa} exceeds 1"
             );
             let (b, sb) = albedo_by_eval(&bsdf, wo, ior_of(&desc), n, k as u64);
             assert!(
-                b <= 1.0 + 3.0 * sb + 1e-5,
+                b <= 1.0 + 3.0 * sb + slack,
                 "{name} at {deg} deg: uniform-eval albedo {b} +- {sb} exceeds 1"
             );
             // Without delta lobes both estimators agree (where uniform sampling of a narrow
@@ -280,6 +346,18 @@ fn random_dir(rng: &mut Rng) -> Vec3 {
     square_to_uniform_sphere(rng.vec2())
 }
 
+/// Whether a material's lobes are all reciprocal: the Principled BSDF's base is layered under
+/// its specular layer as Cycles layers it, and Multiscatter GGX is compensated as Cycles
+/// compensates it, both by the view direction alone (see
+/// `photon_scattering_uses_the_adjoint`).
+fn reciprocal(desc: &MaterialDesc) -> bool {
+    match desc {
+        MaterialDesc::Principled(_) => false,
+        MaterialDesc::Glossy { multiscatter, .. } => !multiscatter,
+        _ => true,
+    }
+}
+
 #[test]
 fn reciprocity() {
     let mut rng = Rng::new(4, 0);
@@ -289,6 +367,9 @@ fn reciprocity() {
         let bsdf = m.bsdf(local(), Vec2::ZERO, &[]);
         for _ in 0..2000 {
             let (a, b) = (random_dir(&mut rng), random_dir(&mut rng));
+            if !reciprocal(&desc) {
+                continue;
+            }
             let fab = bsdf.eval(a, b);
             let fba = bsdf.eval(b, a);
             // Veach 1997 eq. 5.14: f_s(wi -> wo) / eta_o^2 = f_s(wo -> wi) / eta_i^2; here
@@ -300,7 +381,7 @@ fn reciprocity() {
             let rhs = fba * (eta_a * eta_a);
             let scale = lhs.max_element().max(rhs.max_element()).max(1e-6);
             assert!(
-                (lhs - rhs).abs().max_element() <= 1e-2 * scale + 1e-6,
+                (lhs - rhs).abs().max_element() <= 1e-2 * scale + 2e-5,
                 "{name}: f({a:?}, {b:?}) = {fab:?}, reversed {fba:?}"
             );
         }
@@ -343,7 +424,7 @@ fn russian_roulette_components_are_unbiased() {
             }
             let rr = sum / n as f64;
             let srr = ((sum2 / n as f64 - rr * rr).max(0.0) / n as f64).sqrt();
-            let (full, sfull) = albedo_by_sampling(&bsdf, wo, n, 99);
+            let (full, sfull) = adjoint_albedo_by_sampling(&bsdf, wo, n, 99);
             assert!(
                 (rr - full).abs() <= 4.5 * (srr * srr + sfull * sfull).sqrt() + 1e-4,
                 "{name} at {deg}: roulette {rr} +- {srr} vs full {full} +- {sfull}"
@@ -415,6 +496,43 @@ fn world_frame_round_trip() {
         if let (Some(sa), Some(sb)) = (a.sample(wo, u0, u), b.sample(frame.to_world(wo), u0, u)) {
             assert!((frame.to_world(sa.wi) - sb.wi).length() < 1e-3);
             assert!((sa.pdf - sb.pdf).abs() <= 1e-2 * sa.pdf.max(1e-3));
+        }
+    }
+}
+
+/// Cycles' Multiscatter GGX reflects all light off a white reflector at every roughness and
+/// angle: the compensation f_ss (1 + F_ms (1 - E1) / E1) with F_ss = 1 (so F_ms = 1) has
+/// albedo E1 + 1 - E1 = 1, where plain GGX loses the single-scattering energy 1 - E1
+/// (tabulated in `SchlickAlbedoTable`). Checked by sampling, to the table's interpolation.
+#[test]
+fn multiscatter_ggx_white_furnace_is_one() {
+    use photonmap::materials::layer::SchlickAlbedoTable;
+    let n = 200_000;
+    for r in [0.2f32, 0.5, 0.8, 1.0] {
+        for multiscatter in [true, false] {
+            let m = Material::from_desc(&MaterialDesc::Glossy {
+                name: String::new(),
+                color: [1.0; 3],
+                roughness: r,
+                multiscatter,
+            });
+            let bsdf = m.bsdf(local(), Vec2::ZERO, &[]);
+            for (k, deg) in [0.0f32, 30.0, 60.0, 80.0].iter().enumerate() {
+                let wo = wo_at(*deg);
+                let (a, sa) = albedo_by_sampling(&bsdf, wo, n, 10 + k as u64);
+                let expect = if multiscatter {
+                    1.0
+                } else {
+                    SchlickAlbedoTable::get().e1(wo.z, r) as f64
+                };
+                eprintln!(
+                    "r {r} ms {multiscatter} {deg} deg: {a:.4} +- {sa:.4}, expected {expect:.4}"
+                );
+                assert!(
+                    (a - expect).abs() < 4.0 * sa + 4e-3,
+                    "r {r} multiscatter {multiscatter} at {deg} deg: {a} +- {sa}, expected {expect}"
+                );
+            }
         }
     }
 }

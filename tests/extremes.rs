@@ -866,8 +866,8 @@ fn memory_limit_fails_fast_with_the_estimate() {
         est.bvh_bytes,
         BYTES_PER_TRIANGLE * scene.triangle_count as u64
     );
-    // Precomputed irradiance at every fourth photon of the global map, 24 B each.
-    assert_eq!(est.irradiance_bytes, 24 * 25_000_000);
+    // Precomputed irradiance at every fourth photon of the global map, 20 B each.
+    assert_eq!(est.irradiance_bytes, 20 * 25_000_000);
     assert_eq!(
         est.total_bytes,
         est.photon_bytes + est.bvh_bytes + est.irradiance_bytes

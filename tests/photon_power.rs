@@ -55,10 +55,10 @@ fn map_bytes(out: &RenderOutput, map: &str) -> (u64, u64, u64) {
         .iter()
         .find(|m| m.map == map && m.built)
         .unwrap_or_else(|| panic!("{map} map built"));
-    // The global map also holds its precomputed irradiance points, 24 B each.
+    // The global map also holds its precomputed irradiance points, 20 B each.
     (
         m.stored,
-        m.memory_bytes - 24 * m.irradiance_points,
+        m.memory_bytes - 20 * m.irradiance_points,
         m.bytes_per_photon,
     )
 }

@@ -4,9 +4,9 @@ Follows the node tree from the active Material Output's Surface socket:
 
 | node | IR |
 |---|---|
-| Principled BSDF | `principled`: Base Color, Metallic, Roughness, IOR, Transmission Weight, Specular IOR Level (x 2 = `specular`), Emission Color and Strength |
+| Principled BSDF | `principled`: Base Color, Metallic, Roughness, IOR, Transmission Weight, Specular IOR Level (x 2 = `specular`), Emission Color and Strength; Multiscatter GGX or GGX (`multiscatter`) |
 | Diffuse BSDF | `diffuse` (roughness ignored) |
-| Glossy / Anisotropic BSDF | `glossy` (anisotropy ignored) |
+| Glossy / Anisotropic BSDF | `glossy`: Color as a tint (no Fresnel, as Cycles), Roughness, Multiscatter GGX or GGX (anisotropy ignored) |
 | Glass BSDF | `dielectric` |
 | Transparent BSDF | `dielectric` of IOR 1 (a pass-through; shadows of it are not exact) |
 | Emission | `emission` |
@@ -133,7 +133,8 @@ class MaterialExporter:
                 return {"type": "glossy", "name": name,
                         "color": self._const_color(self._color(surf, "Color", name), name, "Color"),
                         "roughness": self._const(self._float(surf, "Roughness", name, 0.5), name,
-                                                 "Roughness")}
+                                                 "Roughness"),
+                        "multiscatter": self._multiscatter(surf, name)}
             if kind == "ShaderNodeBsdfGlass":
                 return {"type": "dielectric", "name": name,
                         "ior": self._const(self._float(surf, "IOR", name, 1.5), name, "IOR"),
@@ -164,6 +165,15 @@ class MaterialExporter:
             return [1.0, 1.0, 1.0]
         return value
 
+    def _multiscatter(self, node, mat_name) -> bool:
+        """Whether the node's microfacet distribution is Multiscatter GGX (Blender's default);
+        Beckmann and Ashikhmin-Shirley render as GGX (warned)."""
+        dist = getattr(node, "distribution", "MULTI_GGX")
+        if dist not in {"MULTI_GGX", "GGX"}:
+            self.warn(f"material '{mat_name}': the {dist} distribution is not supported; "
+                      f"renders as GGX")
+        return dist == "MULTI_GGX"
+
     def _principled(self, n, name) -> dict:
         ior = self._const(self._float(n, "IOR", name, 1.5, textures=False), name, "IOR")
         transmission = self._const(self._float(n, "Transmission Weight", name, 0.0, textures=False),
@@ -182,6 +192,7 @@ class MaterialExporter:
             "emission_strength": float(self._const(
                 self._float(n, "Emission Strength", name, 0.0, textures=False), name,
                 "Emission Strength")),
+            "multiscatter": self._multiscatter(n, name),
         }
         for sock in ("Coat Weight", "Sheen Weight", "Subsurface Weight"):
             s = n.inputs.get(sock)

@@ -365,6 +365,7 @@ impl Material {
                 name,
                 color: rgb(*c),
                 roughness: unit(*r),
+                multiscatter: r.0.to_bits() & 1 == 0,
             },
             Material::Emission(c, s) => MaterialDesc::Emission {
                 name,

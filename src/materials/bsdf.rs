@@ -112,18 +112,6 @@ impl Selection {
     }
 }
 
-/// Bands of incident directions over which irradiance is kept apart for layered diffuse
-/// lobes (equal slices of sin^2 theta: equal cosine-weighted solid angle), so that a lobe whose
-/// response depends on the incident angle reads the right sum from an irradiance record.
-pub const IRRADIANCE_BANDS: usize = 4;
-
-/// The band of a direction with cos theta = `cos` to the normal.
-#[inline]
-pub fn irradiance_band(cos: f32) -> usize {
-    let s = (1.0 - cos * cos).max(0.0);
-    ((s * IRRADIANCE_BANDS as f32) as usize).min(IRRADIANCE_BANDS - 1)
-}
-
 /// Glossy (non-delta, non-diffuse) lobes on both sides.
 const SELECT_GLOSSY: Selection = Selection {
     mask: LobeFlags::REFLECTION | LobeFlags::TRANSMISSION,
@@ -227,21 +215,18 @@ impl Bsdf {
         self.lobes().next().is_some() && self.lobes().all(|(_, l)| matches!(l, Lobe::Lambert(_)))
     }
 
-    /// The diffuse part's radiance towards `wo` (world space) per unit irradiance arriving in
-    /// each band of incident directions ([`IRRADIANCE_BANDS`]), summed over the diffuse
-    /// lobes; None without a diffuse lobe. Irradiance caching applies to this part.
-    pub fn diffuse_response(&self, wo: Vec3) -> Option<[Spectrum; IRRADIANCE_BANDS]> {
+    /// The diffuse part's radiance towards `wo` (world space) per unit irradiance, summed
+    /// over the diffuse lobes (whose response does not depend on where the light comes from);
+    /// None without a diffuse lobe. Irradiance caching applies to this part.
+    pub fn diffuse_response(&self, wo: Vec3) -> Option<Spectrum> {
         let wo = self.frame.to_local(wo);
-        let mut out: Option<[Spectrum; IRRADIANCE_BANDS]> = None;
+        let mut out: Option<Spectrum> = None;
         for (w, l) in self.lobes() {
             if l.flags() & LobeFlags::DIFFUSE == 0 {
                 continue;
             }
-            if let Some(r) = l.band_response(wo) {
-                let acc = out.get_or_insert([Vec3::ZERO; IRRADIANCE_BANDS]);
-                for (a, b) in acc.iter_mut().zip(r) {
-                    *a += w * b;
-                }
+            if let Some(r) = l.irradiance_response(wo) {
+                *out.get_or_insert(Vec3::ZERO) += w * r;
             }
         }
         out
@@ -327,9 +312,13 @@ impl Bsdf {
         }
     }
 
-    /// Samples only one [`Component`] (after Russian roulette chose it). The weight is
-    /// f_c |cos| / pdf_c of that component alone (or its delta factor over the discrete
-    /// probability); divide it by the probability of having chosen the component.
+    /// Samples only one [`Component`] (after Russian roulette chose it), for a photon that
+    /// arrived from `wo` and leaves along the sampled `wi`. The weight is the adjoint's,
+    /// f_c(wi, wo) |cos wi| / pdf_c of that component alone (or its delta factor over the
+    /// discrete probability): the lobes that depend on the view direction only (Cycles'
+    /// layering and multiple-scattering compensation) are not reciprocal, and light leaving
+    /// along `wi` is what they weigh. Divide it by the probability of having chosen the
+    /// component.
     pub fn sample_component(
         &self,
         wo: Vec3,
@@ -338,7 +327,14 @@ impl Bsdf {
         u: Vec2,
     ) -> Option<BsdfSample> {
         let sel = Selection::for_component(component);
-        let s = self.sample_sel(self.frame.to_local(wo), u_lobe, u, sel)?;
+        let wo_l = self.frame.to_local(wo);
+        let mut s = self.sample_sel(wo_l, u_lobe, u, sel)?;
+        if !s.is_delta() && s.flags & LobeFlags::REFLECTION != 0 {
+            // Reflection: evaluate with the directions swapped (the reciprocal lobes give the
+            // same value; refraction keeps its radiance convention, see `importance_weight`).
+            let f = self.eval_sel(s.wi, wo_l, sel);
+            s.weight = f * (s.wi.z.abs() / s.pdf);
+        }
         Some(BsdfSample {
             wi: self.frame.to_world(s.wi),
             ..s

@@ -1,6 +1,6 @@
 //! Lambertian reflection.
 
-use super::bsdf::{BsdfSample, LobeFlags, IRRADIANCE_BANDS};
+use super::bsdf::{BsdfSample, LobeFlags};
 use crate::math::{Spectrum, INV_PI};
 use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
 use glam::{Vec2, Vec3};
@@ -51,13 +51,12 @@ impl Lambert {
         })
     }
 
-    /// Radiance towards `wo` per unit irradiance, the same for every band of incident
-    /// directions: albedo / pi.
-    pub fn band_response(&self, wo: Vec3) -> [Spectrum; IRRADIANCE_BANDS] {
+    /// Radiance towards `wo` per unit irradiance: albedo / pi.
+    pub fn irradiance_response(&self, wo: Vec3) -> Spectrum {
         if wo.z <= 0.0 {
-            return [Vec3::ZERO; IRRADIANCE_BANDS];
+            return Vec3::ZERO;
         }
-        [self.albedo * INV_PI; IRRADIANCE_BANDS]
+        self.albedo * INV_PI
     }
 
     /// Exact: the albedo itself.

@@ -2,7 +2,8 @@
 
 use super::bsdf::{BsdfSample, LobeFlags};
 use super::fresnel::Fresnel;
-use super::layer::{CoatAlbedoTable, SchlickAlbedoTable};
+use super::layer::{CoatAlbedoTable, MultiScatter, SchlickAlbedoTable};
+use super::microfacet::alpha_from_roughness;
 use super::microfacet::{reflect, Ggx};
 use crate::math::Spectrum;
 use glam::{Vec2, Vec3};
@@ -17,14 +18,39 @@ use glam::{Vec2, Vec3};
 /// | `ggx` | distribution; alpha = roughness^2 |
 /// | `fresnel` | conductor (complex IOR), Schlick (F0 tint) or dielectric (coat IOR) |
 /// | `coat` | for a dielectric Fresnel, the coat's albedo table (its exact albedo) |
+/// | `ms` | Cycles' multiple-scattering compensation ([`MultiScatter`]), if any |
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MicrofacetReflection {
     pub ggx: Ggx,
     pub fresnel: Fresnel,
     pub coat: Option<&'static CoatAlbedoTable>,
+    pub ms: Option<MultiScatter>,
 }
 
 impl MicrofacetReflection {
+    pub fn new(
+        roughness: f32,
+        fresnel: Fresnel,
+        coat: Option<&'static CoatAlbedoTable>,
+        multiscatter: bool,
+    ) -> Self {
+        let ggx = Ggx::new(alpha_from_roughness(roughness));
+        let ms = multiscatter
+            .then(|| MultiScatter::new(ggx.alpha.sqrt(), average_fresnel(fresnel, coat)));
+        MicrofacetReflection {
+            ggx,
+            fresnel,
+            coat,
+            ms,
+        }
+    }
+
+    /// The compensation factor at the view cosine `mu_o` (1 without it).
+    #[inline]
+    fn ms_factor(&self, mu_o: f32) -> Spectrum {
+        self.ms.map_or(Spectrum::ONE, |m| m.factor(mu_o))
+    }
+
     pub fn flags(&self) -> u8 {
         LobeFlags::REFLECTION | LobeFlags::GLOSSY
     }
@@ -39,7 +65,7 @@ impl MicrofacetReflection {
         }
         let d = self.ggx.d(h);
         let g = self.ggx.g2(wo, wi, h);
-        self.fresnel.eval(wo.dot(h)) * (d * g / (4.0 * wo.z * wi.z))
+        self.fresnel.eval(wo.dot(h)) * self.ms_factor(wo.z) * (d * g / (4.0 * wo.z * wi.z))
     }
 
     pub fn pdf(&self, wo: Vec3, wi: Vec3, mask: u8) -> f32 {
@@ -70,7 +96,8 @@ impl MicrofacetReflection {
         // f cos / pdf = F G2 / G1(wo) (Heitz 2018 eq. 19).
         let lo = self.ggx.lambda(wo);
         let li = self.ggx.lambda(wi);
-        let weight = self.fresnel.eval(wo.dot(m)) * ((1.0 + lo) / (1.0 + lo + li));
+        let weight =
+            self.fresnel.eval(wo.dot(m)) * self.ms_factor(wo.z) * ((1.0 + lo) / (1.0 + lo + li));
         Some(BsdfSample {
             wi,
             weight,
@@ -89,14 +116,35 @@ impl MicrofacetReflection {
         }
         let r = self.ggx.alpha.sqrt();
         let t = SchlickAlbedoTable::get();
-        match (self.fresnel, self.coat) {
+        let single = match (self.fresnel, self.coat) {
             (Fresnel::Dielectric { .. }, Some(c)) => Spectrum::splat(c.albedo(wo.z, r)),
             (Fresnel::Schlick { f0 }, _) => t.albedo(wo.z, r, f0),
-            (Fresnel::Constant(c), _) => {
-                let (a, b) = t.ab(wo.z, r);
-                c * (a + b)
-            }
+            (Fresnel::Constant(c), _) => c * t.e1(wo.z, r),
             (f, _) => t.albedo(wo.z, r, f.eval(1.0)),
+        };
+        single * self.ms_factor(wo.z)
+    }
+}
+
+/// The hemispherical average F_ss of a Fresnel model, as Cycles takes it for the compensation:
+/// exact for Schlick (F0 + (1 - F0)/21) and constant reflectance, the coat table's average for
+/// a dielectric, and Cycles' F82 fit for a conductor.
+fn average_fresnel(f: Fresnel, coat: Option<&'static CoatAlbedoTable>) -> Spectrum {
+    match f {
+        Fresnel::Constant(c) => c,
+        Fresnel::Schlick { f0 } => f0 + (Spectrum::ONE - f0) / 21.0,
+        Fresnel::Dielectric { eta } => match coat {
+            Some(t) => Spectrum::splat(t.fresnel_avg()),
+            None => {
+                let f0 = super::fresnel::f0_from_ior(eta);
+                Spectrum::splat(f0 + (1.0 - f0) / 21.0)
+            }
+        },
+        Fresnel::Conductor { .. } => {
+            let f0 = f.eval(1.0);
+            let f82 = f.eval(1.0 / 7.0);
+            let b = (f0.lerp(Spectrum::ONE, 0.462_664_36) - f82) * 17.651_384;
+            (f0.lerp(Spectrum::ONE, 1.0 / 21.0) - b / 126.0).clamp(Spectrum::ZERO, Spectrum::ONE)
         }
     }
 }

@@ -1,7 +1,8 @@
-//! A Lambertian base under a dielectric specular coat, energy-conserving through the coat's
-//! tabulated directional albedo (Kelemen & Szirmay-Kalos 2001; Kulla & Conty 2017).
+//! Directional-albedo tables of GGX reflection, the compensation for multiple scattering
+//! between microfacets that Cycles applies (Kulla & Conty 2017), and the diffuse base under a
+//! dielectric specular layer as Cycles layers it.
 
-use super::bsdf::{BsdfSample, LobeFlags, IRRADIANCE_BANDS};
+use super::bsdf::{BsdfSample, LobeFlags};
 use super::fresnel::{fresnel_dielectric, ior_from_f0};
 use super::microfacet::{alpha_from_roughness, reflect, Ggx};
 use crate::math::{Spectrum, INV_PI};
@@ -13,18 +14,15 @@ const N_MU: usize = 48;
 const N_ROUGH: usize = 32;
 const STRATA: usize = 48;
 
-/// Directional albedo E(mu) = integral of f_coat |cos| of a coat's reflection (GGX with
-/// dielectric Fresnel, or the smooth Fresnel R(mu) at roughness 0) for one coat F0,
-/// tabulated over (sqrt(mu), perceptual roughness), with its cosine-weighted average
-/// E_avg = 2 integral E(mu) mu dmu computed exactly for the interpolant.
+/// Directional albedo E(mu) = integral of f_coat |cos| of a coat's single-scattering
+/// reflection (GGX with dielectric Fresnel, or the smooth Fresnel R(mu) at roughness 0) for
+/// one coat F0, tabulated over (sqrt(mu), perceptual roughness), with the coat's average
+/// Fresnel reflectance F_avg = 2 integral F(mu) mu dmu (the F_ss of the compensation).
 #[derive(Debug, PartialEq)]
 pub struct CoatAlbedoTable {
     f0: f32,
     e: Vec<f32>,
-    e_avg: Vec<f32>,
-    /// Per roughness row, the average of E over each band of incident directions
-    /// ([`IRRADIANCE_BANDS`] equal slices of sin^2 theta, the cosine-weighted measure).
-    bands: Vec<[f32; IRRADIANCE_BANDS]>,
+    fresnel_avg: f32,
 }
 
 fn coat_albedo(mu: f32, roughness: f32, eta: f32) -> f32 {
@@ -71,6 +69,8 @@ fn ggx_albedo(mu: f32, roughness: f32, fresnel: impl Fn(f32) -> f32) -> f32 {
 pub struct SchlickAlbedoTable {
     a: Vec<f32>,
     b: Vec<f32>,
+    /// Per roughness, the cosine-weighted average of A + B over the hemisphere.
+    e1_avg: Vec<f32>,
 }
 
 impl SchlickAlbedoTable {
@@ -96,8 +96,36 @@ impl SchlickAlbedoTable {
                     }
                 }
             }
-            SchlickAlbedoTable { a, b }
+            // 2 integral mu E1 dmu = integral 4 s^3 E1(s) ds with s = sqrt(mu); E1 is linear in
+            // s on each segment, so 3-point Gauss-Legendre is exact for the interpolant.
+            let h = 1.0 / (N_MU - 1) as f64;
+            let e1_avg = (0..N_ROUGH)
+                .map(|j| {
+                    let e1 = |i: usize| (a[j * N_MU + i] + b[j * N_MU + i]) as f64;
+                    let mut acc = 0.0f64;
+                    for i in 0..N_MU - 1 {
+                        for (x, w) in GL3 {
+                            let s = (i as f64 + x) * h;
+                            acc += w * h * 4.0 * s * s * s * (e1(i) + (e1(i + 1) - e1(i)) * x);
+                        }
+                    }
+                    acc as f32
+                })
+                .collect();
+            SchlickAlbedoTable { a, b, e1_avg }
         })
+    }
+
+    /// Albedo of a perfect GGX reflector (F = 1) at (mu, perceptual roughness).
+    pub fn e1(&self, mu: f32, roughness: f32) -> f32 {
+        let (a, b) = self.ab(mu, roughness);
+        a + b
+    }
+
+    /// The hemispherical average of [`SchlickAlbedoTable::e1`].
+    pub fn e1_avg(&self, roughness: f32) -> f32 {
+        let (j, tj) = CoatAlbedoTable::cell(roughness, N_ROUGH);
+        self.e1_avg[j] * (1.0 - tj) + self.e1_avg[j + 1] * tj
     }
 
     /// (A, B) at (mu, perceptual roughness), bilinear in (sqrt(mu), roughness).
@@ -121,6 +149,32 @@ impl SchlickAlbedoTable {
     }
 }
 
+/// Cycles' compensation of single-scattering GGX for the energy that multiple scattering
+/// between microfacets would reflect (`microfacet_ggx_preserve_energy`, after Kulla & Conty
+/// 2017): f = f_ss (1 + F_ms (1 - E1(mu_o)) / E1(mu_o)), with E1 the albedo of a perfect
+/// reflector at the view angle, E1_avg its average, and F_ms = F_ss E1_avg / (1 - F_ss (1 -
+/// E1_avg)) from the lobe's average Fresnel reflectance F_ss. Like Cycles it depends on the
+/// view direction only (the photon pass uses it with the directions swapped).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MultiScatter {
+    roughness: f32,
+    f_ms: Spectrum,
+}
+
+impl MultiScatter {
+    pub fn new(roughness: f32, f_ss: Spectrum) -> Self {
+        let e_avg = SchlickAlbedoTable::get().e1_avg(roughness);
+        let f_ms = f_ss * e_avg / (Spectrum::ONE - f_ss * (1.0 - e_avg)).max(Spectrum::splat(1e-6));
+        MultiScatter { roughness, f_ms }
+    }
+
+    /// The factor on f for the view cosine `mu_o`.
+    pub fn factor(&self, mu_o: f32) -> Spectrum {
+        let e1 = SchlickAlbedoTable::get().e1(mu_o, self.roughness).max(1e-3);
+        Spectrum::ONE + self.f_ms * ((1.0 - e1) / e1)
+    }
+}
+
 /// 3-point Gauss-Legendre on [0, 1] (exact to degree 5).
 const GL3: [(f64, f64); 3] = [
     (0.112_701_665_379_258_3, 5.0 / 18.0),
@@ -132,47 +186,26 @@ impl CoatAlbedoTable {
     fn build(f0: f32) -> Self {
         let eta = ior_from_f0(f0);
         let mut e = vec![0.0f32; N_MU * N_ROUGH];
-        let mut e_avg = vec![0.0f32; N_ROUGH];
-        let mut bands = vec![[0.0f32; IRRADIANCE_BANDS]; N_ROUGH];
-        let h = 1.0 / (N_MU - 1) as f64;
         for j in 0..N_ROUGH {
             let r = j as f32 / (N_ROUGH - 1) as f32;
-            let row = &mut e[j * N_MU..(j + 1) * N_MU];
-            for (i, v) in row.iter_mut().enumerate() {
+            for i in 0..N_MU {
                 let s = i as f32 / (N_MU - 1) as f32;
-                *v = coat_albedo(s * s, r, eta);
-            }
-            // 2 integral mu E dmu = integral 4 s^3 E(s) ds; E is linear in s on each
-            // segment, so 3-point Gauss-Legendre is exact.
-            let mut acc = 0.0f64;
-            for i in 0..N_MU - 1 {
-                let (ea, eb) = (row[i] as f64, row[i + 1] as f64);
-                for (x, w) in GL3 {
-                    let s = (i as f64 + x) * h;
-                    acc += w * h * 4.0 * s * s * s * (ea + (eb - ea) * x);
-                }
-            }
-            e_avg[j] = acc as f32;
-            // Band averages of the interpolant in s = sin^2 theta (mu = sqrt(1 - s)),
-            // midpoint rule; the bands' mean is E_avg = integral of E ds.
-            const STEPS: usize = 64;
-            for (k, band) in bands[j].iter_mut().enumerate() {
-                let mut sum = 0.0f64;
-                for i in 0..STEPS {
-                    let s = (k as f64 + (i as f64 + 0.5) / STEPS as f64) / IRRADIANCE_BANDS as f64;
-                    let sq = (1.0 - s).max(0.0).sqrt().sqrt() * (N_MU - 1) as f64;
-                    let i0 = (sq as usize).min(N_MU - 2);
-                    let t = sq - i0 as f64;
-                    sum += row[i0] as f64 * (1.0 - t) + row[i0 + 1] as f64 * t;
-                }
-                *band = (sum / STEPS as f64) as f32;
+                e[j * N_MU + i] = coat_albedo(s * s, r, eta);
             }
         }
+        // 2 integral F(mu) mu dmu by the midpoint rule in mu^2.
+        const STEPS: usize = 1024;
+        let fresnel_avg = (0..STEPS)
+            .map(|i| {
+                let mu = ((i as f64 + 0.5) / STEPS as f64).sqrt() as f32;
+                fresnel_dielectric(mu, eta).0 as f64
+            })
+            .sum::<f64>()
+            / STEPS as f64;
         CoatAlbedoTable {
             f0,
             e,
-            e_avg,
-            bands,
+            fresnel_avg: fresnel_avg as f32,
         }
     }
 
@@ -210,6 +243,11 @@ impl CoatAlbedoTable {
 
     /// E(mu) by bilinear interpolation in (sqrt(mu), roughness).
     pub fn albedo(&self, mu: f32, roughness: f32) -> f32 {
+        if roughness <= 0.0 {
+            // The smooth coat: its exact Fresnel reflectance, so that a delta coat and the
+            // base under it add up to one at every angle.
+            return fresnel_dielectric(mu.clamp(1e-3, 1.0), ior_from_f0(self.f0)).0;
+        }
         let (j, tj) = Self::cell(roughness, N_ROUGH);
         let (i, ti) = Self::cell(mu.max(0.0).sqrt(), N_MU);
         let at = |j: usize| {
@@ -219,59 +257,64 @@ impl CoatAlbedoTable {
         at(j) * (1.0 - tj) + at(j + 1) * tj
     }
 
-    /// E_avg, interpolated in roughness like [`CoatAlbedoTable::albedo`].
-    pub fn average(&self, roughness: f32) -> f32 {
-        let (j, tj) = Self::cell(roughness, N_ROUGH);
-        self.e_avg[j] * (1.0 - tj) + self.e_avg[j + 1] * tj
+    /// The coat's average Fresnel reflectance over the hemisphere.
+    pub fn fresnel_avg(&self) -> f32 {
+        self.fresnel_avg
     }
 
-    /// The mean of E over each band of incident directions, interpolated in roughness.
-    pub fn band_averages(&self, roughness: f32) -> [f32; IRRADIANCE_BANDS] {
-        let (j, tj) = Self::cell(roughness, N_ROUGH);
-        std::array::from_fn(|k| self.bands[j][k] * (1.0 - tj) + self.bands[j + 1][k] * tj)
+    /// Directional albedo with Cycles' multiple-scattering compensation when `multiscatter`.
+    pub fn albedo_ms(&self, mu: f32, roughness: f32, multiscatter: bool) -> f32 {
+        let e = self.albedo(mu, roughness);
+        if multiscatter {
+            e * MultiScatter::new(roughness, Spectrum::splat(self.fresnel_avg))
+                .factor(mu)
+                .x
+        } else {
+            e
+        }
     }
 }
 
-/// The diffuse base of a coated (plastic-like) surface: what the coat does not reflect
-/// reaches a Lambertian base,
-/// f = albedo (1 - E(wo)) (1 - E(wi)) / (pi (1 - E_avg)),
-/// which is reciprocal and has directional albedo exactly albedo x (1 - E(wo)), so that
-/// coat + base never exceed one. The coat's own reflection is a separate lobe.
+/// The diffuse base of a coated (plastic-like) surface, layered as Cycles layers the
+/// Principled BSDF's base under its specular layer: the base's weight is what the specular
+/// layer does not reflect towards the viewer,
+/// f = albedo (1 - E_spec(wo)) / pi,
+/// with E_spec the specular layer's directional albedo (tabulated, with the multiple-scattering
+/// compensation when the layer has it). It depends on the view direction only, so it is not
+/// reciprocal: the photon pass evaluates it with the directions swapped. Coat + base never
+/// exceed one. The coat's own reflection is a separate lobe.
 ///
 /// | parameter | meaning |
 /// |---|---|
 /// | `albedo` | base colour |
-/// | `roughness` | the coat's perceptual roughness (0 = smooth coat) |
-/// | `table` | the coat's albedo table, which fixes its F0 = ((eta - 1) / (eta + 1))^2 |
+/// | `roughness` | the specular layer's perceptual roughness (0 = smooth) |
+/// | `table` | the specular layer's albedo table, which fixes its F0 = ((eta - 1) / (eta + 1))^2 |
+/// | `multiscatter` | whether the specular layer is compensated for multiple scattering |
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CoatedDiffuse {
     pub albedo: Spectrum,
     pub roughness: f32,
     table: &'static CoatAlbedoTable,
-    e_avg: f32,
+    multiscatter: bool,
 }
 
 impl CoatedDiffuse {
-    pub fn new(albedo: Spectrum, roughness: f32, table: &'static CoatAlbedoTable) -> Self {
+    pub fn new(
+        albedo: Spectrum,
+        roughness: f32,
+        table: &'static CoatAlbedoTable,
+        multiscatter: bool,
+    ) -> Self {
         CoatedDiffuse {
             albedo,
             roughness,
             table,
-            e_avg: table.average(roughness),
+            multiscatter,
         }
     }
 
     fn transmitted(&self, mu: f32) -> f32 {
-        (1.0 - self.table.albedo(mu, self.roughness)).max(0.0)
-    }
-
-    fn scale(&self) -> f32 {
-        let d = 1.0 - self.e_avg;
-        if d > 1e-6 {
-            INV_PI / d
-        } else {
-            0.0
-        }
+        (1.0 - self.table.albedo_ms(mu, self.roughness, self.multiscatter)).max(0.0)
     }
 
     pub fn flags(&self) -> u8 {
@@ -282,7 +325,7 @@ impl CoatedDiffuse {
         if mask & LobeFlags::REFLECTION == 0 || wo.z <= 0.0 || wi.z <= 0.0 {
             return Vec3::ZERO;
         }
-        self.albedo * (self.transmitted(wo.z) * self.transmitted(wi.z) * self.scale())
+        self.albedo * (self.transmitted(wo.z) * INV_PI)
     }
 
     pub fn pdf(&self, wo: Vec3, wi: Vec3, mask: u8) -> f32 {
@@ -310,18 +353,15 @@ impl CoatedDiffuse {
         })
     }
 
-    /// Radiance towards `wo` per unit irradiance arriving in each band of incident
-    /// directions: albedo (1 - E(wo)) (1 - mean E over the band) / (pi (1 - E_avg)).
-    pub fn band_response(&self, wo: Vec3) -> [Spectrum; IRRADIANCE_BANDS] {
+    /// Radiance towards `wo` per unit irradiance: albedo (1 - E_spec(wo)) / pi.
+    pub fn irradiance_response(&self, wo: Vec3) -> Spectrum {
         if wo.z <= 0.0 {
-            return [Vec3::ZERO; IRRADIANCE_BANDS];
+            return Vec3::ZERO;
         }
-        let k = self.albedo * (self.transmitted(wo.z) * self.scale());
-        let bands = self.table.band_averages(self.roughness);
-        bands.map(|e| k * (1.0 - e).max(0.0))
+        self.albedo * (self.transmitted(wo.z) * INV_PI)
     }
 
-    /// Exact (up to the table): albedo x (1 - E(wo)).
+    /// Exact (up to the table): albedo x (1 - E_spec(wo)).
     pub fn albedo(&self, wo: Vec3, mask: u8) -> Spectrum {
         if mask & LobeFlags::REFLECTION == 0 || wo.z <= 0.0 {
             return Vec3::ZERO;

@@ -6,7 +6,7 @@
 //! below the surface both directions are mirrored through the tangent plane, as Cycles does
 //! by facing the normal towards the viewer.
 
-use super::bsdf::{BsdfSample, LobeFlags, IRRADIANCE_BANDS};
+use super::bsdf::{BsdfSample, LobeFlags};
 use super::conductor::SpecularReflection;
 use super::dielectric::SmoothDielectric;
 use super::diffuse::Lambert;
@@ -86,18 +86,17 @@ impl Lobe {
         dispatch!(self, l => l.sample(wo, uc, u, mask))
     }
 
-    /// For a diffuse lobe whose f depends on the incident direction only through its angle
-    /// to the normal: the radiance towards `wo` per unit irradiance arriving within each band
-    /// of incident directions (the bands of [`IRRADIANCE_BANDS`]); None for other lobes.
-    pub fn band_response(&self, wo: Vec3) -> Option<[Spectrum; IRRADIANCE_BANDS]> {
+    /// For a diffuse lobe whose f does not depend on the incident direction: the radiance
+    /// towards `wo` per unit irradiance; None for other lobes.
+    pub fn irradiance_response(&self, wo: Vec3) -> Option<Spectrum> {
         let wo = if self.two_sided() && wo.z < 0.0 {
             flip(wo)
         } else {
             wo
         };
         match self {
-            Lobe::Lambert(l) => Some(l.band_response(wo)),
-            Lobe::CoatedDiffuse(l) => Some(l.band_response(wo)),
+            Lobe::Lambert(l) => Some(l.irradiance_response(wo)),
+            Lobe::CoatedDiffuse(l) => Some(l.irradiance_response(wo)),
             _ => None,
         }
     }

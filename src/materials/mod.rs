@@ -20,9 +20,7 @@ pub mod principled;
 pub mod rough_dielectric;
 pub mod texture;
 
-pub use bsdf::{
-    irradiance_band, Bsdf, BsdfSample, Component, LobeFlags, IRRADIANCE_BANDS, MAX_LOBES,
-};
+pub use bsdf::{Bsdf, BsdfSample, Component, LobeFlags, MAX_LOBES};
 pub use lobe::Lobe;
 pub use principled::Principled;
 pub use texture::{ColorParam, FloatParam, Texture};
@@ -43,14 +41,17 @@ use rough_dielectric::RoughDielectric;
 /// lobe of width ~ alpha |eta - 1|, numerically a delta).
 pub const INDEX_MATCHED_EPS: f32 = 1e-3;
 
-/// Reflection lobe of perceptual `roughness` (0 = delta) with the given Fresnel.
-pub fn reflection_lobe(roughness: f32, fresnel: Fresnel) -> Lobe {
+/// Reflection lobe of perceptual `roughness` (0 = delta) with the given Fresnel; with
+/// `multiscatter`, compensated for multiple scattering between microfacets as Cycles'
+/// Multiscatter GGX is.
+pub fn reflection_lobe(roughness: f32, fresnel: Fresnel, multiscatter: bool) -> Lobe {
     if roughness > 0.0 {
-        Lobe::MicrofacetReflection(MicrofacetReflection {
-            ggx: Ggx::new(alpha_from_roughness(roughness)),
+        Lobe::MicrofacetReflection(MicrofacetReflection::new(
+            roughness,
             fresnel,
-            coat: None,
-        })
+            None,
+            multiscatter,
+        ))
     } else {
         Lobe::SpecularReflection(SpecularReflection { fresnel })
     }
@@ -58,16 +59,23 @@ pub fn reflection_lobe(roughness: f32, fresnel: Fresnel) -> Lobe {
 
 /// The reflection of a dielectric coat whose albedo table is `table` (its F0 fixes the
 /// Fresnel), of perceptual `roughness`.
-pub fn coat_lobe(roughness: f32, table: &'static layer::CoatAlbedoTable) -> Lobe {
+pub fn coat_lobe(
+    roughness: f32,
+    table: &'static layer::CoatAlbedoTable,
+    multiscatter: bool,
+) -> Lobe {
     let fresnel = Fresnel::Dielectric {
         eta: fresnel::ior_from_f0(table.f0()),
     };
-    match reflection_lobe(roughness, fresnel) {
-        Lobe::MicrofacetReflection(m) => Lobe::MicrofacetReflection(MicrofacetReflection {
-            coat: Some(table),
-            ..m
-        }),
-        other => other,
+    if roughness > 0.0 {
+        Lobe::MicrofacetReflection(MicrofacetReflection::new(
+            roughness,
+            fresnel,
+            Some(table),
+            multiscatter,
+        ))
+    } else {
+        Lobe::SpecularReflection(SpecularReflection { fresnel })
     }
 }
 
@@ -133,16 +141,18 @@ pub enum Material {
         roughness: f32,
         color: Spectrum,
     },
-    /// GGX reflection with Schlick's Fresnel.
+    /// GGX reflection tinted by a colour, without Fresnel (Blender's Glossy BSDF).
     ///
     /// | parameter | meaning |
     /// |---|---|
-    /// | `color` | normal-incidence reflectance F0 |
+    /// | `color` | reflectance tint |
     /// | `roughness` | perceptual roughness, 0 = smooth |
+    /// | `multiscatter` | Cycles' multiple-scattering compensation (Multiscatter GGX) |
     Glossy {
         name: String,
         color: Spectrum,
         roughness: f32,
+        multiscatter: bool,
     },
     /// Emitter that reflects nothing.
     ///
@@ -218,10 +228,12 @@ impl Material {
                 name,
                 color,
                 roughness,
+                multiscatter,
             } => Material::Glossy {
                 name: name.clone(),
                 color: rgb(color),
                 roughness: unit(*roughness),
+                multiscatter: *multiscatter,
             },
             MaterialDesc::Emission {
                 name,
@@ -280,7 +292,7 @@ impl Material {
                 eta, k, roughness, ..
             } => b.with(
                 1.0,
-                reflection_lobe(*roughness, Fresnel::Conductor { eta: *eta, k: *k }),
+                reflection_lobe(*roughness, Fresnel::Conductor { eta: *eta, k: *k }, false),
             ),
             Material::Dielectric {
                 ior,
@@ -289,10 +301,13 @@ impl Material {
                 ..
             } => b.with(1.0, dielectric_lobe(*ior, *roughness, *color)),
             Material::Glossy {
-                color, roughness, ..
+                color,
+                roughness,
+                multiscatter,
+                ..
             } => b.with(
                 1.0,
-                reflection_lobe(*roughness, Fresnel::Schlick { f0: *color }),
+                reflection_lobe(*roughness, Fresnel::Constant(*color), *multiscatter),
             ),
             Material::Emission { .. } => b,
             Material::Principled(p) => p.bsdf(frame, uv, textures),

@@ -49,6 +49,8 @@ pub struct Principled {
     pub specular: f32,
     pub emission_color: ColorParam,
     pub emission_strength: f32,
+    /// Reflection lobes compensated for multiple scattering (Cycles' Multiscatter GGX).
+    pub multiscatter: bool,
     /// Albedo table of the coat (its F0 is fixed by `ior` and `specular`).
     pub coat_table: &'static CoatAlbedoTable,
 }
@@ -79,6 +81,7 @@ impl Principled {
             specular,
             emission_color: ColorParam::from_input(&d.emission_color),
             emission_strength: sane(d.emission_strength, 0.0, f32::MAX, 0.0),
+            multiscatter: d.multiscatter,
             coat_table: CoatAlbedoTable::for_f0(coat_f0(ior, specular)),
         }
     }
@@ -94,15 +97,16 @@ impl Principled {
         let r = sane(self.roughness.eval(uv, textures), 0.0, 1.0, 0.5);
         let t = self.transmission;
         let mut bsdf = Bsdf::new(frame);
-        bsdf.add(m, reflection_lobe(r, Fresnel::Schlick { f0: base }));
+        let ms = self.multiscatter;
+        bsdf.add(m, reflection_lobe(r, Fresnel::Schlick { f0: base }, ms));
         bsdf.add((1.0 - m) * t, dielectric_lobe(self.ior, r, base));
         let w_base = (1.0 - m) * (1.0 - t);
         if self.coat_f0() > 0.0 {
-            bsdf.add(w_base, coat_lobe(r, self.coat_table));
+            bsdf.add(w_base, coat_lobe(r, self.coat_table, ms));
         }
         bsdf.add(
             w_base,
-            Lobe::CoatedDiffuse(CoatedDiffuse::new(base, r, self.coat_table)),
+            Lobe::CoatedDiffuse(CoatedDiffuse::new(base, r, self.coat_table, ms)),
         );
         bsdf
     }

@@ -1,20 +1,18 @@
 //! Precomputed irradiance at photon positions (Christensen 1999, "Faster Photon Map Global
 //! Illumination", JGT 4(3)): at a subset of the global map's photons the irradiance estimate
-//! from the map's k nearest photons is computed once, with the surface normal there and the
-//! division of the irradiance into bands of incident angle (`materials::IRRADIANCE_BANDS`).
-//! A final-gathering ray then reads the nearest such point with a matching normal instead of
+//! from the map's k nearest photons is computed once, with the surface normal there. A
+//! final-gathering ray then reads the nearest such point with a matching normal instead of
 //! running a k-nearest-neighbour radiance estimate with the BSDF at every photon.
 //!
 //! Each point also keeps the share of its irradiance that came straight from the lights
 //! (photons at their first hit): that part is directional, and a glossy surface reflects it
 //! as a highlight, not as it reflects uniform light (`render::terms::indirect`).
 //!
-//! The points are kept in their own left-balanced kd-tree of 24-byte records.
+//! The points are kept in their own left-balanced kd-tree of 20-byte records.
 
 use super::kdtree::{KnnScratch, PhotonKdTree};
 use super::map::{PhotonMap, FLAG_FIRST_HIT};
 use super::photon::{decode_direction, encode_direction, rgbe_decode, rgbe_encode, KdRecord};
-use crate::materials::{irradiance_band, IRRADIANCE_BANDS};
 use crate::math::{Spectrum, PI};
 use glam::Vec3;
 use rayon::prelude::*;
@@ -31,21 +29,19 @@ const MIN_COS: f32 = 0.9;
 const CANDIDATES: usize = 4;
 
 /// A point of precomputed irradiance: position, RGBE irradiance, the quantised normal (on the
-/// side the photons arrived from), the irradiance's share in each band of incident angle
-/// (luminance, of 255), the share of direct light (luminance, of 255), and the kd-tree split
-/// axis.
+/// side the photons arrived from), the share of direct light (luminance, of 255), and the
+/// kd-tree split axis.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C)]
 pub struct IrradiancePoint {
     pos: [f32; 3],
     rgbe: [u8; 4],
     normal: (u8, u8),
-    bands: [u8; IRRADIANCE_BANDS],
     axis: u8,
     direct: u8,
 }
 
-const _: () = assert!(std::mem::size_of::<IrradiancePoint>() == 24);
+const _: () = assert!(std::mem::size_of::<IrradiancePoint>() == 20);
 
 impl KdRecord for IrradiancePoint {
     #[inline(always)]
@@ -65,15 +61,6 @@ impl KdRecord for IrradiancePoint {
 impl IrradiancePoint {
     fn new(p: Vec3, n: Vec3, est: &IrradianceEstimate) -> Option<Self> {
         let rgbe = rgbe_encode(est.irradiance).ok()?;
-        let bands = est.bands;
-        let total: f32 = bands.iter().sum();
-        let q = bands.map(|b| {
-            if total > 0.0 {
-                (b / total * 255.0).round().clamp(0.0, 255.0) as u8
-            } else {
-                (255 / IRRADIANCE_BANDS) as u8
-            }
-        });
         let lum = crate::math::luminance(est.irradiance);
         let direct = if lum > 0.0 {
             (est.direct / lum * 255.0).round().clamp(0.0, 255.0) as u8
@@ -84,7 +71,6 @@ impl IrradiancePoint {
             pos: p.to_array(),
             rgbe,
             normal: encode_direction(n),
-            bands: q,
             axis: 0,
             direct,
         })
@@ -101,15 +87,6 @@ impl IrradiancePoint {
     /// The share of the irradiance that came straight from the lights.
     pub fn direct_fraction(&self) -> f32 {
         self.direct as f32 / 255.0
-    }
-
-    /// The share of the irradiance in each band (summing to 1).
-    pub fn band_fraction(&self) -> [f32; IRRADIANCE_BANDS] {
-        let total: u32 = self.bands.iter().map(|&b| b as u32).sum();
-        if total == 0 {
-            return [1.0 / IRRADIANCE_BANDS as f32; IRRADIANCE_BANDS];
-        }
-        self.bands.map(|b| b as f32 / total as f32)
     }
 }
 
@@ -178,12 +155,11 @@ impl IrradianceMap {
     }
 }
 
-/// An irradiance estimate from a photon map: the total, its division into bands of incident
-/// angle (luminance), and the luminance of the part from photons at their first hit.
+/// An irradiance estimate from a photon map, and the luminance of the part from photons at
+/// their first hit.
 #[derive(Clone, Copy, Debug)]
 pub struct IrradianceEstimate {
     pub irradiance: Spectrum,
-    pub bands: [f32; IRRADIANCE_BANDS],
     pub direct: f32,
 }
 
@@ -200,23 +176,18 @@ impl PhotonMap {
         scratch: &mut KnnScratch,
     ) -> IrradianceEstimate {
         let mut sum = Spectrum::ZERO;
-        let mut bands = [0.0f32; IRRADIANCE_BANDS];
         let mut direct = 0.0f32;
         let r2 = self.for_each_nearest(p, k, max_r2, scratch, |power, wi, flags| {
-            let c = wi.dot(n);
-            if c > 0.0 {
+            if wi.dot(n) > 0.0 {
                 sum += power;
-                let lum = crate::math::luminance(power);
-                bands[irradiance_band(c)] += lum;
                 if flags & FLAG_FIRST_HIT != 0 {
-                    direct += lum;
+                    direct += crate::math::luminance(power);
                 }
             }
         });
         let norm = r2.map_or(0.0, |r2| 1.0 / (PI * r2));
         IrradianceEstimate {
             irradiance: sum * norm,
-            bands: bands.map(|b| b * norm),
             direct: direct * norm,
         }
     }

@@ -4,14 +4,13 @@
 
 use super::aov::{Term, TermMask};
 use super::film::TermRadiance;
-use super::irradiance_cache::{band_fraction, CachedIrradiance, IrradianceCache};
+use super::irradiance_cache::IrradianceCache;
 use super::photons::PhotonMaps;
 use super::terms::volume::{self, MarchSettings};
 use super::terms::{caustic, direct, emission, indirect, specular};
 use crate::geometry::{Ray, SurfaceInteraction};
 use crate::materials::bsdf::{Bsdf, LobeFlags};
 use crate::materials::Material;
-use crate::materials::IRRADIANCE_BANDS;
 use crate::math::{is_finite3, Frame, Spectrum, PI};
 use crate::media::MediumStack;
 use crate::photon::map::{EstimateFilter, FLAG_FROM_MEDIUM};
@@ -59,8 +58,8 @@ pub fn shading_bsdf(scene: &Scene, mat: &Material, si: &mut SurfaceInteraction) 
 }
 
 /// Indirect light reflected at a non-specular point: the diffuse part from the irradiance
-/// cache (or a hemisphere gather where no record covers the point), times the diffuse lobes'
-/// response per band of incident angle; the glossy part by sampling the glossy lobes.
+/// cache (or a hemisphere gather where no record covers the point) times the diffuse lobes'
+/// response; the glossy part by sampling the glossy lobes.
 pub fn indirect_at(
     ctx: &EyeCtx,
     si: &SurfaceInteraction,
@@ -80,25 +79,17 @@ pub fn indirect_at(
         let e = match ctx.cache.and_then(|c| c.lookup(si.p, n)) {
             Some(e) => e,
             None => {
-                let g = indirect::gather_hemisphere(
-                    ctx.scene, ctx.maps, si, n, rays, stack, rng, scratch,
-                );
-                CachedIrradiance {
-                    irradiance: g.irradiance,
-                    band_fraction: band_fraction(&g),
-                }
+                indirect::gather_hemisphere(ctx.scene, ctx.maps, si, n, rays, stack, rng, scratch)
+                    .irradiance
             }
         };
-        l += e.reflect(&response);
+        l += response * e;
     }
     if bsdf.has_glossy() {
         // Gather rays in proportion to the glossy lobes' share of the reflection the gather
         // has to find (the cache answers for the diffuse part), at least one.
         let glossy = crate::math::luminance(bsdf.glossy_albedo(si.wo));
-        let diffuse = response.map_or(0.0, |r| {
-            crate::math::luminance(r.iter().copied().sum::<Spectrum>()) * PI
-                / IRRADIANCE_BANDS as f32
-        });
+        let diffuse = response.map_or(0.0, |r| crate::math::luminance(r) * PI);
         let share = if glossy + diffuse > 0.0 {
             glossy / (glossy + diffuse)
         } else {

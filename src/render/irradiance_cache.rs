@@ -1,10 +1,7 @@
 //! Ward's irradiance cache (Ward, Rubinstein, Clear 1988) with rotational and translational
 //! gradients (Ward & Heckbert 1992), used to evaluate final gathering sparsely on every
 //! surface with a diffuse component and interpolate between records.
-//!
-//! Each record also keeps how its irradiance divides between bands of incident angle
-//! (`materials::IRRADIANCE_BANDS`), so that a diffuse base under a coat, whose response
-//! falls towards grazing incidence, reads what it would gather itself.
+
 //!
 //! A record at x_i with normal n_i and harmonic mean distance R_i contributes at x (normal n)
 //! with weight w_i = 1 / (|x - x_i| / R_i + sqrt(1 - n . n_i)); records with w_i > 1/a count,
@@ -13,7 +10,6 @@
 //! The cache is filled in deterministic rounds (see `render::renderer`), then only read, so
 //! images do not depend on the thread count.
 
-use crate::materials::IRRADIANCE_BANDS;
 use crate::math::Spectrum;
 use crate::render::terms::indirect::HemisphereGather;
 use glam::Vec3;
@@ -24,8 +20,6 @@ pub struct Record {
     pub p: Vec3,
     pub n: Vec3,
     pub irradiance: Spectrum,
-    /// Fraction of `irradiance` arriving in each band, per channel.
-    pub band_fraction: [Spectrum; IRRADIANCE_BANDS],
     /// Harmonic mean distance, clamped.
     pub r: f32,
     pub grad_r: [Vec3; 3],
@@ -54,45 +48,10 @@ impl Record {
             p,
             n,
             irradiance: g.irradiance,
-            band_fraction: band_fraction(g),
             r,
             grad_r: g.grad_r,
             grad_t: g.grad_t.map(|v| v * scale),
         }
-    }
-}
-
-/// Per channel, the share of the gathered irradiance in each band (even where it is zero).
-pub fn band_fraction(g: &HemisphereGather) -> [Spectrum; IRRADIANCE_BANDS] {
-    let even = 1.0 / IRRADIANCE_BANDS as f32;
-    g.bands.map(|b| {
-        let f = |c: usize| {
-            if g.irradiance[c] > 0.0 {
-                b[c] / g.irradiance[c]
-            } else {
-                even
-            }
-        };
-        Spectrum::new(f(0), f(1), f(2))
-    })
-}
-
-/// Irradiance read from the cache: the interpolated total and its division into bands.
-#[derive(Clone, Copy, Debug)]
-pub struct CachedIrradiance {
-    pub irradiance: Spectrum,
-    pub band_fraction: [Spectrum; IRRADIANCE_BANDS],
-}
-
-impl CachedIrradiance {
-    /// Reflected radiance for a diffuse response per band (`Bsdf::diffuse_response`).
-    pub fn reflect(&self, response: &[Spectrum; IRRADIANCE_BANDS]) -> Spectrum {
-        response
-            .iter()
-            .zip(&self.band_fraction)
-            .map(|(r, f)| *r * *f)
-            .sum::<Spectrum>()
-            * self.irradiance
     }
 }
 
@@ -142,11 +101,10 @@ impl IrradianceCache {
     }
 
     /// Interpolated irradiance at `p` with normal `n`, or None when no record is close enough.
-    pub fn lookup(&self, p: Vec3, n: Vec3) -> Option<CachedIrradiance> {
+    pub fn lookup(&self, p: Vec3, n: Vec3) -> Option<Spectrum> {
         let list = self.grid.get(&self.key(p))?;
         let min_w = 1.0 / self.tolerance;
         let mut sum = Spectrum::ZERO;
-        let mut fsum = [Spectrum::ZERO; IRRADIANCE_BANDS];
         let mut wsum = 0.0f32;
         for &i in list {
             let rec = &self.records[i as usize];
@@ -171,14 +129,8 @@ impl IrradianceCache {
                 e[c] += rot.dot(rec.grad_r[c]) + d.dot(rec.grad_t[c]);
             }
             sum += e.max(Spectrum::ZERO) * w;
-            for (a, f) in fsum.iter_mut().zip(&rec.band_fraction) {
-                *a += *f * w;
-            }
             wsum += w;
         }
-        (wsum > 0.0).then(|| CachedIrradiance {
-            irradiance: sum / wsum,
-            band_fraction: fsum.map(|f| f / wsum),
-        })
+        (wsum > 0.0).then(|| sum / wsum)
     }
 }

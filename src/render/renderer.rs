@@ -112,7 +112,7 @@ pub struct MemoryEstimate {
     /// `triangles * BYTES_PER_TRIANGLE`.
     pub bvh_bytes: u64,
     /// The global map's precomputed irradiance points: one per `irradiance::STRIDE` photons,
-    /// `size_of::<IrradiancePoint>()` (24) bytes each.
+    /// `size_of::<IrradiancePoint>()` (20) bytes each.
     pub irradiance_bytes: u64,
     /// `photon_bytes + bvh_bytes + irradiance_bytes`.
     pub total_bytes: u64,

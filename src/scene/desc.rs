@@ -382,6 +382,10 @@ pub enum MaterialDesc {
         color: Rgb,
         #[serde(default = "default_roughness")]
         roughness: f32,
+        /// Compensated for multiple scattering between microfacets (Blender's Multiscatter
+        /// GGX, the default); false is plain GGX.
+        #[serde(default = "yes")]
+        multiscatter: bool,
     },
     Emission {
         #[serde(default)]
@@ -422,6 +426,13 @@ pub struct PrincipledDesc {
     pub emission_color: ColorInput,
     #[serde(default)]
     pub emission_strength: f32,
+    /// Reflection compensated for multiple scattering between microfacets (Blender's
+    /// Multiscatter GGX, the Principled BSDF's default); false is plain GGX.
+    #[serde(default = "yes")]
+    pub multiscatter: bool,
+}
+fn yes() -> bool {
+    true
 }
 fn white_color() -> ColorInput {
     ColorInput::Value(white())
@@ -447,6 +458,7 @@ impl Default for PrincipledDesc {
             specular: 1.0,
             emission_color: black_color(),
             emission_strength: 0.0,
+            multiscatter: true,
         }
     }
 }

@@ -7,7 +7,7 @@
 //! On Lambertian surfaces the irradiance is cached (`render::irradiance_cache`).
 
 use crate::geometry::{Ray, SurfaceInteraction};
-use crate::materials::bsdf::{irradiance_band, Bsdf, LobeFlags, IRRADIANCE_BANDS};
+use crate::materials::bsdf::{Bsdf, LobeFlags};
 use crate::math::{Frame, Spectrum, PI};
 use crate::media::MediumStack;
 use crate::photon::map::EstimateFilter;
@@ -88,7 +88,7 @@ pub fn gather_radiance(
 
 /// Radiance leaving a gather ray's hit towards the gather point, from the global map. On an
 /// opaque surface it reads the nearest precomputed irradiance point (Christensen 1999): the
-/// diffuse lobes' response per band of incident angle times the point's irradiance; the
+/// diffuse lobes' response times the point's irradiance; the
 /// glossy lobes reflect the indirect part as uniform light (their albedo times E / pi) and
 /// the direct part through one light sample, since light straight from a lamp leaves a
 /// glossy surface as a highlight. Elsewhere, and where no point matches, the full radiance
@@ -111,12 +111,9 @@ fn hit_radiance(
             .and_then(|m| m.lookup(si.p, si.ng, scratch))
         {
             let e = pt.irradiance();
-            let mut l = Spectrum::ZERO;
-            if let Some(resp) = bsdf.diffuse_response(si.wo) {
-                for (r, f) in resp.iter().zip(pt.band_fraction()) {
-                    l += *r * (e * f);
-                }
-            }
+            let mut l = bsdf
+                .diffuse_response(si.wo)
+                .map_or(Spectrum::ZERO, |r| r * e);
             if bsdf.has_glossy() {
                 let indirect = e * (1.0 - pt.direct_fraction());
                 l += bsdf.glossy_albedo(si.wo) * (indirect * crate::math::INV_PI);
@@ -166,9 +163,6 @@ pub fn gather_glossy(
 /// A stratified hemisphere gather with the data Ward and Heckbert's gradients need.
 pub struct HemisphereGather {
     pub irradiance: Spectrum,
-    /// The irradiance split by bands of incident directions ([`IRRADIANCE_BANDS`]); the
-    /// bands sum to `irradiance`.
-    pub bands: [Spectrum; IRRADIANCE_BANDS],
     /// Harmonic mean distance to the surfaces seen.
     pub harmonic_distance: f32,
     /// Rotational and translational gradients, one vector per colour channel.
@@ -201,7 +195,6 @@ pub fn gather_hemisphere(
     let mut l = vec![Spectrum::ZERO; m * nn];
     let mut r = vec![f32::INFINITY; m * nn];
     let mut theta = vec![0.0f32; m * nn];
-    let mut band = vec![0usize; m * nn];
     for j in 0..m {
         for k in 0..nn {
             let u = rng.vec2();
@@ -221,15 +214,10 @@ pub fn gather_hemisphere(
             l[j * nn + k] = li;
             r[j * nn + k] = t;
             theta[j * nn + k] = sin_t.asin();
-            band[j * nn + k] = irradiance_band(cos_t);
         }
     }
     let norm = PI / (m * nn) as f32;
     let irradiance: Spectrum = l.iter().copied().sum::<Spectrum>() * norm;
-    let mut bands = [Spectrum::ZERO; IRRADIANCE_BANDS];
-    for (li, &b) in l.iter().zip(&band) {
-        bands[b] += *li * norm;
-    }
     let inv_sum: f32 = r
         .iter()
         .map(|&t| {
@@ -289,7 +277,6 @@ pub fn gather_hemisphere(
     }
     HemisphereGather {
         irradiance,
-        bands,
         harmonic_distance,
         grad_r,
         grad_t,
