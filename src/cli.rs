@@ -474,21 +474,58 @@ pub fn run_render(
     args: &RenderArgs,
     progress: Option<Arc<crate::render::ProgressFn>>,
 ) -> Result<RenderOutput> {
+    let clock = args.wall_clock();
     args.check()?;
     let desc = args.load_scene()?;
-    let out = render_desc(&desc, args.settings(), progress, None)?;
+    let settings = args.settings_within(clock.as_ref(), 1);
+    let output = clock.map(|_| args.output_time());
+    let out = render_desc_with_preview(&desc, settings, progress, None, None, output)?;
     write_outputs(args, &out)?;
     Ok(out)
 }
 
-/// Builds the render scene from the IR and renders it; the build time goes into the stats.
+impl RenderArgs {
+    /// The command's wall clock when `--time-budget` is given: it covers reading the scene,
+    /// rendering and writing every output.
+    pub fn wall_clock(&self) -> Option<crate::render::budget::WallClock> {
+        self.time_budget
+            .filter(|b| *b > 0.0)
+            .map(crate::render::budget::WallClock::start)
+    }
+
+    /// The settings for one of `frames_left` frames: with a wall clock, the time budget is
+    /// what is left of it (the render then leaves time for [`RenderArgs::output_time`]).
+    pub fn settings_within(
+        &self,
+        clock: Option<&crate::render::budget::WallClock>,
+        frames_left: usize,
+    ) -> RenderSettings {
+        let mut s = self.settings();
+        if let Some(c) = clock {
+            s.time_budget = Some(c.render_budget(frames_left, 0.0));
+        }
+        s
+    }
+
+    /// Seconds that writing this command's outputs for a film like `film` will take: the EXR
+    /// (measured on a strip of the film), and a fifth more with a PNG preview.
+    pub fn output_time(&self) -> Arc<crate::render::OutputTimeFn> {
+        let png = self.png.is_some();
+        Arc::new(move |film: &crate::render::film::Film| {
+            crate::io::exr::estimate_write_seconds(film) * if png { 1.2 } else { 1.0 }
+        })
+    }
+}
+
+/// Builds the render scene from the IR and renders it; the build time goes into the stats and,
+/// under a time budget, comes out of it.
 pub fn render_desc(
     desc: &SceneDesc,
     settings: RenderSettings,
     progress: Option<Arc<crate::render::ProgressFn>>,
     cancel: Option<Arc<AtomicBool>>,
 ) -> Result<RenderOutput> {
-    render_desc_with_preview(desc, settings, progress, cancel, None)
+    render_desc_with_preview(desc, settings, progress, cancel, None, None)
 }
 
 /// As `render_desc`, with previews of a progressive render (see `render::PreviewFn`).
@@ -498,10 +535,15 @@ pub fn render_desc_with_preview(
     progress: Option<Arc<crate::render::ProgressFn>>,
     cancel: Option<Arc<AtomicBool>>,
     preview: Option<Arc<crate::render::PreviewFn>>,
+    output_time: Option<Arc<crate::render::OutputTimeFn>>,
 ) -> Result<RenderOutput> {
     let t0 = std::time::Instant::now();
     let scene = Scene::build_cancellable(desc, cancel.as_deref())?;
     let build_s = t0.elapsed().as_secs_f64();
+    let mut settings = settings;
+    if let Some(b) = settings.time_budget.filter(|b| *b > 0.0) {
+        settings.time_budget = Some((b - build_s).max(1e-3));
+    }
     let mut r = Renderer::new(&scene).settings(settings);
     if let Some(p) = progress {
         r = r.progress(p);
@@ -511,6 +553,9 @@ pub fn render_desc_with_preview(
     }
     if let Some(p) = preview {
         r = r.preview(p);
+    }
+    if let Some(o) = output_time {
+        r = r.output_time(o);
     }
     let mut out = r.render()?;
     out.stats.seconds.insert("scene_build".into(), build_s);

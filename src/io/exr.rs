@@ -25,6 +25,52 @@ pub fn write_multilayer(
     metadata: &BTreeMap<String, String>,
 ) -> Result<()> {
     let path = path.as_ref();
+    multilayer_image(film, metadata)
+        .write()
+        .to_file(path)
+        .map_err(|e| Error::io(path, e))
+}
+
+/// Seconds that writing `film` as a multilayer EXR should take on this machine: a strip of
+/// its rows (at least 16 rows and 16384 pixels; compression costs depend on the data) is
+/// encoded in memory after a warm-up, and the time scaled to the whole film, plus 10%. A
+/// command under a time budget leaves this much for its output.
+pub fn estimate_write_seconds(film: &Film) -> f64 {
+    let (w, h) = (film.width.max(1), film.height);
+    if h == 0 {
+        return 0.0;
+    }
+    let rows = (16384usize.div_ceil(w)).max(16).min(h);
+    let strip = |rows: usize| {
+        let mut s = Film::new(w, rows);
+        for (dst, src) in s.terms.iter_mut().zip(&film.terms) {
+            dst.data.copy_from_slice(&src.data[..w * rows]);
+        }
+        s.error.data.copy_from_slice(&film.error.data[..w * rows]);
+        s
+    };
+    let encode = |f: &Film| {
+        let t0 = std::time::Instant::now();
+        let mut buf = std::io::Cursor::new(Vec::new());
+        let ok = multilayer_image(f, &BTreeMap::new())
+            .write()
+            .to_buffered(&mut buf)
+            .is_ok();
+        if ok {
+            t0.elapsed().as_secs_f64()
+        } else {
+            0.0
+        }
+    };
+    encode(&strip(1.min(h)));
+    let secs = encode(&strip(rows));
+    1.1 * secs * h as f64 / rows as f64
+}
+
+fn multilayer_image(
+    film: &Film,
+    metadata: &BTreeMap<String, String>,
+) -> exr::prelude::Image<Layer<AnyChannels<FlatSamples>>> {
     let combined = film.combined();
     let mut channels: Vec<AnyChannel<FlatSamples>> = Vec::new();
     for (c, n) in ["R", "G", "B"].iter().enumerate() {
@@ -56,9 +102,6 @@ pub fn write_multilayer(
         AnyChannels::sort(channels.into()),
     );
     exr::prelude::Image::from_layer(layer)
-        .write()
-        .to_file(path)
-        .map_err(|e| Error::io(path, e))
 }
 
 /// Reads every RGB group of a single-part EXR: `""` for `R,G,B`, and `"direct"` for

@@ -342,6 +342,7 @@ fn render_blocking(
     preview: Option<&Bound<'_, PyAny>>,
     cancel: Arc<AtomicBool>,
     map_err: fn(Error) -> PyErr,
+    output_time: Option<Arc<crate::render::OutputTimeFn>>,
 ) -> PyResult<RenderOutput> {
     // The latest preview of a progressive render (beauty, passes), handed to `preview` by the
     // calling thread as `preview(bytes, width, height, passes)`.
@@ -394,6 +395,7 @@ fn render_blocking(
                     Some(progress),
                     Some(flag),
                     preview_fn,
+                    output_time,
                 )
             }));
             if let Ok(mut g) = done_ref.0.lock() {
@@ -567,6 +569,7 @@ fn render<'py>(
         preview.as_ref(),
         flag,
         to_py_keyword,
+        None,
     )?;
     let d = PyDict::new(py);
     d.set_item("width", out.film.width)?;
@@ -607,6 +610,9 @@ fn run_cli(
         }
     };
     let Command::Render(args) = cli.command;
+    // Under --time-budget the command's wall clock runs from here: the USD import, the
+    // scene build, the render and the writing of every frame all count.
+    let clock = args.wall_clock();
     let fail = |e: Error| {
         eprintln!("photonmap: error: {e}");
         Ok(if matches!(e, Error::InvalidSetting { .. }) {
@@ -649,7 +655,8 @@ fn run_cli(
             }
         }
     };
-    for frame in frames {
+    let frame_count = frames.len();
+    for (i, frame) in frames.into_iter().enumerate() {
         let a = args.for_frame(frame);
         let loaded = match caught(|| a.load_scene_with(frame, Some(&mut load))) {
             Ok(l) => l,
@@ -660,15 +667,18 @@ fn run_cli(
         };
         let (bar, bar_fn) = cli::progress_bar(a.quiet);
         let cancel = Arc::new(AtomicBool::new(false));
+        let settings = a.settings_within(clock.as_ref(), frame_count - i);
+        let output = clock.map(|_| a.output_time());
         let out = render_blocking(
             py,
             &loaded.desc,
-            a.settings(),
+            settings,
             Some(bar_fn),
             None,
             None,
             cancel,
             to_py,
+            output,
         );
         let out = match out {
             Ok(o) => o,

@@ -22,6 +22,41 @@
 //! `gather_rays_per_sample` is bit-identical to it.
 
 use serde::Serialize;
+use std::time::Instant;
+
+/// The wall clock of a whole command or call under a time budget: reading the scene, building
+/// it, rendering and writing the result all count. Started when the front end starts; the
+/// render is given what is left ([`WallClock::render_budget`]).
+#[derive(Clone, Copy, Debug)]
+pub struct WallClock {
+    start: Instant,
+    budget: f64,
+}
+
+impl WallClock {
+    pub fn start(budget: f64) -> Self {
+        WallClock {
+            start: Instant::now(),
+            budget,
+        }
+    }
+
+    pub fn budget(&self) -> f64 {
+        self.budget
+    }
+
+    pub fn elapsed(&self) -> f64 {
+        self.start.elapsed().as_secs_f64()
+    }
+
+    /// The budget left for rendering one of `frames_left` frames (the remaining time shared
+    /// evenly) when writing its output will take `output_seconds`; at least a millisecond,
+    /// so that a render that cannot fit still renders one pass and says so.
+    pub fn render_budget(&self, frames_left: usize, output_seconds: f64) -> f64 {
+        let left = (self.budget - self.elapsed()) / frames_left.max(1) as f64;
+        (left - output_seconds).max(1e-3)
+    }
+}
 
 /// Fraction of the budget the calibration, the photon pass and the irradiance cache are
 /// planned to take together; the camera passes fill the rest.

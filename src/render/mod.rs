@@ -13,6 +13,7 @@ pub mod sppm;
 pub mod terms;
 
 pub use renderer::{
-    MemoryEstimate, PreviewFn, ProgressFn, RenderOutput, RenderStats, Renderer, SkippedTerm,
+    MemoryEstimate, OutputTimeFn, PreviewFn, ProgressFn, RenderOutput, RenderStats, Renderer,
+    SkippedTerm,
 };
 pub use settings::{PhotonSettings, Quality, RenderSettings};

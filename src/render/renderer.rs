@@ -33,6 +33,10 @@ pub type ProgressFn = dyn Fn(f32, &str) + Send + Sync;
 /// every `PREVIEW_SECONDS` between them. The Blender viewport refines through it.
 pub type PreviewFn = dyn Fn(&Film, u32) + Send + Sync;
 
+/// Seconds that writing out a film like this one will take (called once, with the film after
+/// the first camera pass of a budgeted render, whose last passes leave that much time free).
+pub type OutputTimeFn = dyn Fn(&Film) -> f64 + Send + Sync;
+
 /// Bytes per photon held, besides the finished record, while a map is built: the traced
 /// photon (`RAW_PHOTON_BYTES`) until it is converted, or the kd-tree's scratch copy of the
 /// record during balancing, whichever is more (measured at 10^8 photons: 40 B/photon peak).
@@ -133,6 +137,7 @@ pub struct Renderer<'a> {
     progress: Option<Arc<ProgressFn>>,
     cancel: Option<Arc<AtomicBool>>,
     pub(super) preview: Option<Arc<PreviewFn>>,
+    output_time: Option<Arc<OutputTimeFn>>,
 }
 
 impl<'a> Renderer<'a> {
@@ -143,6 +148,7 @@ impl<'a> Renderer<'a> {
             progress: None,
             cancel: None,
             preview: None,
+            output_time: None,
         }
     }
     pub fn settings(mut self, s: RenderSettings) -> Self {
@@ -172,6 +178,12 @@ impl<'a> Renderer<'a> {
     /// Previews of a progressive render (see [`PreviewFn`]).
     pub fn preview(mut self, f: Arc<PreviewFn>) -> Self {
         self.preview = Some(f);
+        self
+    }
+    /// Under a time budget, leave time at the end for writing the result out (see
+    /// [`OutputTimeFn`]).
+    pub fn output_time(mut self, f: Arc<OutputTimeFn>) -> Self {
+        self.output_time = Some(f);
         self
     }
 
@@ -872,7 +884,13 @@ impl<'a> Renderer<'a> {
         let t = Instant::now();
         let mut last_preview = Instant::now();
         let mut passes: u32 = 0;
+        let mut deadline = deadline;
         loop {
+            if passes == 1 {
+                if let (Some(d), Some(f)) = (deadline.as_mut(), &self.output_time) {
+                    *d -= f(&film_of(&pixels, 1));
+                }
+            }
             match deadline {
                 Some(d) if passes > 0 => {
                     let per_pass = t.elapsed().as_secs_f64() / passes as f64;
