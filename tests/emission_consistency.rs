@@ -85,9 +85,7 @@ fn eye_irradiance(light: &Light, ctx: &LightCtx, per_cell: usize, seed: u64) -> 
             let u = rng.vec2();
             let p = Vec3::new(-H + (cx + u.x) * side, -H + (cy + u.y) * side, 0.0);
             let e = match light.sample_li(p, rng.vec2(), ctx) {
-                Some(ls) if ls.wi.z > 0.0 => {
-                    (luminance(ls.li) * ls.wi.z / ls.pdf) as f64
-                }
+                Some(ls) if ls.wi.z > 0.0 => (luminance(ls.li) * ls.wi.z / ls.pdf) as f64,
                 _ => 0.0,
             };
             s1 += e;
@@ -145,13 +143,16 @@ fn lights() -> Vec<(&'static str, Light)> {
         ("spot", point(0.0, Some(spot), false)),
         ("spot_radius", point(0.2, Some(spot), false)),
         ("spot_radius_soft_falloff", point(0.2, Some(spot), true)),
-        (
-            "rect",
-            area(AreaShape::Rect, tilted_x, tilted_y, false, PI),
-        ),
+        ("rect", area(AreaShape::Rect, tilted_x, tilted_y, false, PI)),
         (
             "rect_spread_60",
-            area(AreaShape::Rect, tilted_x, tilted_y, false, 60f32.to_radians()),
+            area(
+                AreaShape::Rect,
+                tilted_x,
+                tilted_y,
+                false,
+                60f32.to_radians(),
+            ),
         ),
         (
             "ellipse_two_sided_spread_120",
@@ -238,8 +239,14 @@ fn the_emission_comparison_catches_a_wrong_emitter() {
     let eye = eye_irradiance(&get("sphere"), &ctx, 4096, 4);
     let ph = photon_irradiance(&get("sphere_soft_falloff"), &ctx, 2_000_000, 3);
     let (z, _, rel) = worst_z(&eye, &ph);
-    eprintln!("sphere vs soft-falloff photons: {z:.1} sigma ({:+.2}%)", -100.0 * rel);
-    assert!(z > 2.0 * Z_MAX, "sphere and soft falloff not told apart: {z}");
+    eprintln!(
+        "sphere vs soft-falloff photons: {z:.1} sigma ({:+.2}%)",
+        -100.0 * rel
+    );
+    assert!(
+        z > 2.0 * Z_MAX,
+        "sphere and soft falloff not told apart: {z}"
+    );
     // A spot 5 degrees off its axis.
     let Light::Point(mut p) = get("spot_radius") else {
         unreachable!()
@@ -247,14 +254,17 @@ fn the_emission_comparison_catches_a_wrong_emitter() {
     let eye = eye_irradiance(&Light::Point(p.clone()), &ctx, 4096, 4);
     let s = p.spot.unwrap();
     let axis = glam::Quat::from_rotation_y(5f32.to_radians()) * s.axis;
-    p.spot = Some(SpotShape {
-        axis,
-        ..s
-    });
+    p.spot = Some(SpotShape { axis, ..s });
     let ph = photon_irradiance(&Light::Point(p), &ctx, 2_000_000, 3);
     let (z, _, rel) = worst_z(&eye, &ph);
-    eprintln!("spot rotated 5 degrees: {z:.1} sigma ({:+.2}%)", -100.0 * rel);
-    assert!(z > 2.0 * Z_MAX, "a 5 degree spot rotation was not caught: {z}");
+    eprintln!(
+        "spot rotated 5 degrees: {z:.1} sigma ({:+.2}%)",
+        -100.0 * rel
+    );
+    assert!(
+        z > 2.0 * Z_MAX,
+        "a 5 degree spot rotation was not caught: {z}"
+    );
 }
 
 /// A spot with a radius keeps its cone (Cycles takes the attenuation along the direction from
@@ -276,8 +286,22 @@ fn spot_with_radius_keeps_its_cone() {
     let spot = SpotShape::new(-Vec3::Z, 40f32.to_radians(), 0.2);
     let r = 0.1f32;
     for soft in [false, true] {
-        let l = Light::Point(PointLight::new(at, 10.0, Spectrum::ONE, r, Some(spot), soft));
-        let point = Light::Point(PointLight::new(at, 10.0, Spectrum::ONE, 0.0, Some(spot), false));
+        let l = Light::Point(PointLight::new(
+            at,
+            10.0,
+            Spectrum::ONE,
+            r,
+            Some(spot),
+            soft,
+        ));
+        let point = Light::Point(PointLight::new(
+            at,
+            10.0,
+            Spectrum::ONE,
+            0.0,
+            Some(spot),
+            false,
+        ));
         let mut rng = Rng::new(11, 0);
         let half = 20f32.to_radians();
         let inner = (spot.cos_half + spot.smooth).acos();
@@ -306,12 +330,18 @@ fn spot_with_radius_keeps_its_cone() {
             let exact = point
                 .sample_li(p, Vec2::ZERO, &ctx)
                 .map_or(0.0, |ls| (luminance(ls.li) * ls.wi.z) as f64);
-            eprintln!("soft {soft} receiver x={x}: E {mean:.6} +- {se:.2e}, point light {exact:.6}");
+            eprintln!(
+                "soft {soft} receiver x={x}: E {mean:.6} +- {se:.2e}, point light {exact:.6}"
+            );
             if expect_dark {
                 assert_eq!(mean, 0.0, "soft {soft}: light outside the cone at x={x}");
             } else {
                 // The soft disk delivers d^2/(d^2 + r^2) of the sphere's irradiance on axis.
-                let tol = if soft { 1.5 * (r * r / (d * d)) as f64 } else { 0.0 };
+                let tol = if soft {
+                    1.5 * (r * r / (d * d)) as f64
+                } else {
+                    0.0
+                };
                 assert!(
                     (mean - exact).abs() <= 4.0 * se + tol * exact + 1e-4 * exact,
                     "soft {soft} x={x}: {mean} vs {exact}"

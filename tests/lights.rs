@@ -116,7 +116,9 @@ fn soft_sphere_light() -> Light {
 fn hit_light(light: &Light, o: Vec3, d: Vec3, ctx: &LightCtx) -> Option<(Vec3, Vec3)> {
     match light {
         Light::Area(a) => a.intersect(o, d, f32::INFINITY).map(|t| (o + d * t, a.n)),
-        Light::Point(p) => p.intersect(o, d, f32::INFINITY).map(|(t, n)| (o + d * t, n)),
+        Light::Point(p) => p
+            .intersect(o, d, f32::INFINITY)
+            .map(|(t, n)| (o + d * t, n)),
         Light::Triangle(tri) => {
             let _ = ctx;
             let (e1, e2) = (tri.v[1] - tri.v[0], tri.v[2] - tri.v[0]);
