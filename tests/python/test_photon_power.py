@@ -19,7 +19,8 @@ def test_f32_power_photons_are_28_bytes_and_match_rgbe():
         assert {m["map"] for m in maps} == {"global", "caustic"}
         for m in maps:
             assert m["bytes_per_photon"] == size
-            assert m["memory_bytes"] == size * m["stored"]
+            # The global map also holds its precomputed irradiance points, 20 B each.
+            assert m["memory_bytes"] == size * m["stored"] + 20 * m["irradiance_points"]
         assert out["stats"]["bytes_per_photon"] == size
         assert out["stats"]["memory_estimate"]["photon_bytes"] == size * 30_000
     # The same photons, quantised or not: the images agree to well within 0.5%.
