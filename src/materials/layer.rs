@@ -8,11 +8,12 @@ use super::microfacet::{alpha_from_roughness, reflect, Ggx};
 use crate::math::{Spectrum, INV_PI};
 use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
 use glam::{Vec2, Vec3};
+use rayon::prelude::*;
 use std::sync::Mutex;
 
 const N_MU: usize = 48;
 const N_ROUGH: usize = 32;
-const STRATA: usize = 48;
+const STRATA: usize = 32;
 
 /// Directional albedo E(mu) = integral of f_coat |cos| of a coat's single-scattering
 /// reflection (GGX with dielectric Fresnel, or the smooth Fresnel R(mu) at roughness 0) for
@@ -38,11 +39,16 @@ fn coat_albedo(mu: f32, roughness: f32, eta: f32) -> f32 {
 /// integrand is smooth in t; it has a square-root edge in u1 at the rim and at the centre),
 /// and du1 = sin 2t dt.
 fn ggx_albedo(mu: f32, roughness: f32, fresnel: impl Fn(f32) -> f32) -> f32 {
+    ggx_albedo2(mu, roughness, |c| Vec2::new(fresnel(c), 0.0)).x
+}
+
+/// [`ggx_albedo`] for two reflectance functions at once (one set of GGX samples).
+fn ggx_albedo2(mu: f32, roughness: f32, fresnel: impl Fn(f32) -> Vec2) -> Vec2 {
     let mu = mu.clamp(1e-3, 1.0);
     let ggx = Ggx::new(alpha_from_roughness(roughness));
     let wo = Vec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu);
     let lo = ggx.lambda(wo);
-    let mut sum = 0.0f64;
+    let (mut sx, mut sy) = (0.0f64, 0.0f64);
     let h = std::f64::consts::FRAC_PI_2 / STRATA as f64;
     for i in 0..STRATA {
         let t = (i as f64 + 0.5) * h;
@@ -53,12 +59,90 @@ fn ggx_albedo(mu: f32, roughness: f32, fresnel: impl Fn(f32) -> f32) -> f32 {
             let m = ggx.sample_visible(wo, u);
             let wi = reflect(wo, m);
             if wi.z > 0.0 {
-                let f = fresnel(wo.dot(m));
-                sum += w * (f * (1.0 + lo) / (1.0 + lo + ggx.lambda(wi))) as f64;
+                let f = fresnel(wo.dot(m)) * ((1.0 + lo) / (1.0 + lo + ggx.lambda(wi)));
+                sx += w * f.x as f64;
+                sy += w * f.y as f64;
             }
         }
     }
-    (sum / STRATA as f64) as f32
+    Vec2::new((sx / STRATA as f64) as f32, (sy / STRATA as f64) as f32)
+}
+
+/// Cells of one (sqrt(mu), roughness) table.
+const CELLS: usize = N_MU * N_ROUGH;
+
+/// Coats tabulated in `ggx_albedo.bin`, uniformly in sqrt(F0) from 0 to [`MAX_F0`].
+pub const N_F0: usize = 33;
+const MAX_F0: f32 = 0.99;
+
+/// The tables, as `tables()` computes them: Schlick's A and B, then the coat albedo for each
+/// of the [`N_F0`] tabulated F0, each over (sqrt(mu), roughness); little-endian f32.
+/// Regenerate with `cargo run --release --example ggx_albedo_tables` (a test checks they
+/// agree).
+static EMBEDDED: &[u8] = include_bytes!("ggx_albedo.bin");
+
+fn embedded() -> &'static [f32] {
+    static DATA: std::sync::OnceLock<Vec<f32>> = std::sync::OnceLock::new();
+    DATA.get_or_init(|| {
+        EMBEDDED
+            .chunks_exact(4)
+            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect()
+    })
+}
+
+/// Computes the tables of `ggx_albedo.bin` (a few seconds on two cores).
+pub fn tables() -> Vec<f32> {
+    let mut out = schlick_tables();
+    for k in 0..N_F0 {
+        out.extend(coat_slice(k));
+    }
+    out
+}
+
+/// Schlick's A then B over (sqrt(mu), roughness).
+fn schlick_tables() -> Vec<f32> {
+    let ab: Vec<Vec2> = tabulate(CELLS, |idx| {
+        let (j, i) = (idx / N_MU, idx % N_MU);
+        let r = j as f32 / (N_ROUGH - 1) as f32;
+        let s = i as f32 / (N_MU - 1) as f32;
+        let mu = s * s;
+        if r <= 0.0 {
+            let t = (1.0 - mu.clamp(1e-3, 1.0)).powi(5);
+            Vec2::new(1.0 - t, t)
+        } else {
+            ggx_albedo2(mu, r, |c| {
+                let t = (1.0 - c.clamp(0.0, 1.0)).powi(5);
+                Vec2::new(1.0 - t, t)
+            })
+        }
+    });
+    let mut out: Vec<f32> = ab.iter().map(|v| v.x).collect();
+    out.extend(ab.iter().map(|v| v.y));
+    out
+}
+
+/// The coat albedo table of the `k`-th tabulated F0.
+fn coat_slice(k: usize) -> Vec<f32> {
+    let sq = MAX_F0.sqrt() * k as f32 / (N_F0 - 1) as f32;
+    let eta = ior_from_f0(sq * sq);
+    tabulate(CELLS, |idx| {
+        let (j, i) = (idx / N_MU, idx % N_MU);
+        let r = j as f32 / (N_ROUGH - 1) as f32;
+        let s = i as f32 / (N_MU - 1) as f32;
+        coat_albedo(s * s, r, eta)
+    })
+}
+
+/// `f(0..n)`, in parallel unless the caller is a worker of a rayon pool: a worker waiting
+/// for its parallel loop may run other jobs of its pool meanwhile, and one of them could ask
+/// for the very table this builds (a one-time initialisation it already holds).
+fn tabulate<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync + Send) -> Vec<T> {
+    if rayon::current_thread_index().is_some() {
+        (0..n).map(f).collect()
+    } else {
+        (0..n).into_par_iter().map(f).collect()
+    }
 }
 
 /// Directional albedo of GGX reflection with Schlick's Fresnel, F = F0 + (1 - F0)(1 - c)^5:
@@ -78,24 +162,9 @@ impl SchlickAlbedoTable {
     pub fn get() -> &'static SchlickAlbedoTable {
         static TABLE: std::sync::OnceLock<SchlickAlbedoTable> = std::sync::OnceLock::new();
         TABLE.get_or_init(|| {
-            let mut a = vec![0.0f32; N_MU * N_ROUGH];
-            let mut b = vec![0.0f32; N_MU * N_ROUGH];
-            for j in 0..N_ROUGH {
-                let r = j as f32 / (N_ROUGH - 1) as f32;
-                for i in 0..N_MU {
-                    let s = i as f32 / (N_MU - 1) as f32;
-                    let mu = s * s;
-                    let idx = j * N_MU + i;
-                    if r <= 0.0 {
-                        let t = (1.0 - mu.clamp(1e-3, 1.0)).powi(5);
-                        a[idx] = 1.0 - t;
-                        b[idx] = t;
-                    } else {
-                        a[idx] = ggx_albedo(mu, r, |c| 1.0 - (1.0 - c.clamp(0.0, 1.0)).powi(5));
-                        b[idx] = ggx_albedo(mu, r, |c| (1.0 - c.clamp(0.0, 1.0)).powi(5));
-                    }
-                }
-            }
+            let data = embedded();
+            let a = data[..CELLS].to_vec();
+            let b = data[CELLS..2 * CELLS].to_vec();
             // 2 integral mu E1 dmu = integral 4 s^3 E1(s) ds with s = sqrt(mu); E1 is linear in
             // s on each segment, so 3-point Gauss-Legendre is exact for the interpolant.
             let h = 1.0 / (N_MU - 1) as f64;
@@ -183,16 +252,21 @@ const GL3: [(f64, f64); 3] = [
 ];
 
 impl CoatAlbedoTable {
+    /// The table of a coat of normal reflectance `f0`: the two tabulated coats nearest in
+    /// sqrt(F0) ([`N_F0`] of them, precomputed in `ggx_albedo.bin`), blended linearly.
     fn build(f0: f32) -> Self {
         let eta = ior_from_f0(f0);
-        let mut e = vec![0.0f32; N_MU * N_ROUGH];
-        for j in 0..N_ROUGH {
-            let r = j as f32 / (N_ROUGH - 1) as f32;
-            for i in 0..N_MU {
-                let s = i as f32 / (N_MU - 1) as f32;
-                e[j * N_MU + i] = coat_albedo(s * s, r, eta);
-            }
-        }
+        let data = embedded();
+        let x = (f0.max(0.0).sqrt() / MAX_F0.sqrt()).clamp(0.0, 1.0) * (N_F0 - 1) as f32;
+        let k = (x as usize).min(N_F0 - 2);
+        let t = x - k as f32;
+        let slice = |k: usize| &data[(2 + k) * CELLS..(3 + k) * CELLS];
+        let (lo, hi) = (slice(k), slice(k + 1));
+        let e: Vec<f32> = lo
+            .iter()
+            .zip(hi)
+            .map(|(a, b)| a * (1.0 - t) + b * t)
+            .collect();
         // 2 integral F(mu) mu dmu by the midpoint rule in mu^2.
         const STEPS: usize = 1024;
         let fresnel_avg = (0..STEPS)
@@ -209,8 +283,8 @@ impl CoatAlbedoTable {
         }
     }
 
-    /// The table for a coat of normal reflectance `f0`, built on first use (about a
-    /// million GGX samples) and kept for the life of the process.
+    /// The table for a coat of normal reflectance `f0`, made on first use and kept for the
+    /// life of the process.
     pub fn for_f0(f0: f32) -> &'static CoatAlbedoTable {
         static TABLES: Mutex<Vec<&'static CoatAlbedoTable>> = Mutex::new(Vec::new());
         let f0 = if f0.is_finite() {
@@ -393,6 +467,21 @@ mod tests {
             }
         }
         sum / n as f64
+    }
+
+    /// `ggx_albedo.bin` is what `tables()` computes (Schlick's tables and two coats).
+    #[test]
+    fn embedded_tables_are_the_generator_s() {
+        let data = embedded();
+        assert_eq!(data.len(), (2 + N_F0) * CELLS);
+        assert_eq!(&data[..2 * CELLS], &schlick_tables()[..], "Schlick tables");
+        for k in [1, N_F0 / 2] {
+            assert_eq!(
+                &data[(2 + k) * CELLS..(3 + k) * CELLS],
+                &coat_slice(k)[..],
+                "coat {k}"
+            );
+        }
     }
 
     #[test]

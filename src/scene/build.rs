@@ -81,6 +81,9 @@ impl Scene {
         }
         let textures: Vec<Texture> = desc.textures.iter().map(Texture::from_desc).collect();
         let materials: Vec<Material> = desc.materials.iter().map(Material::from_desc).collect();
+        // The GGX albedo tables, built once per process here on the caller's thread rather
+        // than by the first render worker that needs them.
+        crate::materials::layer::SchlickAlbedoTable::get();
 
         let prototypes: std::collections::HashSet<u32> =
             desc.instances.iter().map(|i| i.mesh).collect();
