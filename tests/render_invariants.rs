@@ -98,14 +98,26 @@ fn terms_are_finite_and_the_default_scene_shows_each() {
     assert_eq!(out.stats.non_finite_samples, 0);
 }
 
-/// Model only what the scene requires: no specular surface, no caustic map; indirect light
-/// off, no global map; and the stats say why.
+/// Model only what the scene requires, counted: without media and without specular surfaces
+/// no ray-marching step is taken and neither the volume nor the caustic map is read (where
+/// the scene has them, the same counters are non-zero); no specular surface, no caustic map;
+/// indirect light off, no global map; and the stats say why.
 #[test]
 fn maps_are_built_only_when_needed() {
+    let busy = render(&every_term_scene(), 1, 0, 0).stats.work;
+    assert!(
+        busy.march_steps > 0 && busy.volume_lookups > 0 && busy.caustic_lookups > 0,
+        "{busy:?}"
+    );
     let mut desc = load_scene("cornell_diffuse");
     desc.film.width = 16;
     desc.film.height = 16;
     let out = render(&desc, 1, 0, 0);
+    assert_eq!(
+        out.stats.work,
+        photonmap::render::work::WorkStats::default(),
+        "work the scene does not need"
+    );
     let caustic = out
         .stats
         .photon_maps

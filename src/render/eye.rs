@@ -31,6 +31,8 @@ pub struct EyeSettings {
 /// Everything the eye pass reads.
 pub struct EyeCtx<'a> {
     pub scene: &'a Scene,
+    /// Counts of the work done, for the stats.
+    pub work: &'a crate::render::work::WorkCounts,
     pub maps: &'a PhotonMaps,
     pub cache: Option<&'a IrradianceCache>,
     pub settings: EyeSettings,
@@ -217,7 +219,7 @@ pub fn trace_split(
         if let Some(m) = stack.current(scene.world_medium) {
             let dist = t_end * len;
             let tr = if wants(Term::Volume, bounces) {
-                let (lv, tr) = volume::march(
+                let mr = volume::march(
                     scene,
                     ctx.maps,
                     m,
@@ -229,8 +231,9 @@ pub fn trace_split(
                     rng,
                     scratch,
                 );
-                add(&mut out, Term::Volume, bounces, beta * lv);
-                tr
+                ctx.work.march(mr.steps, mr.volume_lookups);
+                add(&mut out, Term::Volume, bounces, beta * mr.radiance);
+                mr.transmittance
             } else {
                 scene.media[m as usize].transmittance_along(ray.o, ray.d / len, dist)
             };
@@ -290,7 +293,8 @@ pub fn trace_split(
                                 bounces,
                             });
                         }
-                    } else if wants(Term::Caustic, bounces) {
+                    } else if wants(Term::Caustic, bounces) && ctx.maps.caustic.is_some() {
+                        ctx.work.caustic_lookup();
                         add(
                             &mut out,
                             Term::Caustic,

@@ -11,6 +11,7 @@ mod renderer;
 pub mod settings;
 pub mod sppm;
 pub mod terms;
+pub mod work;
 
 pub use renderer::{
     MemoryEstimate, OutputTimeFn, PreviewFn, ProgressFn, RenderOutput, RenderStats, Renderer,

@@ -102,6 +102,8 @@ pub struct RenderStats {
     /// What a progressive render did; absent in Jensen's mode.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sppm: Option<SppmStats>,
+    /// Work done per kind (march steps, volume and caustic map lookups).
+    pub work: crate::render::work::WorkStats,
 }
 
 /// Memory that the photon maps and the BVH of a render take, estimated before the photon
@@ -138,6 +140,7 @@ pub struct Renderer<'a> {
     cancel: Option<Arc<AtomicBool>>,
     pub(super) preview: Option<Arc<PreviewFn>>,
     output_time: Option<Arc<OutputTimeFn>>,
+    work: crate::render::work::WorkCounts,
 }
 
 impl<'a> Renderer<'a> {
@@ -149,6 +152,7 @@ impl<'a> Renderer<'a> {
             cancel: None,
             preview: None,
             output_time: None,
+            work: Default::default(),
         }
     }
     pub fn settings(mut self, s: RenderSettings) -> Self {
@@ -392,6 +396,7 @@ impl<'a> Renderer<'a> {
                 cal_settings.photons.final_gather_rays = budget::CALIBRATION_GATHER_RAYS;
                 let ctx = EyeCtx {
                     scene: self.scene,
+                    work: &self.work,
                     maps: &cal_maps,
                     cache: None,
                     settings: EyeSettings {
@@ -523,6 +528,7 @@ impl<'a> Renderer<'a> {
         let cache = if s.photons.irradiance_cache && need_global && maps.global.is_some() {
             let pre = EyeCtx {
                 scene: self.scene,
+                work: &self.work,
                 maps: &maps,
                 cache: None,
                 settings: eye_settings,
@@ -543,6 +549,7 @@ impl<'a> Renderer<'a> {
         let t2 = Instant::now();
         let ctx = EyeCtx {
             scene: self.scene,
+            work: &self.work,
             maps: &maps,
             cache: cache.as_ref(),
             settings: eye_settings,
@@ -571,6 +578,7 @@ impl<'a> Renderer<'a> {
         seconds.insert("render".to_string(), t2.elapsed().as_secs_f64());
         let photon_bytes: u64 = map_stats.iter().map(|m| m.memory_bytes).sum();
         let stats = RenderStats {
+            work: self.work.stats(),
             version: env!("CARGO_PKG_VERSION"),
             seed: s.seed,
             width: w,
@@ -646,6 +654,7 @@ impl<'a> Renderer<'a> {
             start,
             non_finite: &non_finite,
             preview: self.preview.as_deref(),
+            work: &self.work,
         };
         let out = job.run()?;
         let mut seconds = std::collections::BTreeMap::new();
@@ -691,6 +700,7 @@ impl<'a> Renderer<'a> {
             }
         });
         let stats = RenderStats {
+            work: self.work.stats(),
             version: env!("CARGO_PKG_VERSION"),
             seed: s.seed,
             width: w,

@@ -98,6 +98,7 @@ pub struct SppmJob<'a> {
     pub start: Instant,
     pub non_finite: &'a AtomicUsize,
     pub preview: Option<&'a PreviewFn>,
+    pub work: &'a crate::render::work::WorkCounts,
 }
 
 struct Pixel {
@@ -235,6 +236,7 @@ impl<'a> SppmJob<'a> {
         let w = scene.width.max(1);
         let ctx = EyeCtx {
             scene,
+            work: self.work,
             maps,
             cache: None,
             settings: EyeSettings {

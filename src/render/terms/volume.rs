@@ -57,6 +57,15 @@ fn exp_neg(sigma_t: Spectrum, d: f32) -> Spectrum {
     Spectrum::new(f(sigma_t.x), f(sigma_t.y), f(sigma_t.z))
 }
 
+/// What a march found: the light scattered towards the ray's origin, the transmittance over
+/// the segment, and the steps and volume-map lookups it took.
+pub struct March {
+    pub radiance: Spectrum,
+    pub transmittance: Spectrum,
+    pub steps: u64,
+    pub volume_lookups: u64,
+}
+
 /// Light scattered towards `-dir` along `[0, dist)` from `o` inside `medium`, and the
 /// transmittance over the segment.
 #[allow(clippy::too_many_arguments)]
@@ -71,8 +80,14 @@ pub fn march(
     s: &MarchSettings,
     rng: &mut Rng,
     scratch: &mut KnnScratch,
-) -> (Spectrum, Spectrum) {
+) -> March {
     let med = &scene.media[medium as usize];
+    let done = |radiance, transmittance, steps, volume_lookups| March {
+        radiance,
+        transmittance,
+        steps,
+        volume_lookups,
+    };
     // An unbounded segment (world fog, ray escaping): beyond the scene's bounding sphere no
     // light source but those at infinity remains; march to the far side of the sphere.
     let oc = o - scene.center;
@@ -90,7 +105,7 @@ pub fn march(
         Spectrum::ZERO
     };
     if seg <= 0.0 {
-        return (Spectrum::ZERO, t_total);
+        return done(Spectrum::ZERO, t_total, 0, 0);
     }
     // In a homogeneous medium only the part of the segment with transmittance above the
     // cut-off matters; a grid's march stops when the accumulated transmittance falls below it.
@@ -106,6 +121,7 @@ pub fn march(
     let wo = -dir;
     let mut l = Spectrum::ZERO;
     let mut t_start = Spectrum::ONE;
+    let (mut steps, mut lookups) = (0u64, 0u64);
     for i in 0..n {
         if t_start.max_element() < T_CUTOFF {
             break;
@@ -132,11 +148,13 @@ pub fn march(
         }
         if let Some(vm) = &maps.volume {
             inscatter += vm.volume_radiance(x, wo, &phase, s.gather, s.max_r2, scratch);
+            lookups += 1;
         }
+        steps += 1;
         l += weight * inscatter;
         t_start *= exp_neg(sigma_t, step);
     }
-    (l, t_total)
+    done(l, t_total, steps, lookups)
 }
 
 /// Radiance from the lights arriving at `x` in a medium and scattered towards `wo`, per unit

@@ -1,0 +1,48 @@
+//! Counters of the work a render did, per kind: what the scene does not need must not run,
+//! and these counts show it (the stats JSON holds them under `work`).
+
+use serde::Serialize;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Shared by the workers of one render; each estimator adds its work once per call.
+#[derive(Debug, Default)]
+pub struct WorkCounts {
+    march_steps: AtomicU64,
+    volume_lookups: AtomicU64,
+    caustic_lookups: AtomicU64,
+}
+
+/// What [`WorkCounts`] counted.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct WorkStats {
+    /// Ray-marching steps through participating media (camera pass).
+    pub march_steps: u64,
+    /// Radiance estimates read from the volume photon map.
+    pub volume_lookups: u64,
+    /// Radiance estimates read from the caustic photon map.
+    pub caustic_lookups: u64,
+}
+
+impl WorkCounts {
+    pub fn march(&self, steps: u64, volume_lookups: u64) {
+        if steps > 0 {
+            self.march_steps.fetch_add(steps, Ordering::Relaxed);
+        }
+        if volume_lookups > 0 {
+            self.volume_lookups
+                .fetch_add(volume_lookups, Ordering::Relaxed);
+        }
+    }
+
+    pub fn caustic_lookup(&self) {
+        self.caustic_lookups.fetch_add(1, Ordering::Relaxed);
+    }
+
+    pub fn stats(&self) -> WorkStats {
+        WorkStats {
+            march_steps: self.march_steps.load(Ordering::Relaxed),
+            volume_lookups: self.volume_lookups.load(Ordering::Relaxed),
+            caustic_lookups: self.caustic_lookups.load(Ordering::Relaxed),
+        }
+    }
+}
