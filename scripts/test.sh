@@ -3,7 +3,14 @@
 # and its tests. Needs the Rust toolchain, Python 3.11 and pip.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+
+# Each stage prints how long it took; the totals are in the README ("Tests").
+STAGE_T0=$SECONDS
+stage() { echo "== $1: $((SECONDS - STAGE_T0)) s" >&2; STAGE_T0=$SECONDS; }
+trap 'echo "== total: $SECONDS s" >&2' EXIT
+
 cargo test --release --no-fail-fast
+stage "Rust tests"
 
 # Python package: build and install it (pip install . builds the Rust core with maturin), then
 # run its tests. A fresh venv keeps the machine's interpreter clean.
@@ -12,7 +19,9 @@ VENV="${PHOTONMAP_TEST_VENV:-$PWD/.venv-test}"
 "$PY" -m venv "$VENV"
 "$VENV/bin/python" -m pip install --quiet --upgrade pip
 CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}" "$VENV/bin/python" -m pip install --quiet ".[trade]" pytest hypothesis
+stage "Python package build"
 (cd tests/python && "$VENV/bin/python" -m pytest -q -p no:cacheprovider .)
+stage "Python tests"
 
 # Blender add-on: the `bpy` module (Blender 5.0.1 as a CPython 3.11 wheel, ~375 MB, pins
 # numpy < 2) in its own venv; builds the extension zip (our abi3 wheel inside), installs it the
@@ -27,6 +36,8 @@ if [ "${PHOTONMAP_SKIP_BLENDER:-0}" != 1 ]; then
     EXT_DIR="$(mktemp -d)"
     CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}" \
         python3 scripts/build_blender_extension.py --out "$EXT_DIR" > "$EXT_DIR/zip.txt"
+    stage "Blender setup (bpy, extension)"
     (cd tests/blender && PHOTONMAP_BLENDER_ZIP="$(tail -n 1 "$EXT_DIR/zip.txt")" \
         "$BPY_VENV/bin/python" -m pytest -q -p no:cacheprovider -W ignore::DeprecationWarning .)
+    stage "Blender tests"
 fi
