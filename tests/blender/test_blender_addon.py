@@ -179,7 +179,12 @@ def test_export_ir(photonmap_scene, addon):
         pytest.approx((0.5, 0.25))
     assert by_name["area_square"]["height"] == pytest.approx(0.5)
     assert by_name["area_disk"]["radius"] == pytest.approx(0.25)
-    assert by_name["area_ellipse"]["radius"] == pytest.approx(0.5 * math.sqrt(0.5 * 0.25))
+    # An ellipse keeps its two radii (size 0.5 along X, 0.25 along Y).
+    assert (by_name["area_ellipse"]["radius"], by_name["area_ellipse"]["radius_y"]) == \
+        pytest.approx((0.25, 0.125))
+    assert by_name["point"]["soft_falloff"] is True
+    assert all(light.get("spread", math.pi) == pytest.approx(math.pi)
+               for light in ir["lights"] if light["type"] in ("rect", "disk"))
     sun = by_name["sun"]
     assert sun["irradiance"] == 3.0 and sun["angle"] == pytest.approx(math.radians(1.0))
     assert sun["direction"] == pytest.approx([0, math.sin(math.radians(30)),
