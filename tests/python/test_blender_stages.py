@@ -28,7 +28,8 @@ import usd_delegate
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "blender")
 STAGES = ["cornell", "glass_mirror", "instances", "collection_instances"]
-# UsdLux.BlackbodyTemperatureAsRgb(6500), normalised to luminance 1 (ARCHITECTURE, section 5).
+# UsdLux.BlackbodyTemperatureAsRgb(6500), normalised to luminance 1: the tint Blender 5.0.1's
+# exporter gets, since it authors enableColorTemperature = 1 on every light.
 TINT_6500 = (1.043, 0.984, 1.035)
 
 
