@@ -64,33 +64,36 @@ def test_progress_callback_runs_on_calling_thread():
 
 def test_cancel_token_returns_quickly():
     r = photonmap.Renderer(numpy_scene(200), spp=2048)
-    t0 = time.time()
     threading.Timer(0.3, r.cancel).start()
+    seen = []
     with pytest.raises(photonmap.RenderCancelled):
-        r.render()
-    assert time.time() - t0 < 1.3
+        r.render(progress=lambda f, p: seen.append(f))
+    # Stopped long before the end (2048 samples per pixel take far longer than 0.3 s).
+    assert max(seen, default=0.0) < 0.5, max(seen)
 
 
 def test_progress_exception_cancels_and_propagates():
-    t0 = []
+    calls = []
 
     def cb(f, p):
-        t0.append(time.time())
+        calls.append(f)
         raise RuntimeError("stop here")
 
     with pytest.raises(RuntimeError, match="stop here"):
         photonmap.render(numpy_scene(200), spp=2048, progress=cb)
-    assert time.time() - t0[0] < 1.0
+    # The first report raised, and the render stopped there: the callback was not called again.
+    assert len(calls) == 1
 
 
 def test_keyboard_interrupt_cancels():
     import _thread
 
     threading.Timer(0.3, _thread.interrupt_main).start()
-    t0 = time.time()
+    seen = []
     with pytest.raises(KeyboardInterrupt):
-        photonmap.render(numpy_scene(200), spp=2048)
-    assert time.time() - t0 < 1.3
+        photonmap.render(numpy_scene(200), spp=2048, progress=lambda f, p: seen.append(f))
+    # Stopped long before the end (2048 samples per pixel take far longer than 0.3 s).
+    assert max(seen, default=0.0) < 0.5, max(seen)
 
 
 def test_invalid_dict_is_a_scene_error_naming_the_field():

