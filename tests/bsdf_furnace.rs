@@ -536,3 +536,59 @@ fn multiscatter_ggx_white_furnace_is_one() {
         }
     }
 }
+
+/// Known albedos of the layered and metallic lobes, by sampling:
+/// - the Principled BSDF with a white base: its specular layer reflects E_spec(wo) and the
+///   base, weighted by 1 - E_spec(wo), the rest, so it reflects everything, at every
+///   roughness (to the tables' interpolation);
+/// - a white Principled metal (Schlick F0 = 1, Multiscatter GGX): everything;
+/// - a Principled base of albedo 0.5: 1/2 + E_spec(wo)/2, with E_spec from the coat table, so
+///   a coat that reflects the wrong amount fails.
+#[test]
+fn layered_and_metal_albedos_are_known() {
+    use photonmap::materials::layer::CoatAlbedoTable;
+    use photonmap::materials::Principled;
+    let n = 200_000;
+    for r in [0.0f32, 0.3, 0.6, 1.0] {
+        for deg in [0.0f32, 45.0, 75.0] {
+            let wo = wo_at(deg);
+            for (name, desc, expect) in [
+                ("white plastic", principled(|d| d.roughness = FloatInput::Value(r)), None),
+                (
+                    "white metal",
+                    principled(|d| {
+                        d.roughness = FloatInput::Value(r);
+                        d.metallic = FloatInput::Value(1.0);
+                    }),
+                    None,
+                ),
+                (
+                    "grey plastic",
+                    principled(|d| {
+                        d.roughness = FloatInput::Value(r);
+                        d.base_color = ColorInput::Value([0.5; 3]);
+                    }),
+                    Some(()),
+                ),
+            ] {
+                let m = Material::from_desc(&desc);
+                let bsdf = m.bsdf(local(), Vec2::ZERO, &[]);
+                let expected = match expect {
+                    None => 1.0,
+                    Some(()) => {
+                        let MaterialDesc::Principled(p) = &desc else { unreachable!() };
+                        let f0 = Principled::from_desc(p).coat_f0();
+                        let e = CoatAlbedoTable::for_f0(f0).albedo_ms(wo.z, r, true) as f64;
+                        0.5 + 0.5 * e
+                    }
+                };
+                let (a, sa) = albedo_by_sampling(&bsdf, wo, n, 40 + deg as u64);
+                eprintln!("{name} r {r} {deg} deg: {a:.4} +- {sa:.4}, expected {expected:.4}");
+                assert!(
+                    (a - expected).abs() < 4.0 * sa + 4e-3,
+                    "{name} r {r} at {deg} deg: {a} +- {sa}, expected {expected}"
+                );
+            }
+        }
+    }
+}
