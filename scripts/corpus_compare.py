@@ -120,41 +120,48 @@ def block_map(res: compare.Result, ours: np.ndarray, ref, shape) -> np.ndarray:
     return img
 
 
-def contact_sheet(rows: list, path: str, quality: str) -> None:
+def contact_sheet(rows: list, path: str, quality: str, per_row: int = 2) -> None:
+    """Every scene as Cycles | ours (add-on) | blocks | ours (USD) | blocks, ``per_row``
+    scenes side by side, each panel at the images' own resolution."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     cols = ["Cycles", "ours: add-on", "add-on: blocks", "ours: USD", "USD: blocks"]
-    n = len(rows)
-    h, w = rows[0]["ref"].shape[:2] if rows else (120, 160)
+    h, w = rows[0]["ref"].shape[:2]
     dpi = 100
-    fig_w = len(cols) * w / dpi
-    row_h = (h + 34) / dpi
-    fig = plt.figure(figsize=(fig_w, n * row_h + 0.5), dpi=dpi)
+    gap, label_h, title_h = 6, 26, 30       # pixels
+    ncol = per_row * len(cols)
+    nrow = (len(rows) + per_row - 1) // per_row
+    W = ncol * w + (per_row - 1) * gap
+    H = title_h + nrow * (h + label_h)
+    fig = plt.figure(figsize=(W / dpi, H / dpi), dpi=dpi)
+    fig.text(0.5, 1 - 6 / H, f"Cycles parity corpus, PhotonMap at '{quality}' against Cycles "
+             f"5.0 (box filter 1 px). Block deviations: blue -10% .. white .. red +10%, black "
+             f"outline: beyond tolerance, grey: not judged", fontsize=7, ha="center", va="top")
     for i, row in enumerate(rows):
-        top = 1 - (0.5 / (n * row_h + 0.5)) - i * row_h / (n * row_h + 0.5)
+        r, c0 = divmod(i, per_row)
+        y_top = title_h + r * (h + label_h) + label_h
+        x0 = c0 * (len(cols) * w + gap)
+        fig.text(x0 / W + 0.001, 1 - (y_top - label_h + 2) / H,
+                 f"{row['name']}", fontsize=7, weight="bold", va="top")
         for j, col in enumerate(cols):
-            ax = fig.add_axes([j / len(cols), top - h / dpi / (n * row_h + 0.5), 1 / len(cols),
-                               h / dpi / (n * row_h + 0.5)])
+            ax = fig.add_axes([(x0 + j * w) / W, 1 - (y_top + h) / H, w / W, h / H])
             ax.set_xticks([])
             ax.set_yticks([])
+            for sp in ax.spines.values():
+                sp.set_linewidth(0.3)
             img = row["panels"].get(col)
             if img is None:
                 ax.set_facecolor((0.15, 0.15, 0.15))
                 ax.text(0.5, 0.5, row["missing"].get(col, "-"), color="w", ha="center",
-                        va="center", fontsize=6, wrap=True, transform=ax.transAxes)
+                        va="center", fontsize=6, transform=ax.transAxes)
             else:
-                ax.imshow(img, interpolation="nearest")
-            label = row["labels"].get(col, col if i == 0 else "")
-            if label:
-                ax.set_title(label, fontsize=6, pad=1.5)
-        fig.text(0.002, top + 14 / dpi / (n * row_h + 0.5), row["name"], fontsize=7,
-                 weight="bold", va="bottom")
-    fig.suptitle(f"Cycles parity corpus, PhotonMap at '{quality}' (block deviations: blue -10% "
-                 f"... red +10%; black outline: beyond tolerance; grey: not judged)",
-                 fontsize=7, y=1 - 0.1 / (n * row_h + 0.5))
+                ax.imshow(img, interpolation="nearest", aspect="auto")
+            label = row["labels"].get(col) or col
+            fig.text((x0 + j * w + w / 2) / W, 1 - (y_top - 2) / H, label, fontsize=5.2,
+                     ha="center", va="bottom")
     os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
     fig.savefig(path, dpi=dpi)
     plt.close(fig)
@@ -228,8 +235,9 @@ def main() -> None:
             mean = np.mean(ours["images"][:2], axis=0)
             row["panels"][col] = tone(mean, scale)
             row["panels"][bcol] = block_map(res, mean, ref, mean.shape)
-            row["labels"][bcol] = (f"{'pass' if res.passed else 'FAIL'} {100 * res.max_dev:+.1f}% "
-                                   f"({res.max_dev_sigma:+.1f} sd) px {res.relmse / res.relmse_tol:.2f}xtol")
+            row["labels"][bcol] = (f"{'pass' if res.passed else 'FAIL'}: max {100 * res.max_dev:+.1f}% "
+                                   f"({res.max_dev_sigma:+.1f}sd) pool {100 * res.pooled:+.1f}% "
+                                   f"px {res.relmse / res.relmse_tol:.2f}xtol")
             print(f"{name:22s} {path:5s} {'pass' if res.passed else 'FAIL':6s} "
                   f"{100 * res.max_dev:+12.2f}% {res.max_dev_sigma:+7.1f} {res.max_sigma:+9.1f} "
                   f"{res.n_failed:3d}/{res.n_blocks:<3d} {res.relmse:9.2e} {res.relmse_tol:9.2e} "
