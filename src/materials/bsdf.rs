@@ -256,6 +256,18 @@ impl Bsdf {
             .sum()
     }
 
+    /// The same BSDF prepared for many evaluations towards the one view direction `wo`
+    /// (world space; a photon-map radiance estimate): the lobes' view-dependent factors are
+    /// computed once. Evaluations with another `wo` stay correct.
+    pub fn for_view(&self, wo: Vec3) -> Bsdf {
+        let wo_l = self.frame.to_local(wo);
+        let mut b = *self;
+        for l in b.lobes[..b.count].iter_mut() {
+            l.fix_view(wo_l);
+        }
+        b
+    }
+
     /// The same BSDF with its glossy lobes only.
     pub fn glossy_part(&self) -> Bsdf {
         let mut b = Bsdf::new(self.frame);

@@ -25,6 +25,8 @@ pub struct MicrofacetReflection {
     pub fresnel: Fresnel,
     pub coat: Option<&'static CoatAlbedoTable>,
     pub ms: Option<MultiScatter>,
+    /// The compensation factor for one view cosine, fixed by [`MicrofacetReflection::fix_view`].
+    view: Option<(f32, Spectrum)>,
 }
 
 impl MicrofacetReflection {
@@ -42,12 +44,24 @@ impl MicrofacetReflection {
             fresnel,
             coat,
             ms,
+            view: None,
         }
     }
 
     /// The compensation factor at the view cosine `mu_o` (1 without it).
     #[inline]
+    /// Fixes the view-dependent factor for the view cosine `mu_o`: many evaluations with the
+    /// same `wo` (a photon-map radiance estimate) then skip its table lookup.
+    pub fn fix_view(&mut self, mu_o: f32) {
+        self.view = Some((mu_o, self.ms_factor(mu_o)));
+    }
+
     fn ms_factor(&self, mu_o: f32) -> Spectrum {
+        if let Some((m, f)) = self.view {
+            if m == mu_o {
+                return f;
+            }
+        }
         self.ms.map_or(Spectrum::ONE, |m| m.factor(mu_o))
     }
 

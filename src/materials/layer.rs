@@ -370,6 +370,8 @@ pub struct CoatedDiffuse {
     pub roughness: f32,
     table: &'static CoatAlbedoTable,
     multiscatter: bool,
+    /// `transmitted` for one view cosine, fixed by [`CoatedDiffuse::fix_view`].
+    view: Option<(f32, f32)>,
 }
 
 impl CoatedDiffuse {
@@ -384,10 +386,22 @@ impl CoatedDiffuse {
             roughness,
             table,
             multiscatter,
+            view: None,
         }
     }
 
+    /// Fixes the view-dependent weight for the view cosine `mu`: many evaluations with the
+    /// same `wo` then skip the table.
+    pub fn fix_view(&mut self, mu: f32) {
+        self.view = Some((mu, self.transmitted(mu)));
+    }
+
     fn transmitted(&self, mu: f32) -> f32 {
+        if let Some((m, t)) = self.view {
+            if m == mu {
+                return t;
+            }
+        }
         (1.0 - self.table.albedo_ms(mu, self.roughness, self.multiscatter)).max(0.0)
     }
 

@@ -101,6 +101,17 @@ impl Lobe {
         }
     }
 
+    /// Fixes what depends on the view direction alone for `wo` (local), for many evaluations
+    /// with it.
+    pub fn fix_view(&mut self, wo: Vec3) {
+        let mu = wo.z.abs();
+        match self {
+            Lobe::MicrofacetReflection(l) => l.fix_view(mu),
+            Lobe::CoatedDiffuse(l) => l.fix_view(mu),
+            _ => {}
+        }
+    }
+
     /// Estimate of the directional albedo of the masked part (used to pick lobes and for
     /// photon Russian roulette; exact where the lobe documents it).
     pub fn albedo(&self, wo: Vec3, mask: u8) -> Spectrum {

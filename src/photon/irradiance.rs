@@ -4,14 +4,10 @@
 //! final-gathering ray then reads the nearest such point with a matching normal instead of
 //! running a k-nearest-neighbour radiance estimate with the BSDF at every photon.
 //!
-//! Each point also keeps the share of its irradiance that came straight from the lights
-//! (photons at their first hit): that part is directional, and a glossy surface reflects it
-//! as a highlight, not as it reflects uniform light (`render::terms::indirect`).
-//!
 //! The points are kept in their own left-balanced kd-tree of 20-byte records.
 
 use super::kdtree::{KnnScratch, PhotonKdTree};
-use super::map::{PhotonMap, FLAG_FIRST_HIT};
+use super::map::PhotonMap;
 use super::photon::{decode_direction, encode_direction, rgbe_decode, rgbe_encode, KdRecord};
 use crate::math::{Spectrum, PI};
 use glam::Vec3;
@@ -29,8 +25,7 @@ const MIN_COS: f32 = 0.9;
 const CANDIDATES: usize = 4;
 
 /// A point of precomputed irradiance: position, RGBE irradiance, the quantised normal (on the
-/// side the photons arrived from), the share of direct light (luminance, of 255), and the
-/// kd-tree split axis.
+/// side the photons arrived from), and the kd-tree split axis.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C)]
 pub struct IrradiancePoint {
@@ -38,7 +33,7 @@ pub struct IrradiancePoint {
     rgbe: [u8; 4],
     normal: (u8, u8),
     axis: u8,
-    direct: u8,
+    _pad: u8,
 }
 
 const _: () = assert!(std::mem::size_of::<IrradiancePoint>() == 20);
@@ -61,18 +56,12 @@ impl KdRecord for IrradiancePoint {
 impl IrradiancePoint {
     fn new(p: Vec3, n: Vec3, est: &IrradianceEstimate) -> Option<Self> {
         let rgbe = rgbe_encode(est.irradiance).ok()?;
-        let lum = crate::math::luminance(est.irradiance);
-        let direct = if lum > 0.0 {
-            (est.direct / lum * 255.0).round().clamp(0.0, 255.0) as u8
-        } else {
-            0
-        };
         Some(IrradiancePoint {
             pos: p.to_array(),
             rgbe,
             normal: encode_direction(n),
             axis: 0,
-            direct,
+            _pad: 0,
         })
     }
 
@@ -82,11 +71,6 @@ impl IrradiancePoint {
 
     pub fn normal(&self) -> Vec3 {
         decode_direction(self.normal.0, self.normal.1)
-    }
-
-    /// The share of the irradiance that came straight from the lights.
-    pub fn direct_fraction(&self) -> f32 {
-        self.direct as f32 / 255.0
     }
 }
 
@@ -155,12 +139,10 @@ impl IrradianceMap {
     }
 }
 
-/// An irradiance estimate from a photon map, and the luminance of the part from photons at
-/// their first hit.
+/// An irradiance estimate from a photon map.
 #[derive(Clone, Copy, Debug)]
 pub struct IrradianceEstimate {
     pub irradiance: Spectrum,
-    pub direct: f32,
 }
 
 impl PhotonMap {
@@ -176,19 +158,14 @@ impl PhotonMap {
         scratch: &mut KnnScratch,
     ) -> IrradianceEstimate {
         let mut sum = Spectrum::ZERO;
-        let mut direct = 0.0f32;
-        let r2 = self.for_each_nearest(p, k, max_r2, scratch, |power, wi, flags| {
+        let r2 = self.for_each_nearest(p, k, max_r2, scratch, |power, wi, _| {
             if wi.dot(n) > 0.0 {
                 sum += power;
-                if flags & FLAG_FIRST_HIT != 0 {
-                    direct += crate::math::luminance(power);
-                }
             }
         });
         let norm = r2.map_or(0.0, |r2| 1.0 / (PI * r2));
         IrradianceEstimate {
             irradiance: sum * norm,
-            direct: direct * norm,
         }
     }
 }

@@ -229,6 +229,7 @@ fn radiance_in<P: PhotonRecord>(
         return Spectrum::ZERO;
     };
     let r = r2.sqrt();
+    let bsdf = bsdf.for_view(wo);
     let mut sum = Spectrum::ZERO;
     for (i, nb) in found.iter().enumerate() {
         if Some(i) == skip {

@@ -22,40 +22,6 @@ fn power_heuristic(a: f32, b: f32) -> f32 {
     }
 }
 
-/// Direct light reflected at `si` towards `si.wo` from one light sample alone (no BSDF
-/// sample): unbiased for non-delta lobes wherever a light can be sampled, and one shadow ray.
-pub fn light_sample(
-    scene: &Scene,
-    si: &SurfaceInteraction,
-    bsdf: &Bsdf,
-    stack: &MediumStack,
-    rng: &mut Rng,
-) -> Spectrum {
-    let ctx = scene.light_ctx();
-    let (u_light, u_pos) = (rng.f32(), rng.vec2());
-    let Some((li_idx, pmf, _)) = scene.light_sampler.sample(u_light) else {
-        return Spectrum::ZERO;
-    };
-    let Some(ls) = scene.lights[li_idx].sample_li(si.p, u_pos, &ctx) else {
-        return Spectrum::ZERO;
-    };
-    let f = bsdf.eval(si.wo, ls.wi) * ls.wi.dot(si.ns).abs();
-    if f.max_element() <= 0.0 {
-        return Spectrum::ZERO;
-    }
-    let shadow = if ls.dist.is_finite() {
-        si.spawn_ray_to(ls.p)
-    } else {
-        si.spawn_ray(ls.wi)
-    };
-    let mut shadow_stack = *stack;
-    if ls.wi.dot(si.ng) * si.wo.dot(si.ng) < 0.0 {
-        scene.update_stack(&mut shadow_stack, si, ls.wi);
-    }
-    let tr = scene.transmittance(&shadow, &shadow_stack);
-    f * ls.li * tr / (pmf * ls.pdf)
-}
-
 /// Direct light reflected at `si` towards `si.wo`.
 pub fn estimate(
     scene: &Scene,

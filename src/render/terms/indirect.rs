@@ -64,7 +64,7 @@ pub fn gather_radiance(
             // Short rays (corners, contact) take the full estimate: there the irradiance
             // changes within a point's reach.
             let near = si.t * ray.d.length() < NEAR_HIT_RADII * maps.global_r2.sqrt();
-            acc += beta * hit_radiance(scene, global, &si, &bsdf, maps, near, &stack, rng, scratch);
+            acc += beta * hit_radiance(global, &si, &bsdf, maps, near, scratch);
         }
         if bsdf.flags() & LobeFlags::SPECULAR == 0 {
             break;
@@ -87,21 +87,16 @@ pub fn gather_radiance(
 }
 
 /// Radiance leaving a gather ray's hit towards the gather point, from the global map. On an
-/// opaque surface it reads the nearest precomputed irradiance point (Christensen 1999): the
-/// diffuse lobes' response times the point's irradiance; the
-/// glossy lobes reflect the indirect part as uniform light (their albedo times E / pi) and
-/// the direct part through one light sample, since light straight from a lamp leaves a
-/// glossy surface as a highlight. Elsewhere, and where no point matches, the full radiance
-/// estimate with the BSDF (Jensen 2001, eq. 7.6).
+/// opaque surface its diffuse lobes read the nearest precomputed irradiance point
+/// (Christensen 1999): their response times the point's irradiance; its glossy lobes take the
+/// radiance estimate of the photons themselves. Elsewhere, and where no point matches, the
+/// full radiance estimate with the BSDF (Jensen 2001, eq. 7.6).
 fn hit_radiance(
-    scene: &Scene,
     global: &crate::photon::map::PhotonMap,
     si: &SurfaceInteraction,
     bsdf: &Bsdf,
     maps: &PhotonMaps,
     near: bool,
-    stack: &MediumStack,
-    rng: &mut Rng,
     scratch: &mut KnnScratch,
 ) -> Spectrum {
     if !near && bsdf.flags() & LobeFlags::TRANSMISSION == 0 {
@@ -115,11 +110,20 @@ fn hit_radiance(
                 .diffuse_response(si.wo)
                 .map_or(Spectrum::ZERO, |r| r * e);
             if bsdf.has_glossy() {
-                let indirect = e * (1.0 - pt.direct_fraction());
-                l += bsdf.glossy_albedo(si.wo) * (indirect * crate::math::INV_PI);
-                if pt.direct_fraction() > 0.0 {
-                    l += super::direct::light_sample(scene, si, &bsdf.glossy_part(), stack, rng);
-                }
+                // The glossy lobes see the photons' directions: a highlight of a lamp or of a
+                // bright wall is not uniform light (reflecting E / pi instead measured 1.5%
+                // too bright on a room of default Principled walls).
+                l += global.radiance(
+                    si.p,
+                    si.ng,
+                    si.wo,
+                    &bsdf.glossy_part(),
+                    maps.gather,
+                    maps.global_r2,
+                    EstimateFilter::Constant,
+                    0,
+                    scratch,
+                );
             }
             return l;
         }
