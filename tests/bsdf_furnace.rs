@@ -553,7 +553,11 @@ fn layered_and_metal_albedos_are_known() {
         for deg in [0.0f32, 45.0, 75.0] {
             let wo = wo_at(deg);
             for (name, desc, expect) in [
-                ("white plastic", principled(|d| d.roughness = FloatInput::Value(r)), None),
+                (
+                    "white plastic",
+                    principled(|d| d.roughness = FloatInput::Value(r)),
+                    None,
+                ),
                 (
                     "white metal",
                     principled(|d| {
@@ -576,7 +580,9 @@ fn layered_and_metal_albedos_are_known() {
                 let expected = match expect {
                     None => 1.0,
                     Some(()) => {
-                        let MaterialDesc::Principled(p) = &desc else { unreachable!() };
+                        let MaterialDesc::Principled(p) = &desc else {
+                            unreachable!()
+                        };
                         let f0 = Principled::from_desc(p).coat_f0();
                         let e = CoatAlbedoTable::for_f0(f0).albedo_ms(wo.z, r, true) as f64;
                         0.5 + 0.5 * e

@@ -229,6 +229,7 @@ fn closed_box(albedo: f32, light: [f32; 3]) -> SceneDesc {
             color: [1.0; 3],
             radius: 0.0,
             soft_falloff: false,
+            camera_visible: true,
         }],
         ..Default::default()
     }
@@ -571,6 +572,7 @@ fn zero_area_lights_are_rejected_naming_the_field() {
         color: [1.0; 3],
         two_sided: false,
         spread: std::f32::consts::PI,
+        camera_visible: true,
     };
     let e = photonmap::scene::validate(&desc).expect_err("radius 0 is rejected");
     assert!(e.to_string().contains("/lights/0/radius"), "{e}");
@@ -727,6 +729,7 @@ fn every_field_scene() -> SceneDesc {
         blend: 0.1,
         radius: 0.0,
         soft_falloff: false,
+        camera_visible: true,
     });
     desc.lights.push(LightDesc::Distant {
         name: "sun".into(),

@@ -72,6 +72,7 @@ fn white_furnace_indirect_matches_kd_over_one_minus_kd() {
                 color: [1.0; 3],
                 radius: 0.0,
                 soft_falloff: false,
+                camera_visible: true,
             }],
             ..Default::default()
         };
@@ -130,6 +131,7 @@ fn first_hit_power_equals_light_power() {
                 color: [1.0, 0.5, 0.25],
                 two_sided: false,
                 spread: std::f32::consts::PI,
+                camera_visible: true,
             },
             LightDesc::Point {
                 name: "bulb".into(),
@@ -138,6 +140,7 @@ fn first_hit_power_equals_light_power() {
                 color: [1.0; 3],
                 radius: 0.0,
                 soft_falloff: false,
+                camera_visible: true,
             },
             LightDesc::Sphere {
                 name: "ball".into(),
@@ -145,6 +148,7 @@ fn first_hit_power_equals_light_power() {
                 power: 5.0,
                 color: [0.2, 1.0, 0.4],
                 radius: 0.1,
+                camera_visible: true,
             },
         ],
         ..Default::default()

@@ -230,3 +230,26 @@ fn written_exr_beauty_is_the_sum_of_its_terms() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A light hidden from the camera (Blender's Ray Visibility > Camera off) is not drawn but
+/// lights the scene as before: the emission term loses exactly the light, and the direct
+/// term is the same bit for bit.
+#[test]
+fn a_light_hidden_from_the_camera_still_lights_the_scene() {
+    let mut desc = photonmap::scene::default_scene();
+    desc.film.width = 32;
+    desc.film.height = 32;
+    let seen = render(&desc, 2, 5, 0);
+    for l in desc.lights.iter_mut() {
+        if let photonmap::scene::desc::LightDesc::Rect { camera_visible, .. } = l {
+            *camera_visible = false;
+        }
+    }
+    let hidden = render(&desc, 2, 5, 0);
+    assert!(seen.film.term(Term::Emission).mean().max_element() > 0.0);
+    assert_eq!(hidden.film.term(Term::Emission).mean().max_element(), 0.0);
+    assert_eq!(
+        seen.film.term(Term::Direct).data,
+        hidden.film.term(Term::Direct).data
+    );
+}

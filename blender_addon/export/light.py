@@ -3,7 +3,7 @@ them: an area light of power P and area A has radiance P/(pi A), a point or spot
 power P intensity P/(4 pi), a point light of radius r an emitter of radiance P/(4 pi^2 r^2):
 a disk facing the shading point with Soft Falloff (Blender's default), else a sphere.
 
-Also carried: Exposure (x 2^exposure), colour Temperature (x the light's `temperature_color`),
+Also carried: Ray Visibility > Camera, Exposure (x 2^exposure), colour Temperature (x the light's `temperature_color`),
 Normalize off (the power is then per unit area: x A for area lights, x pi r^2 for point and
 spot lights with a radius), area-light Spread and the ellipse's two radii."""
 
@@ -35,6 +35,8 @@ def export_light(obj, matrix_world, warn) -> dict | None:
         else:
             color = [c * float(t) for c, t in zip(color, tint[:3])]
     normalize = bool(getattr(light, "normalize", True))
+    # Ray Visibility > Camera (area lights are off by default in Blender 5.0).
+    camera_visible = bool(getattr(obj, "visible_camera", True))
     if light.node_tree is not None and getattr(light, "use_nodes", False):
         warn(f"light '{name}': light node trees are not supported; ignored")
     pos = [float(x) for x in matrix_world.translation]
@@ -52,7 +54,8 @@ def export_light(obj, matrix_world, warn) -> dict | None:
         if not normalize and radius > 0.0:
             power *= math.pi * radius * radius
         d = {"type": "point", "name": name, "position": pos, "power": power, "color": color,
-             "radius": radius, "soft_falloff": bool(getattr(light, "use_soft_falloff", True))}
+             "radius": radius, "soft_falloff": bool(getattr(light, "use_soft_falloff", True)),
+             "camera_visible": camera_visible}
         if t == "SPOT":
             d.update(type="spot", direction=direction, cone_angle=float(light.spot_size),
                      blend=float(light.spot_blend))
@@ -72,8 +75,10 @@ def export_light(obj, matrix_world, warn) -> dict | None:
             power *= w * h * (1.0 if rect else math.pi / 4.0)
         if rect:
             return {"type": "rect", "name": name, "transform": matrix_rows(rt), "width": w,
-                    "height": h, "power": power, "color": color, "spread": spread}
+                    "height": h, "power": power, "color": color, "spread": spread,
+                    "camera_visible": camera_visible}
         return {"type": "disk", "name": name, "transform": matrix_rows(rt), "radius": 0.5 * w,
-                "radius_y": 0.5 * h, "power": power, "color": color, "spread": spread}
+                "radius_y": 0.5 * h, "power": power, "color": color, "spread": spread,
+                "camera_visible": camera_visible}
     warn(f"light '{name}': type {t} is not supported; skipped")
     return None

@@ -392,6 +392,7 @@ impl Material {
                 specular: specular.0,
                 emission_color: emission.desc(),
                 emission_strength: emission_strength.0,
+                multiscatter: specular.0.to_bits() & 1 == 0,
             })),
         }
     }
@@ -419,6 +420,7 @@ impl Light {
                 color: rgb(*c),
                 radius: r.0 / 8.0,
                 soft_falloff: w.0.to_bits() & 1 == 1,
+                camera_visible: w.0.to_bits() & 2 == 0,
             },
             Light::Spot(p, d, w, cone, blend, r) => LightDesc::Spot {
                 name,
@@ -434,6 +436,7 @@ impl Light {
                 blend: unit(*blend),
                 radius: r.0 / 8.0,
                 soft_falloff: w.0.to_bits() & 1 == 1,
+                camera_visible: true,
             },
             Light::Rect(t, w, h, p, two) => LightDesc::Rect {
                 name,
@@ -444,6 +447,7 @@ impl Light {
                 color: white,
                 two_sided: *two,
                 spread: if p.0.to_bits() & 1 == 1 { 1.0 } else { std::f32::consts::PI },
+                camera_visible: true,
             },
             Light::Disk(t, r, p, two) => LightDesc::Disk {
                 name,
@@ -454,6 +458,7 @@ impl Light {
                 color: white,
                 two_sided: *two,
                 spread: if p.0.to_bits() & 1 == 1 { 0.7 } else { std::f32::consts::PI },
+                camera_visible: true,
             },
             Light::Sphere(p, r, w) => LightDesc::Sphere {
                 name,
@@ -461,6 +466,7 @@ impl Light {
                 radius: r.0,
                 power: w.0 * 100.0,
                 color: white,
+                camera_visible: true,
             },
             Light::Distant(d, e, a) => LightDesc::Distant {
                 name,

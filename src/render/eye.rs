@@ -200,6 +200,9 @@ pub fn trace_split(
         if wants(Term::Emission, bounces) {
             let medium = stack.current(scene.world_medium);
             scene.lights_crossed(&ray, t_end, |lh| {
+                if bounces == 0 && !scene.light_camera_visible[lh.index as usize] {
+                    return;
+                }
                 let tr = match medium {
                     Some(m) => {
                         scene.media[m as usize].transmittance_along(ray.o, ray.d / len, lh.t * len)

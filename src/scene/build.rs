@@ -31,6 +31,8 @@ pub struct Scene {
     pub infinite_lights: Vec<u32>,
     /// Lights with a surface that rays can hit: area lights and point lights with a radius.
     pub hittable_lights: Vec<u32>,
+    /// Per light, whether camera rays see its emitter (`LightDesc` `camera_visible`).
+    pub light_camera_visible: Vec<bool>,
     pub bounds: Bounds3,
     pub center: Vec3,
     pub radius: f32,
@@ -192,6 +194,8 @@ impl Scene {
             })
             .collect();
 
+        // The IR's lights come first; emissive triangles and the environment follow.
+        let lights_len = lights.len();
         let mut scene = Scene {
             accel,
             materials,
@@ -204,6 +208,13 @@ impl Scene {
             emissive,
             infinite_lights,
             hittable_lights,
+            light_camera_visible: desc
+                .lights
+                .iter()
+                .map(LightDesc::camera_visible)
+                .chain(std::iter::repeat(true))
+                .take(lights_len)
+                .collect(),
             bounds,
             center,
             radius,

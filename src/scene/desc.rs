@@ -487,6 +487,10 @@ impl MaterialDesc {
 /// | `rect` | `transform` (light emits along local -Z), `width`, `height`, `power` W, `two_sided`, `spread` (full emission angle, rad, (0, pi]; default pi) |
 /// | `disk` | `transform`, `radius`, `radius_y` (an ellipse's second radius; default `radius`), `power` W, `two_sided`, `spread` |
 /// | `sphere` | `position`, `radius` > 0, `power` W |
+///
+/// Every light but `distant` also takes `camera_visible` (default true): false hides the
+/// emitter from camera rays, as Blender's Ray Visibility > Camera, while it still lights the
+/// scene and shows in mirrors and glass.
 /// | `distant` | `direction` (travel direction of the light), `irradiance` W/m^2, `angle` (angular diameter, rad) |
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
@@ -502,6 +506,10 @@ pub enum LightDesc {
         radius: f32,
         #[serde(default)]
         soft_falloff: bool,
+        /// Seen by camera rays (Blender's Ray Visibility > Camera); it lights the scene
+        /// either way.
+        #[serde(default = "yes")]
+        camera_visible: bool,
     },
     Spot {
         #[serde(default)]
@@ -518,6 +526,10 @@ pub enum LightDesc {
         radius: f32,
         #[serde(default)]
         soft_falloff: bool,
+        /// Seen by camera rays (Blender's Ray Visibility > Camera); it lights the scene
+        /// either way.
+        #[serde(default = "yes")]
+        camera_visible: bool,
     },
     Rect {
         #[serde(default)]
@@ -533,6 +545,10 @@ pub enum LightDesc {
         two_sided: bool,
         #[serde(default = "full_spread")]
         spread: f32,
+        /// Seen by camera rays (Blender's Ray Visibility > Camera); it lights the scene
+        /// either way.
+        #[serde(default = "yes")]
+        camera_visible: bool,
     },
     Disk {
         #[serde(default)]
@@ -549,6 +565,10 @@ pub enum LightDesc {
         two_sided: bool,
         #[serde(default = "full_spread")]
         spread: f32,
+        /// Seen by camera rays (Blender's Ray Visibility > Camera); it lights the scene
+        /// either way.
+        #[serde(default = "yes")]
+        camera_visible: bool,
     },
     Sphere {
         #[serde(default)]
@@ -558,6 +578,10 @@ pub enum LightDesc {
         power: f32,
         #[serde(default = "white")]
         color: Rgb,
+        /// Seen by camera rays (Blender's Ray Visibility > Camera); it lights the scene
+        /// either way.
+        #[serde(default = "yes")]
+        camera_visible: bool,
     },
     Distant {
         #[serde(default)]
@@ -576,6 +600,18 @@ fn full_spread() -> f32 {
 }
 
 impl LightDesc {
+    /// Whether camera rays see the emitter (lights at infinity: always).
+    pub fn camera_visible(&self) -> bool {
+        match self {
+            LightDesc::Point { camera_visible, .. }
+            | LightDesc::Spot { camera_visible, .. }
+            | LightDesc::Rect { camera_visible, .. }
+            | LightDesc::Disk { camera_visible, .. }
+            | LightDesc::Sphere { camera_visible, .. } => *camera_visible,
+            LightDesc::Distant { .. } => true,
+        }
+    }
+
     pub fn name(&self) -> &str {
         match self {
             LightDesc::Point { name, .. }
