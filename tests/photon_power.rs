@@ -99,8 +99,10 @@ fn f32_and_rgbe_power_give_the_same_image_within_quantisation() {
     assert!(indirect < 5e-3, "indirect {indirect}");
     assert!(caustic < 5e-3, "caustic {caustic}");
     assert!(combined > 0.0, "the power encoding changed nothing");
-    // Direct light does not read the photon maps.
-    assert_eq!(direct, 0.0);
+    // Direct light does not read the photon maps; it can differ only where a pixel's random
+    // stream took another turn (an irradiance-cache record of another reach, so a gather
+    // ray more or fewer, before a later specular bounce's direct estimate).
+    assert!(direct < 1e-4, "direct {direct}");
 }
 
 /// The memory estimate and the memory limit use the record size of the setting.

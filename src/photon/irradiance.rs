@@ -158,7 +158,7 @@ impl PhotonMap {
         scratch: &mut KnnScratch,
     ) -> IrradianceEstimate {
         let mut sum = Spectrum::ZERO;
-        let r2 = self.for_each_nearest(p, k, max_r2, scratch, |power, wi, _| {
+        let r2 = self.for_each_nearest(p, k, max_r2, scratch, n, |power, wi, _| {
             if wi.dot(n) > 0.0 {
                 sum += power;
             }

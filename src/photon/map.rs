@@ -236,7 +236,7 @@ fn radiance_in<P: PhotonRecord>(
             continue;
         }
         let ph = tree.get(nb.index);
-        if ph.user_flags() & only != only {
+        if ph.user_flags() & only != only || !on_disc(ph.position(), p, n, r) {
             continue;
         }
         let wi = ph.incoming();
@@ -256,6 +256,19 @@ fn radiance_in<P: PhotonRecord>(
     sum / (norm * PI * r2)
 }
 
+/// Fraction of the estimate's radius that a photon may lie off the tangent plane of the
+/// point estimated: Jensen's disc-shaped search (2001, §7.2.1), the sphere of the k nearest
+/// photons flattened along the normal, so that photons on another surface close by (the far
+/// side of a thin wall, the adjacent wall of a corner) do not leak into the estimate.
+pub const DISC_THICKNESS: f32 = 0.25;
+
+/// Whether photon position `q` lies within the flattened disc of radius `r` around `p` with
+/// normal `n` (unit).
+#[inline]
+pub fn on_disc(q: Vec3, p: Vec3, n: Vec3, r: f32) -> bool {
+    (q - p).dot(n).abs() <= DISC_THICKNESS * r
+}
+
 /// [`PhotonMap::for_each_nearest`] over one kind of photon record.
 #[inline]
 fn for_each_nearest_in<P: PhotonRecord>(
@@ -264,13 +277,16 @@ fn for_each_nearest_in<P: PhotonRecord>(
     k: usize,
     max_r2: f32,
     scratch: &mut KnnScratch,
+    n: Vec3,
     mut f: impl FnMut(Spectrum, Vec3, u16),
 ) -> Option<f32> {
     let (found, r2, skip) = nearest(tree, p, k, max_r2, scratch)?;
     for (i, nb) in found.iter().enumerate() {
         if Some(i) != skip {
             let ph = tree.get(nb.index);
-            f(ph.power(), ph.incoming(), ph.user_flags());
+            if on_disc(ph.position(), p, n, r2.sqrt()) {
+                f(ph.power(), ph.incoming(), ph.user_flags());
+            }
         }
     }
     Some(r2)
@@ -318,6 +334,7 @@ impl PhotonMap {
     }
 
     /// Calls `f(power, incoming direction, user flags)` for the photons of a k-nearest estimate at `p`
+    /// on the disc of normal `n` ([`on_disc`])
     /// (the k-th, on the boundary, left out) and returns the estimate's squared radius; None
     /// when no photon is within `max_r2`.
     pub fn for_each_nearest(
@@ -326,9 +343,10 @@ impl PhotonMap {
         k: usize,
         max_r2: f32,
         scratch: &mut KnnScratch,
+        n: Vec3,
         f: impl FnMut(Spectrum, Vec3, u16),
     ) -> Option<f32> {
-        with_tree!(&self.tree, t => for_each_nearest_in(t, p, k, max_r2, scratch, f))
+        with_tree!(&self.tree, t => for_each_nearest_in(t, p, k, max_r2, scratch, n, f))
     }
 
     /// Reflected radiance at `p` towards `wo` (Jensen 2001, eq. 7.6):
