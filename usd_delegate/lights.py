@@ -118,21 +118,31 @@ def read_light(prim, world: np.ndarray, time, diag, up_axis: str, textures):
         power = area_power(L, 4.0 * math.pi * r * r, normalize)
         treat_as_point = bool(_get(prim, "treatAsPoint", False, time))
         radius = 0.0 if treat_as_point or r <= 0 else r
+        # Blender's point and spot lights have Soft Falloff on by default and its exporter
+        # does not write the setting: read its stages' sphere lights the way Blender draws them.
+        soft = radius > 0.0 and t == "SphereLight" and _blender_authored(prim)
+        if soft:
+            diag.note(prim, "written by Blender: read with Blender's Soft Falloff (its default; "
+                            "the exporter does not write the setting)")
         if shaping and t == "SphereLight":
             angle = float(_get(prim, "shaping:cone:angle", 90.0, time))
-            soft = float(_get(prim, "shaping:cone:softness", 0.0, time))
+            softness = float(_get(prim, "shaping:cone:softness", 0.0, time))
             if _get(prim, "shaping:focus", 0.0, time) or _get(prim, "shaping:ies:file", None, time):
                 diag.warn(prim, "shaping focus and IES profiles are not supported; ignored")
             if angle < 90.0:
                 return "light", {"type": "spot", "name": name, "position": pos,
                                  "direction": forward.tolist(), "power": power,
                                  "color": color.tolist(), "cone_angle": math.radians(2 * angle),
-                                 "blend": min(1.0, max(0.0, soft)), "radius": radius}
+                                 "blend": min(1.0, max(0.0, softness)), "radius": radius,
+                                 "soft_falloff": soft}
         if radius == 0.0:
             if power == 0.0 and L > 0:
                 diag.warn(prim, "point light of zero radius without normalize emits nothing")
             return "light", {"type": "point", "name": name, "position": pos, "power": power,
                              "color": color.tolist()}
+        if soft:
+            return "light", {"type": "point", "name": name, "position": pos, "radius": radius,
+                             "power": power, "color": color.tolist(), "soft_falloff": True}
         return "light", {"type": "sphere", "name": name, "position": pos, "radius": radius,
                          "power": power, "color": color.tolist()}
     if t == "DistantLight":

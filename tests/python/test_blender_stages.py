@@ -137,8 +137,10 @@ def test_glass_preview_surface_alone_would_say_opaque():
 def test_point_light_200_watts_radius_0_1():
     r = load("glass_mirror")
     pt = by_name(r.ir["lights"], "/PointLight/Point")
-    assert pt["type"] == "sphere"
+    # Blender's default Soft Falloff, which its exporter does not write (noted).
+    assert pt["type"] == "point" and pt["soft_falloff"] is True
     assert pt["radius"] == pytest.approx(0.1)
+    assert any("Soft Falloff" in m for m in r.diagnostics.messages())
     assert pt["power"] == pytest.approx(200.0, rel=1e-6)
     assert pt["position"] == pytest.approx([0, 0, 1.7], abs=1e-6)
     assert pt["color"] == pytest.approx(TINT_6500, abs=1e-3)
