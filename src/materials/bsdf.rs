@@ -232,6 +232,19 @@ impl Bsdf {
         out
     }
 
+    /// Whether paths go on through this surface rather than end on it: rough glass (a glossy
+    /// transmission lobe, no diffuse lobe). Like a mirror or smooth glass it stores no
+    /// photons, photons through it are caustic photons, and eye and gather paths continue
+    /// through it by sampling it.
+    pub fn passes_through(&self) -> bool {
+        let f = self.flags();
+        f & LobeFlags::DIFFUSE == 0
+            && self.lobes().any(|(_, l)| {
+                let lf = l.flags();
+                lf & LobeFlags::TRANSMISSION != 0 && lf & LobeFlags::GLOSSY != 0
+            })
+    }
+
     /// Whether a glossy (non-delta, non-diffuse) lobe is present.
     pub fn has_glossy(&self) -> bool {
         self.lobes().any(|(_, l)| SELECT_GLOSSY.keeps(l))

@@ -172,7 +172,8 @@ fn trace_path(
             break;
         }
         let bsdf = crate::render::eye::shading_bsdf(scene, mat, &mut si);
-        if bsdf.has_non_delta() {
+        let passes = bsdf.passes_through();
+        if bsdf.has_non_delta() && !passes {
             let n = encode_direction(if si.ng.dot(si.wo) >= 0.0 {
                 si.ng
             } else {
@@ -234,7 +235,7 @@ fn trace_path(
             break;
         }
         power = new_power;
-        if bs.is_delta() {
+        if bs.is_delta() || passes {
             specular_bounces += 1;
         } else if kind == MapKind::Caustic {
             break;

@@ -46,12 +46,13 @@ fn first_diffuse(
         length += si.t * ray.d.length();
         let mat = scene.materials.get(si.material as usize)?;
         let bsdf = shading_bsdf(scene, mat, &mut si);
-        if bsdf.has_non_delta() {
+        let passes = bsdf.passes_through();
+        if bsdf.has_non_delta() && !passes {
             bsdf.diffuse_response(si.wo)?;
             let n = si.ng.dot(si.ns).signum() * si.ns;
             return Some((si, n, length));
         }
-        if bsdf.flags() & LobeFlags::SPECULAR == 0 {
+        if bsdf.flags() & LobeFlags::SPECULAR == 0 && !passes {
             return None;
         }
         let bs = bsdf.sample(si.wo, rng.f32(), rng.vec2())?;

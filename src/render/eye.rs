@@ -189,6 +189,7 @@ pub fn trace_split(
     };
     let mut stack = scene.camera_stack;
     let mut crossings = 0u32;
+    let mut skip_emission = false;
     loop {
         let hit = scene.intersect(&ray);
         let len = ray.d.length();
@@ -197,7 +198,7 @@ pub fn trace_split(
             SceneHit::Miss => f32::INFINITY,
         };
         // Analytic lights in front of the hit: seen, and seen through.
-        if wants(Term::Emission, bounces) {
+        if wants(Term::Emission, bounces) && !skip_emission {
             let medium = stack.current(scene.world_medium);
             scene.lights_crossed(&ray, t_end, |lh| {
                 if bounces == 0 && !scene.light_camera_visible[lh.index as usize] {
@@ -247,12 +248,14 @@ pub fn trace_split(
         }
         match hit {
             SceneHit::Miss => {
-                add(
-                    &mut out,
-                    Term::Emission,
-                    bounces,
-                    beta * emission::background(scene, ray.d),
-                );
+                if !skip_emission {
+                    add(
+                        &mut out,
+                        Term::Emission,
+                        bounces,
+                        beta * emission::background(scene, ray.d),
+                    );
+                }
                 break;
             }
             SceneHit::Surface(mut si) => {
@@ -269,13 +272,16 @@ pub fn trace_split(
                     ray = si.spawn_ray(ray.d);
                     continue;
                 }
-                add(
-                    &mut out,
-                    Term::Emission,
-                    bounces,
-                    beta * emission::surface_emission(scene, &si),
-                );
+                if !skip_emission {
+                    add(
+                        &mut out,
+                        Term::Emission,
+                        bounces,
+                        beta * emission::surface_emission(scene, &si),
+                    );
+                }
                 let bsdf = shading_bsdf(scene, mat, &mut si);
+                let passes = bsdf.passes_through();
                 if bsdf.has_non_delta() {
                     if wants(Term::Direct, bounces) {
                         add(
@@ -285,7 +291,10 @@ pub fn trace_split(
                             beta * direct::estimate(scene, &si, &bsdf, &stack, rng),
                         );
                     }
-                    if let Some(record) = visible.as_mut() {
+                    if passes {
+                        // Rough glass: the path goes on through it below; what reaches it
+                        // from the lights was estimated just above.
+                    } else if let Some(record) = visible.as_mut() {
                         if wants(Term::Caustic, bounces) || wants(Term::Indirect, bounces) {
                             record(VisiblePoint {
                                 p: si.p,
@@ -305,7 +314,7 @@ pub fn trace_split(
                             beta * caustic::estimate(ctx.maps, &si, &bsdf, scratch),
                         );
                     }
-                    if visible.is_none() && wants(Term::Indirect, bounces) {
+                    if !passes && visible.is_none() && wants(Term::Indirect, bounces) {
                         add(
                             &mut out,
                             Term::Indirect,
@@ -314,7 +323,9 @@ pub fn trace_split(
                         );
                     }
                 }
-                if bsdf.flags() & LobeFlags::SPECULAR == 0 || bounces >= s.max_specular_depth {
+                if (bsdf.flags() & LobeFlags::SPECULAR == 0 && !passes)
+                    || bounces >= s.max_specular_depth
+                {
                     break;
                 }
                 let u_lobe = rng.f32();
@@ -322,9 +333,12 @@ pub fn trace_split(
                 let Some(bs) = bsdf.sample(si.wo, u_lobe, u) else {
                     break;
                 };
-                if !bs.is_delta() {
+                if !bs.is_delta() && !passes {
                     break; // the non-delta part was estimated above
                 }
+                // After a rough-glass bounce the emitter it reaches was counted by that
+                // vertex's direct estimate (light and BSDF samples, MIS).
+                skip_emission = !bs.is_delta();
                 beta *= bs.weight;
                 bounces += 1;
                 match specular::continue_chain(beta, bounces, rng.f32()) {

@@ -60,13 +60,14 @@ pub fn gather_radiance(
             break;
         };
         let bsdf = crate::render::eye::shading_bsdf(scene, mat, &mut si);
-        if bsdf.has_non_delta() {
+        let passes = bsdf.passes_through();
+        if bsdf.has_non_delta() && !passes {
             // Short rays (corners, contact) take the full estimate: there the irradiance
             // changes within a point's reach.
             let near = si.t * ray.d.length() < NEAR_HIT_RADII * maps.global_r2.sqrt();
             acc += beta * hit_radiance(global, &si, &bsdf, maps, near, scratch);
         }
-        if bsdf.flags() & LobeFlags::SPECULAR == 0 {
+        if bsdf.flags() & LobeFlags::SPECULAR == 0 && !passes {
             break;
         }
         // The specular part of the surface: follow it by sampling (non-specular samples are
@@ -74,7 +75,7 @@ pub fn gather_radiance(
         let Some(bs) = bsdf.sample(si.wo, rng.f32(), rng.vec2()) else {
             break;
         };
-        if !bs.is_delta() {
+        if !bs.is_delta() && !passes {
             break;
         }
         beta *= bs.weight;
