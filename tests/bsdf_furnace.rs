@@ -542,6 +542,8 @@ fn multiscatter_ggx_white_furnace_is_one() {
 ///   base, weighted by 1 - E_spec(wo), the rest, so it reflects everything, at every
 ///   roughness (to the tables' interpolation);
 /// - a white Principled metal (Schlick F0 = 1, Multiscatter GGX): everything;
+/// - the white plastic under a clear coat: the coat reflects E_coat(wo), what it lets
+///   through is reflected entirely below, so everything again;
 /// - a Principled base of albedo 0.5: 1/2 + E_spec(wo)/2, with E_spec from the coat table, so
 ///   a coat that reflects the wrong amount fails.
 #[test]

@@ -35,7 +35,8 @@ _PREVIEW_DEFAULTS = {"diffuseColor": (0.18, 0.18, 0.18), "metallic": 0.0, "rough
 _OPENPBR_DEFAULTS = {"base_color": (0.8, 0.8, 0.8), "base_weight": 1.0, "base_metalness": 0.0,
                      "specular_roughness": 0.3, "specular_ior": 1.5, "specular_weight": 1.0,
                      "transmission_weight": 0.0, "emission_color": (1, 1, 1),
-                     "emission_luminance": 0.0, "coat_weight": 0.0,
+                     "emission_luminance": 0.0, "coat_weight": 0.0, "coat_roughness": 0.0,
+                     "coat_ior": 1.6, "coat_color": (1, 1, 1),
                      "subsurface_weight": 0.0, "fuzz_weight": 0.0, "thin_film_weight": 0.0}
 _STANDARD_DEFAULTS = {"base_color": (1, 1, 1), "base": 0.8, "metalness": 0.0,
                       "specular_roughness": 0.2, "specular_IOR": 1.5, "specular": 1.0,
@@ -251,7 +252,7 @@ class MaterialTable:
             names = ("base_color", "base_weight", "base_metalness", "specular_roughness",
                      "specular_ior", "specular_weight", "transmission_weight",
                      "emission_color", "emission_luminance")
-            unsupported = ("coat_weight", "subsurface_weight", "fuzz_weight", "thin_film_weight")
+            unsupported = ("subsurface_weight", "fuzz_weight", "thin_film_weight")
         else:
             d = _STANDARD_DEFAULTS
             names = ("base_color", "base", "metalness", "specular_roughness", "specular_IOR",
@@ -276,4 +277,15 @@ class MaterialTable:
         if strength > 0:
             m["emission_color"] = self.color(s, ec, d)
             m["emission_strength"] = strength
+        if _shader_id(s) == OPENPBR:
+            coat = min(1.0, max(0.0, float(self._value(s, "coat_weight", d) or 0.0)))
+            if coat > 0:
+                tint = self.color(s, "coat_color", d)
+                if isinstance(tint, dict):
+                    self.diag.warn(prim, "a texture on `coat_color` is not supported; white")
+                    tint = [1.0, 1.0, 1.0]
+                m.update(coat_weight=coat,
+                         coat_roughness=min(1.0, max(0.0, self.scalar(s, "coat_roughness", d))),
+                         coat_ior=max(1.0, self.scalar(s, "coat_ior", d)),
+                         coat_tint=tint)
         return m

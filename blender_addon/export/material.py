@@ -4,7 +4,7 @@ Follows the node tree from the active Material Output's Surface socket:
 
 | node | IR |
 |---|---|
-| Principled BSDF | `principled`: Base Color, Metallic, Roughness, IOR, Transmission Weight, Specular IOR Level (x 2 = `specular`), Emission Color and Strength; Multiscatter GGX or GGX (`multiscatter`) |
+| Principled BSDF | `principled`: Base Color, Metallic, Roughness, IOR, Transmission Weight, Specular IOR Level (x 2 = `specular`), Emission Color and Strength, Coat (Weight, Roughness, IOR, Tint); Multiscatter GGX or GGX (`multiscatter`) |
 | Diffuse BSDF | `diffuse` (roughness ignored) |
 | Glossy / Anisotropic BSDF | `glossy`: Color as a tint (no Fresnel, as Cycles), Roughness, Multiscatter GGX or GGX (anisotropy ignored) |
 | Glass BSDF | `dielectric` |
@@ -194,7 +194,24 @@ class MaterialExporter:
                 "Emission Strength")),
             "multiscatter": self._multiscatter(n, name),
         }
-        for sock in ("Coat Weight", "Sheen Weight", "Subsurface Weight"):
+        coat = self._const(self._float(n, "Coat Weight", name, 0.0, textures=False), name,
+                           "Coat Weight")
+        if float(coat) > 0.0:
+            d.update(
+                coat_weight=min(1.0, float(coat)),
+                coat_roughness=float(self._const(self._float(n, "Coat Roughness", name, 0.03,
+                                                             textures=False), name,
+                                                 "Coat Roughness")),
+                coat_ior=max(1.0, float(self._const(self._float(n, "Coat IOR", name, 1.5,
+                                                                textures=False), name,
+                                                    "Coat IOR"))),
+                coat_tint=self._const_color(self._color(n, "Coat Tint", name, (1, 1, 1)), name,
+                                            "Coat Tint"),
+            )
+            s = n.inputs.get("Coat Normal")
+            if s is not None and s.is_linked:
+                self.warn(f"material '{name}': a coat normal map is not supported; ignored")
+        for sock in ("Sheen Weight", "Subsurface Weight"):
             s = n.inputs.get(sock)
             if s is not None and (s.is_linked or float(s.default_value) > 0.0):
                 self.warn(f"material '{name}': {sock} is not supported; ignored")

@@ -393,6 +393,10 @@ impl Material {
                 emission_color: emission.desc(),
                 emission_strength: emission_strength.0,
                 multiscatter: specular.0.to_bits() & 1 == 0,
+                coat_weight: if specular.0.to_bits() & 2 == 0 { 0.0 } else { unit(*transmission) },
+                coat_roughness: unit(*transmission) * 0.5,
+                coat_ior: ior(*i),
+                coat_tint: [1.0, 0.9, 0.8],
             })),
         }
     }

@@ -7,6 +7,7 @@
 //! radiance by 1/eta^2 (Veach 1997 §5.2). Flux (photons) is not scaled; see
 //! [`BsdfSample::importance_weight`].
 
+use super::layer::CoatLayer;
 use super::lobe::Lobe;
 use crate::math::{Frame, Spectrum};
 use glam::{Vec2, Vec3};
@@ -120,7 +121,7 @@ const SELECT_GLOSSY: Selection = Selection {
 };
 
 /// Maximum number of lobes in one BSDF.
-pub const MAX_LOBES: usize = 4;
+pub const MAX_LOBES: usize = 5;
 
 /// A weighted sum of up to [`MAX_LOBES`] lobes, placed in a shading frame. No allocation.
 #[derive(Clone, Copy, Debug)]
@@ -129,6 +130,9 @@ pub struct Bsdf {
     lobes: [Lobe; MAX_LOBES],
     weights: [f32; MAX_LOBES],
     count: usize,
+    /// A clear coat over the lobes marked in `coated` (the Principled BSDF's Coat).
+    coat: Option<CoatLayer>,
+    coated: [bool; MAX_LOBES],
 }
 
 impl Bsdf {
@@ -139,7 +143,34 @@ impl Bsdf {
             lobes: [Lobe::NONE; MAX_LOBES],
             weights: [0.0; MAX_LOBES],
             count: 0,
+            coat: None,
+            coated: [false; MAX_LOBES],
         }
+    }
+
+    /// Puts `coat` over every lobe added so far (the coat's own reflection is added after, as
+    /// an ordinary lobe): each is weighted by what the coat lets through towards the viewer.
+    pub fn coat_over(&mut self, coat: CoatLayer) {
+        self.coat = Some(coat);
+        for c in self.coated[..self.count].iter_mut() {
+            *c = true;
+        }
+    }
+
+    /// The weight of lobe `i` for the view direction `wo` (local): its own, times the coat's
+    /// attenuation when it lies under the coat.
+    #[inline]
+    fn weight_at(&self, i: usize, wo: Vec3) -> Spectrum {
+        let w = Spectrum::splat(self.weights[i]);
+        match &self.coat {
+            Some(c) if self.coated[i] => w * c.under(wo.z.abs()),
+            _ => w,
+        }
+    }
+
+    /// The (weight for the view `wo`, lobe) pairs, `wo` local.
+    fn lobes_at(&self, wo: Vec3) -> impl Iterator<Item = (Spectrum, &Lobe)> {
+        (0..self.count).map(move |i| (self.weight_at(i, wo), &self.lobes[i]))
     }
 
     /// Adds `weight * lobe`. Non-positive or non-finite weights and lobes beyond
@@ -221,7 +252,7 @@ impl Bsdf {
     pub fn diffuse_response(&self, wo: Vec3) -> Option<Spectrum> {
         let wo = self.frame.to_local(wo);
         let mut out: Option<Spectrum> = None;
-        for (w, l) in self.lobes() {
+        for (w, l) in self.lobes_at(wo) {
             if l.flags() & LobeFlags::DIFFUSE == 0 {
                 continue;
             }
@@ -263,7 +294,7 @@ impl Bsdf {
     /// estimate (`Lobe::albedo`): the glossy part's reflected radiance under uniform light.
     pub fn glossy_albedo(&self, wo: Vec3) -> Spectrum {
         let wo = self.frame.to_local(wo);
-        self.lobes()
+        self.lobes_at(wo)
             .filter(|(_, l)| SELECT_GLOSSY.keeps(l))
             .map(|(w, l)| w * l.albedo(wo, SELECT_GLOSSY.mask).max(Vec3::ZERO))
             .sum()
@@ -284,9 +315,10 @@ impl Bsdf {
     /// The same BSDF with its glossy lobes only.
     pub fn glossy_part(&self) -> Bsdf {
         let mut b = Bsdf::new(self.frame);
-        for (w, l) in self.lobes() {
-            if SELECT_GLOSSY.keeps(l) {
-                b.add(w, *l);
+        b.coat = self.coat;
+        for (i, (w, l)) in self.lobes().enumerate() {
+            if SELECT_GLOSSY.keeps(l) && b.add(w, *l) {
+                b.coated[b.count - 1] = self.coated[i];
             }
         }
         b
@@ -319,7 +351,7 @@ impl Bsdf {
         if wo.z == 0.0 || !wo.is_finite() {
             return (d, s, t);
         }
-        for (w, l) in self.lobes() {
+        for (w, l) in self.lobes_at(wo) {
             let r = w * l.albedo(wo, LobeFlags::REFLECTION).max(Vec3::ZERO);
             if l.flags() & LobeFlags::DIFFUSE != 0 {
                 d += r;
@@ -383,7 +415,7 @@ impl Bsdf {
             return Vec3::ZERO;
         }
         let mut f = Vec3::ZERO;
-        for (w, l) in self.lobes() {
+        for (w, l) in self.lobes_at(wo) {
             if sel.keeps(l) {
                 f += w * l.eval(wo, wi, sel.mask);
             }
@@ -399,10 +431,10 @@ impl Bsdf {
     fn selection(&self, wo: Vec3, sel: Selection) -> ([f32; MAX_LOBES], f32) {
         let mut p = [0.0f32; MAX_LOBES];
         let mut sum = 0.0;
-        for (i, (w, l)) in self.lobes().enumerate() {
+        for (i, (w, l)) in self.lobes_at(wo).enumerate() {
             if sel.keeps(l) {
-                let a = mean(l.albedo(wo, sel.mask));
-                let v = w * a;
+                let a = mean(w * l.albedo(wo, sel.mask));
+                let v = a;
                 if v > 0.0 && v.is_finite() {
                     p[i] = v;
                     sum += v;
@@ -467,7 +499,7 @@ impl Bsdf {
         let lobe = &self.lobes[k];
         let s = lobe.sample(wo, uc, u, sel.mask)?;
         if s.is_delta() {
-            let weight = self.weights[k] * s.weight / pk;
+            let weight = self.weight_at(k, wo) * s.weight / pk;
             let pdf = pk * s.pdf;
             return (weight.is_finite() && pdf > 0.0).then_some(BsdfSample { weight, pdf, ..s });
         }

@@ -349,6 +349,44 @@ impl CoatAlbedoTable {
     }
 }
 
+/// A clear coat over a BSDF, as Cycles layers the Principled BSDF's Coat: the lobes under it
+/// are weighted by what the coat does not reflect towards the viewer, 1 - weight E_coat(wo),
+/// and tinted by the coat's absorption, mix(1, tint^(1 / cos t), weight) with t the angle of
+/// the view refracted into the coat (Beer's law through a unit thickness). The coat's own
+/// reflection is a lobe of the BSDF ([`super::coat_lobe`]).
+///
+/// | parameter | meaning |
+/// |---|---|
+/// | `weight` | Coat Weight, in [0, 1] |
+/// | `roughness` | Coat Roughness |
+/// | `ior` | Coat IOR (its F0 fixes `table`) |
+/// | `tint` | Coat Tint |
+/// | `multiscatter` | the coat's reflection compensated for multiple scattering |
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CoatLayer {
+    pub weight: f32,
+    pub roughness: f32,
+    pub ior: f32,
+    pub tint: Spectrum,
+    pub table: &'static CoatAlbedoTable,
+    pub multiscatter: bool,
+}
+
+impl CoatLayer {
+    /// What reaches the lobes under the coat and back towards a viewer at cosine `mu`.
+    pub fn under(&self, mu: f32) -> Spectrum {
+        let e = self.table.albedo_ms(mu, self.roughness, self.multiscatter);
+        let through = Spectrum::splat((1.0 - self.weight * e).max(0.0));
+        if self.tint == Spectrum::ONE {
+            return through;
+        }
+        let sin2_t = (1.0 - mu * mu).max(0.0) / (self.ior * self.ior);
+        let cos_t = (1.0 - sin2_t).max(1e-4).sqrt();
+        let absorbed = self.tint.max(Spectrum::ZERO).powf(1.0 / cos_t);
+        through * Spectrum::ONE.lerp(absorbed, self.weight)
+    }
+}
+
 /// The diffuse base of a coated (plastic-like) surface, layered as Cycles layers the
 /// Principled BSDF's base under its specular layer: the base's weight is what the specular
 /// layer does not reflect towards the viewer,

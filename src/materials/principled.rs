@@ -2,7 +2,7 @@
 
 use super::bsdf::Bsdf;
 use super::fresnel::{f0_from_ior, Fresnel};
-use super::layer::{CoatAlbedoTable, CoatedDiffuse};
+use super::layer::{CoatAlbedoTable, CoatLayer, CoatedDiffuse};
 use super::lobe::Lobe;
 use super::texture::{ColorParam, FloatParam, Texture};
 use super::{coat_lobe, dielectric_lobe, reflection_lobe};
@@ -24,6 +24,8 @@ const MAX_COAT_F0: f32 = 0.9;
 /// | `ior` | index of refraction of the dielectric base and of the glass |
 /// | `specular` | OpenPBR `specular_weight` (Blender IOR Level x 2): scales the coat's F0 |
 /// | `emission_color`, `emission_strength` | emitted radiance = colour x strength |
+/// | `multiscatter` | reflection compensated for multiple scattering (Multiscatter GGX) |
+/// | `coat_weight`, `coat_roughness`, `coat_ior`, `coat_tint` | a clear coat over it all ([`CoatLayer`]) |
 ///
 /// Mapping onto the lobes (weights sum to one):
 ///
@@ -31,13 +33,14 @@ const MAX_COAT_F0: f32 = 0.9;
 /// |---|---|---|
 /// | metal | m | GGX reflection (delta at roughness 0), Schlick Fresnel with F0 = base colour |
 /// | glass | (1 - m) t | dielectric of IOR `ior`, rough or smooth, transmission tinted by base colour |
-/// | coat | (1 - m)(1 - t) | GGX reflection (delta at roughness 0) with the dielectric Fresnel of IOR eta_s |
-/// | base | (1 - m)(1 - t) | Lambert base colour x (1 - E(wo))(1 - E(wi)) / (1 - E_avg) under the coat |
+/// | specular | (1 - m)(1 - t) | GGX reflection (delta at roughness 0) with the dielectric Fresnel of IOR eta_s |
+/// | base | (1 - m)(1 - t) | Lambert base colour x (1 - E(wo)) under the specular layer, as Cycles layers it |
+/// | clear coat | `coat_weight` | over all of the above ([`CoatLayer`]): GGX with the dielectric Fresnel of `coat_ior` |
 ///
 /// eta_s follows OpenPBR's specular weight: F0_s = clamp(specular x ((ior - 1)/(ior + 1))^2,
 /// 0, 0.9) and eta_s = (1 + sqrt F0_s)/(1 - sqrt F0_s), so `specular` = 1 is the physical
-/// interface and 0 removes the coat. E is the coat's directional albedo (tabulated), so the
-/// base receives exactly what the coat does not reflect and coat + base <= 1.
+/// interface and 0 removes the specular layer. E is its directional albedo (tabulated), so
+/// the base receives exactly what it does not reflect and the two add up to at most one.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Principled {
     pub name: String,
@@ -51,6 +54,8 @@ pub struct Principled {
     pub emission_strength: f32,
     /// Reflection lobes compensated for multiple scattering (Cycles' Multiscatter GGX).
     pub multiscatter: bool,
+    /// The clear coat over everything, if any (Coat Weight > 0).
+    pub clearcoat: Option<CoatLayer>,
     /// Albedo table of the coat (its F0 is fixed by `ior` and `specular`).
     pub coat_table: &'static CoatAlbedoTable,
 }
@@ -82,6 +87,17 @@ impl Principled {
             emission_color: ColorParam::from_input(&d.emission_color),
             emission_strength: sane(d.emission_strength, 0.0, f32::MAX, 0.0),
             multiscatter: d.multiscatter,
+            clearcoat: (d.coat_weight.is_finite() && d.coat_weight > 0.0).then(|| {
+                let coat_ior = sane(d.coat_ior, 1.0, 10.0, 1.5);
+                CoatLayer {
+                    weight: d.coat_weight.min(1.0),
+                    roughness: sane(d.coat_roughness, 0.0, 1.0, 0.03),
+                    ior: coat_ior,
+                    tint: Spectrum::from(d.coat_tint).clamp(Spectrum::ZERO, Spectrum::ONE),
+                    table: CoatAlbedoTable::for_f0(f0_from_ior(coat_ior)),
+                    multiscatter: d.multiscatter,
+                }
+            }),
             coat_table: CoatAlbedoTable::for_f0(coat_f0(ior, specular)),
         }
     }
@@ -108,6 +124,10 @@ impl Principled {
             w_base,
             Lobe::CoatedDiffuse(CoatedDiffuse::new(base, r, self.coat_table, ms)),
         );
+        if let Some(c) = self.clearcoat {
+            bsdf.coat_over(c);
+            bsdf.add(c.weight, coat_lobe(c.roughness, c.table, c.multiscatter));
+        }
         bsdf
     }
 
@@ -124,6 +144,7 @@ impl Principled {
             FloatParam::Const(v) => v > 0.0,
             FloatParam::Tex { scale, .. } => scale > 0.0,
         };
-        rough_zero && (metal || self.coat_f0() > 0.0)
+        let smooth_coat = self.clearcoat.is_some_and(|c| c.roughness <= 0.0);
+        smooth_coat || (rough_zero && (metal || self.coat_f0() > 0.0))
     }
 }

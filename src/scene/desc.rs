@@ -430,6 +430,19 @@ pub struct PrincipledDesc {
     /// Multiscatter GGX, the Principled BSDF's default); false is plain GGX.
     #[serde(default = "yes")]
     pub multiscatter: bool,
+    /// Clear coat over everything (Blender's Coat, OpenPBR `coat_*`): weight in [0, 1]
+    /// (0 = none), perceptual roughness, IOR and tint.
+    #[serde(default)]
+    pub coat_weight: f32,
+    #[serde(default = "default_coat_roughness")]
+    pub coat_roughness: f32,
+    #[serde(default = "default_ior")]
+    pub coat_ior: f32,
+    #[serde(default = "white")]
+    pub coat_tint: Rgb,
+}
+fn default_coat_roughness() -> f32 {
+    0.03
 }
 fn yes() -> bool {
     true
@@ -459,6 +472,10 @@ impl Default for PrincipledDesc {
             emission_color: black_color(),
             emission_strength: 0.0,
             multiscatter: true,
+            coat_weight: 0.0,
+            coat_roughness: default_coat_roughness(),
+            coat_ior: default_ior(),
+            coat_tint: white(),
         }
     }
 }

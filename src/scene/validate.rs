@@ -357,7 +357,11 @@ fn validate_material(i: usize, m: &MaterialDesc, scene: &SceneDesc) -> Result<()
             c.range("ior", p.ior, 1.0, 10.0)?;
             c.range("specular", p.specular, 0.0, 10.0)?;
             c.color_input("emission_color", &p.emission_color, scene)?;
-            c.non_negative("emission_strength", p.emission_strength)
+            c.non_negative("emission_strength", p.emission_strength)?;
+            c.range("coat_weight", p.coat_weight, 0.0, 1.0)?;
+            c.range("coat_roughness", p.coat_roughness, 0.0, 1.0)?;
+            c.range("coat_ior", p.coat_ior, 1.0, 10.0)?;
+            c.rgb("coat_tint", &p.coat_tint)
         }
     }
 }
