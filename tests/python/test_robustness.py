@@ -51,7 +51,7 @@ def test_cancel_token_stops_every_phase_within_a_second(phase):
     assert state["phase_at_cancel"] == phase, state
     # The latency is measured in tests/cancel.rs and recorded in BENCHMARKS.md; here the
     # cancel is bound in work: observed within the phase it was set in.
-    print(f"{phase}: raised {raised - state['cancel']:.3f} s after the cancel")
+    print(f"scene build: raised {raised - state['cancel']:.3f} s after the cancel")
 
 
 def test_cancel_token_stops_the_scene_build_within_a_second():
@@ -89,7 +89,7 @@ def test_cancel_token_stops_the_scene_build_within_a_second():
     assert state["phases_at_cancel"] == [], "the scene was built before the cancel"
     # The latency is measured in tests/cancel.rs and recorded in BENCHMARKS.md; here the
     # cancel is bound in work: observed within the phase it was set in.
-    print(f"{phase}: raised {raised - state['cancel']:.3f} s after the cancel")
+    print(f"scene build: raised {raised - state['cancel']:.3f} s after the cancel")
 
 
 def test_a_panic_in_the_core_is_a_photonmap_error(monkeypatch):
