@@ -78,6 +78,24 @@ def _follow(connectable, output_name, depth):
     return None
 
 
+def _through_conversions(shader, output):
+    """(shader, output) upstream of MaterialX type conversions (``ND_convert_*``, such as the
+    ``ND_convert_color4_color3`` Blender's exporter puts between an image and ``base_color``):
+    a conversion passes its ``in`` on unchanged in value."""
+    for _ in range(8):
+        if not _shader_id(shader).startswith("ND_convert_"):
+            break
+        inp = shader.GetInput("in")
+        if not inp or not inp.HasConnectedSource():
+            break
+        srcs = inp.GetConnectedSources()[0]
+        up = _follow(srcs[0].source, srcs[0].sourceName, 0) if srcs else None
+        if up is None:
+            break
+        shader, output = up, str(srcs[0].sourceName)
+    return shader, output
+
+
 class MaterialTable:
     """The IR `materials` list; one entry per bound UsdShade.Material (by path)."""
 
@@ -146,7 +164,7 @@ class MaterialTable:
         for src in inp.GetConnectedSources()[0]:
             s = _follow(src.source, src.sourceName, 0)
             if s:
-                return s, str(src.sourceName)
+                return _through_conversions(s, str(src.sourceName))
         return None
 
     def color(self, shader, name, defaults, scale=1.0):

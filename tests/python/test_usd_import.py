@@ -205,6 +205,41 @@ def test_textures_and_missing_texture(stage_factory, tmp_path):
     assert w and "/Mat/B/Tex" in w[0]
 
 
+def test_mtlx_image_through_a_type_conversion(stage_factory, tmp_path):
+    """Blender's exporter: ND_image_color4 -> ND_convert_color4_color3 -> a NodeGraph output
+    -> OpenPBR base_color. The conversion passes the image on."""
+    import OpenImageIO as oiio
+
+    tex = str(tmp_path / "c.png")
+    out = oiio.ImageOutput.create(tex)
+    out.open(tex, oiio.ImageSpec(2, 2, 3, oiio.UINT8))
+    out.write_image(np.full((2, 2, 3), 255, np.uint8))
+    out.close()
+    stage, path = stage_factory()
+    m = quad(stage)
+    mat = UsdShade.Material.Define(stage, "/Mat/C")
+    sh = UsdShade.Shader.Define(stage, "/Mat/C/PBR")
+    sh.CreateIdAttr("ND_open_pbr_surface_surfaceshader")
+    g = UsdShade.NodeGraph.Define(stage, "/Mat/C/NodeGraphs")
+    img = UsdShade.Shader.Define(stage, "/Mat/C/NodeGraphs/img")
+    img.CreateIdAttr("ND_image_color4")
+    img.CreateInput("file", Sdf.ValueTypeNames.Asset).Set("c.png")
+    img.CreateOutput("out", Sdf.ValueTypeNames.Color4f)
+    conv = UsdShade.Shader.Define(stage, "/Mat/C/NodeGraphs/node")
+    conv.CreateIdAttr("ND_convert_color4_color3")
+    conv.CreateInput("in", Sdf.ValueTypeNames.Color4f).ConnectToSource(img.ConnectableAPI(), "out")
+    conv.CreateOutput("out", Sdf.ValueTypeNames.Color3f)
+    g.CreateOutput("node_out", Sdf.ValueTypeNames.Color3f).ConnectToSource(conv.ConnectableAPI(), "out")
+    sh.CreateInput("base_color", Sdf.ValueTypeNames.Color3f).ConnectToSource(g.ConnectableAPI(), "node_out")
+    sh.CreateOutput("surface", Sdf.ValueTypeNames.Token)
+    mat.CreateSurfaceOutput("mtlx").ConnectToSource(sh.ConnectableAPI(), "surface")
+    UsdShade.MaterialBindingAPI.Apply(m.GetPrim()).Bind(mat)
+    add_camera(stage)
+    r = import_stage(stage, path)
+    assert r.ir["materials"][0]["base_color"] == {"texture": 0, "scale": [1.0, 1.0, 1.0]}
+    assert not [w for w in r.diagnostics.messages() if "unsupported" in w]
+
+
 def _light_stage(stage_factory, kind, **inputs):
     stage, path = stage_factory()
     L = getattr(UsdLux, kind).Define(stage, "/L")
