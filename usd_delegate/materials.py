@@ -17,17 +17,23 @@ exporter writes glass only there.
 
 useSpecularWorkflow = 1 is approximated (specularColor ignored) and warned; clearcoat, normal
 maps, displacement, coat, sheen, subsurface and thin-film are warned when used.
+
+A MaterialX ``ND_surface`` over one pbrlib BSDF or EDF (Blender's Diffuse, Glossy, Glass and
+Emission nodes) is read by mtlx_bsdf.py.
 """
 
 from __future__ import annotations
 
 from pxr import Sdf, UsdShade
 
+from . import mtlx_bsdf
 from .textures import MAGENTA, resolve_asset
 
 OPENPBR = "ND_open_pbr_surface_surfaceshader"
 STANDARD = "ND_standard_surface_surfaceshader"
 PREVIEW = "UsdPreviewSurface"
+#: MaterialX's surface from one pbrlib BSDF or EDF (mtlx_bsdf.py).
+SURFACE = "ND_surface"
 
 _PREVIEW_DEFAULTS = {"diffuseColor": (0.18, 0.18, 0.18), "metallic": 0.0, "roughness": 0.5,
                      "ior": 1.5, "opacity": 1.0, "emissiveColor": (0, 0, 0),
@@ -136,6 +142,8 @@ class MaterialTable:
         mtlx = _surface_shader(material, "mtlx")
         if mtlx is not None and _shader_id(mtlx) in (OPENPBR, STANDARD):
             return self._mtlx(material, mtlx)
+        if mtlx is not None and _shader_id(mtlx) == SURFACE:
+            return mtlx_bsdf.read_surface(self, material, mtlx)
         preview = _surface_shader(material)
         if preview is not None and _shader_id(preview) == PREVIEW:
             return self._preview(material, preview)

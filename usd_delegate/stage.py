@@ -219,7 +219,9 @@ def _import_stage(stage, frame, camera, purposes, strict, width, where) -> Impor
         stats["camera"] = None
     if not meshes and not lights and env is None:
         diag.warn(None, "the stage has no supported geometry or lights")
-    if not lights and env is None:
+    emissive = any(m.get("type") == "emission" or m.get("emission_strength", 0) > 0
+                   for m in materials.materials)
+    if not lights and env is None and not emissive:
         diag.warn(None, "the stage has no supported lights: the image will be black")
     ir = {"camera": cam, "film": film, "meshes": meshes, "instances": instances,
           "materials": materials.materials or [{"type": "diffuse", "name": "default"}],

@@ -389,3 +389,66 @@ def test_stage_metadata_and_y_up_dome(stage_factory):
     assert r.stats["meters_per_unit"] == 0.01 and r.stats["up_axis"] == "Y"
     t = np.array(r.ir["environment"]["transform"])
     assert np.allclose(t[:3, :3] @ [0, 0, 1], [0, 1, 0])  # environment +Z is world +Y
+
+
+def _nd_surface(stage, path, node_id, inputs, port="bsdf"):
+    """A Material over ND_surface fed by one pbrlib node, the way Blender's exporter writes it."""
+    mat = UsdShade.Material.Define(stage, path)
+    surf = UsdShade.Shader.Define(stage, f"{path}/surface")
+    surf.CreateIdAttr("ND_surface")
+    g = UsdShade.NodeGraph.Define(stage, f"{path}/NodeGraphs")
+    n = UsdShade.Shader.Define(stage, f"{path}/NodeGraphs/n")
+    n.CreateIdAttr(node_id)
+    for k, (tn, v) in inputs.items():
+        n.CreateInput(k, tn).Set(v)
+    n.CreateOutput("out", Sdf.ValueTypeNames.Token)
+    g.CreateOutput("n_out", Sdf.ValueTypeNames.Token).ConnectToSource(n.ConnectableAPI(), "out")
+    surf.CreateInput(port, Sdf.ValueTypeNames.Token).ConnectToSource(g.ConnectableAPI(), "n_out")
+    surf.CreateOutput("surface", Sdf.ValueTypeNames.Token)
+    mat.CreateSurfaceOutput("mtlx").ConnectToSource(surf.ConnectableAPI(), "surface")
+    return mat, n
+
+
+T = Sdf.ValueTypeNames
+
+
+@pytest.mark.parametrize("node_id, inputs, port, expect", [
+    ("ND_oren_nayar_diffuse_bsdf", {"color": (T.Color3f, (0.8, 0.5, 0.2)),
+                                    "roughness": (T.Float, 0.0)}, "bsdf",
+     {"type": "diffuse", "color": [0.8, 0.5, 0.2]}),
+    ("ND_conductor_bsdf", {"roughness": (T.Float2, (0.2, 0.2)),
+                           "ior": (T.Color3f, (0.2, 0.2, 0.2)),
+                           "extinction": (T.Color3f, (3.0, 3.0, 3.0))}, "bsdf",
+     {"type": "glossy", "color": [(0.8 ** 2 + 9) / (1.2 ** 2 + 9)] * 3, "roughness": 0.2}),
+    ("ND_dielectric_bsdf", {"ior": (T.Float, 1.45), "roughness": (T.Float2, (0.1, 0.1)),
+                            "scatter_mode": (T.String, "RT"),
+                            "tint": (T.Color3f, (1.0, 0.9, 0.8))}, "bsdf",
+     {"type": "dielectric", "ior": 1.45, "roughness": 0.1, "color": [1.0, 0.9, 0.8]}),
+    ("ND_uniform_edf", {"color": (T.Color3f, (6.0, 5.0, 4.0))}, "edf",
+     {"type": "emission", "color": [6.0, 5.0, 4.0], "strength": 1.0}),
+])
+def test_mtlx_surface_over_one_pbrlib_node(stage_factory, node_id, inputs, port, expect):
+    stage, path = stage_factory()
+    m = quad(stage)
+    mat, _ = _nd_surface(stage, "/Mat/N", node_id, inputs, port)
+    UsdShade.MaterialBindingAPI.Apply(m.GetPrim()).Bind(mat)
+    add_camera(stage)
+    r = import_stage(stage, path)
+    got = r.ir["materials"][0]
+    for k, v in expect.items():
+        assert got[k] == (pytest.approx(v, rel=1e-5) if not isinstance(v, str) else v), (k, got)
+    msgs = r.diagnostics.messages()
+    assert not [w for w in msgs if "unsupported" in w or "not supported" in w], msgs
+    # An emissive surface lights the stage.
+    assert any("no supported lights" in w for w in msgs) == (port != "edf"), msgs
+
+
+def test_mtlx_surface_unsupported_bsdf_names_the_node(stage_factory):
+    stage, path = stage_factory()
+    m = quad(stage)
+    mat, _ = _nd_surface(stage, "/Mat/S", "ND_sheen_bsdf", {})
+    UsdShade.MaterialBindingAPI.Apply(m.GetPrim()).Bind(mat)
+    add_camera(stage)
+    r = import_stage(stage, path)
+    assert r.ir["materials"][0]["type"] == "diffuse"
+    assert [w for w in r.diagnostics.messages() if "/Mat/S/NodeGraphs/n" in w and "ND_sheen_bsdf" in w]
