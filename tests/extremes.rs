@@ -683,6 +683,7 @@ fn every_field_scene() -> SceneDesc {
         channels: 3,
         data: vec![0.2, 0.2, 0.2, 0.8, 0.8, 0.8],
         wrap: WrapMode::Repeat,
+        encoding: Default::default(),
     });
     desc.materials.push(MaterialDesc::Diffuse {
         name: "textured".into(),

@@ -47,6 +47,7 @@ fn sky_texture() -> Texture {
         channels: 3,
         data,
         wrap: WrapMode::Repeat,
+        encoding: Default::default(),
     })
 }
 

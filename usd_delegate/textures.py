@@ -1,6 +1,7 @@
 """Image textures: UsdUVTexture, MaterialX image nodes and dome-light files, read with
-OpenImageIO (EXR, PNG, JPEG, TIFF, HDR). sRGB is decoded to linear where the colour space says
-so (``auto``: 8-bit images are sRGB). A missing file is a warning naming the prim and path."""
+OpenImageIO (EXR, PNG, JPEG, TIFF, HDR). sRGB where the colour space says so (``auto``: 8-bit
+images are sRGB): 8-bit images are passed encoded (IR ``encoding: srgb``, decoded by the core
+after interpolation, as Cycles does), others decoded to linear here. A missing file is a warning naming the prim and path."""
 
 from __future__ import annotations
 
@@ -48,7 +49,7 @@ class TextureTable:
             self._index[key] = None
             return None
         try:
-            data = read_image(path, colorspace)
+            data, encoding = read_image(path, colorspace)
         except Exception as e:
             self.diag.warn(prim, f"cannot read texture `{path}`: {e}; rendered magenta")
             self._index[key] = None
@@ -57,17 +58,31 @@ class TextureTable:
         sc = np.array(list(scale) + [1] * 4)[:c]
         bi = np.array(list(bias) + [0] * 4)[:c]
         if np.any(sc != 1) or np.any(bi != 0):
-            data = data * sc + bi
+            # UsdUVTexture's scale and bias apply to the decoded value.
+            data = _decoded(data, encoding) * sc + bi
+            encoding = "linear"
         self.textures.append({
             "name": path, "width": int(w), "height": int(h), "channels": int(c),
             "data": data.astype(np.float32).reshape(-1), "wrap": _WRAP.get(wrap, "repeat"),
+            "encoding": encoding,
         })
         self._index[key] = len(self.textures) - 1
         return self._index[key]
 
 
-def read_image(path: str, colorspace: str = "auto") -> np.ndarray:
-    """(h, w, c) float32, c in 1, 3, 4, linear."""
+def _decoded(px: np.ndarray, encoding: str) -> np.ndarray:
+    if encoding != "srgb":
+        return px
+    n = 3 if px.shape[2] >= 3 else 1
+    px = px.copy()
+    px[:, :, :n] = srgb_to_linear(px[:, :, :n])
+    return px
+
+
+def read_image(path: str, colorspace: str = "auto") -> tuple[np.ndarray, str]:
+    """((h, w, c) float32 with c in 1, 3, 4; its encoding). An 8-bit sRGB image keeps its
+    encoded values ("srgb": the core interpolates them and decodes after, as Cycles does);
+    any other sRGB image is decoded here ("linear")."""
     import OpenImageIO as oiio
 
     buf = oiio.ImageBuf(path)
@@ -89,8 +104,8 @@ def read_image(path: str, colorspace: str = "auto") -> np.ndarray:
         srgb = spec.format.basetype == oiio.UINT8 or "srgb" in file_cs
     else:
         srgb = cs in ("srgb", "srgb_texture", "srgb_rec709_scene")
-    if srgb:
-        n = 3 if px.shape[2] >= 3 else 1
-        px = px.copy()
-        px[:, :, :n] = srgb_to_linear(px[:, :, :n])
-    return px
+    if not srgb:
+        return px, "linear"
+    if spec.format.basetype == oiio.UINT8:
+        return px, "srgb"
+    return _decoded(px, "srgb"), "linear"

@@ -1,4 +1,5 @@
-"""Images -> IR textures (float RGB(A), rows top to bottom, linear Rec.709)."""
+"""Images -> IR textures (float RGB(A), rows top to bottom; linear Rec.709, or sRGB-encoded
+bytes that the core decodes after interpolation)."""
 
 from __future__ import annotations
 
@@ -9,13 +10,11 @@ _LINEAR = {"linear", "linear rec.709", "non-color", "raw", "linear rec.2020", "l
            "linear cie-xyz d65", "acescg", "aces2065-1", "linear fileinfo", "xyz"}
 
 
-def srgb_to_linear(c: np.ndarray) -> np.ndarray:
-    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4).astype(np.float32)
-
-
-def image_pixels(image) -> np.ndarray | None:
+def image_pixels(image) -> tuple[np.ndarray, str] | None:
     """Blender's loaded pixels of ``image`` as a (H, W, C) float32 array, rows top to bottom,
-    linear. Float images are already linear in Blender; byte images in sRGB are decoded."""
+    and their encoding: float images are linear in Blender ("linear"); byte images in an sRGB
+    colour space keep their encoded values ("srgb": the core interpolates them and decodes
+    after, as Cycles does with byte images)."""
     w, h = image.size[:2]
     if w == 0 or h == 0:
         return None
@@ -24,14 +23,12 @@ def image_pixels(image) -> np.ndarray | None:
     image.pixels.foreach_get(buf)
     px = buf.reshape(h, w, ch)[::-1]  # Blender's rows go bottom to top
     cs = image.colorspace_settings.name.lower()
-    if not image.is_float and cs not in _LINEAR:
-        px = px.copy()
-        px[..., :3] = srgb_to_linear(px[..., :3])
+    encoding = "srgb" if not image.is_float and cs not in _LINEAR else "linear"
     if ch == 4:
         px = px[..., :3]  # alpha is not used by the core's materials
     elif ch == 2:
         px = px[..., :1]
-    return np.ascontiguousarray(px, dtype=np.float32)
+    return np.ascontiguousarray(px, dtype=np.float32), encoding
 
 
 _WRAP = {"REPEAT": "repeat", "EXTEND": "clamp", "CLIP": "black", "MIRROR": "mirror"}
@@ -52,7 +49,7 @@ class ImageCache:
         if key in self.index:
             return self.index[key]
         try:
-            px = image_pixels(image)
+            px, encoding = image_pixels(image) or (None, "linear")
         except Exception as e:  # unreadable file, packed data missing, ...
             px = None
             self.warn(f"image '{image.name}'{owner}: cannot read pixels ({e}); ignored")
@@ -63,7 +60,7 @@ class ImageCache:
         h, w, c = px.shape
         self.textures.append({
             "name": image.name, "width": int(w), "height": int(h), "channels": int(c),
-            "data": px.ravel(), "wrap": _WRAP.get(extension, "repeat"),
+            "data": px.ravel(), "wrap": _WRAP.get(extension, "repeat"), "encoding": encoding,
         })
         self.index[key] = len(self.textures) - 1
         return self.index[key]

@@ -1,8 +1,9 @@
 """Meshes (and anything convertible to one: curves, text, metaballs) -> IR meshes.
 
-The evaluated mesh is triangulated by Blender (``loop_triangles``). Each face corner becomes one
-IR vertex carrying the corner's position, split normal and UV of the active layer; triangles
-index corners. Material slots map to the scene's IR materials per triangle.
+The evaluated mesh is triangulated by Blender (``loop_triangles``). Each face corner carries its
+position, split normal and UV of the active layer; corners equal in all three are one IR vertex,
+and vertices and triangles are put in an order that depends only on their data (``canonical``).
+Material slots map to the scene's IR materials per triangle.
 """
 
 from __future__ import annotations
@@ -59,6 +60,31 @@ def mesh_arrays(mesh, check_closed: bool = False) -> dict | None:
         uvs = np.empty(n_loops * 2, dtype=np.float32)
         uv.data.foreach_get("uv", uvs)
         out["uvs"] = uvs.reshape(-1, 2)
+    return canonical(out)
+
+
+def canonical(arrays: dict) -> dict:
+    """The same triangles in an order that depends only on their data: corners with equal
+    position, normal and UV become one vertex, vertices sorted by their data, each triangle
+    rotated to start at its lowest vertex (winding kept), triangles sorted. Blender's evaluated
+    mesh may hand the same triangles over in another order from one export to the next; the
+    render (BVH, photon paths) follows the order, so this keeps a seed's image the same."""
+    cols = [arrays["positions"], arrays["normals"]] + ([arrays["uvs"]] if "uvs" in arrays else [])
+    data = np.concatenate(cols, axis=1).astype(np.float32)
+    data = data + np.float32(0.0)  # -0.0 -> 0.0: equal corners compare equal
+    uniq, inverse = np.unique(data, axis=0, return_inverse=True)
+    tri = inverse.reshape(-1)[arrays["indices"]]
+    k = np.argmin(tri, axis=1)
+    tri = np.take_along_axis(tri, (k[:, None] + np.arange(3)[None, :]) % 3, axis=1)
+    slots = arrays["slots"]
+    order = np.lexsort((tri[:, 2], tri[:, 1], tri[:, 0], slots))
+    out = dict(arrays)
+    out["positions"] = np.ascontiguousarray(uniq[:, 0:3])
+    out["normals"] = np.ascontiguousarray(uniq[:, 3:6])
+    if "uvs" in arrays:
+        out["uvs"] = np.ascontiguousarray(uniq[:, 6:8])
+    out["indices"] = np.ascontiguousarray(tri[order], dtype=np.int32)
+    out["slots"] = np.ascontiguousarray(slots[order])
     return out
 
 

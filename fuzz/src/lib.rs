@@ -517,6 +517,11 @@ impl Texture {
                 WrapMode::Mirror,
                 WrapMode::Black,
             ][self.wrap as usize % 4],
+            encoding: if self.wrap & 4 != 0 {
+                photonmap::scene::desc::TextureEncoding::Srgb
+            } else {
+                photonmap::scene::desc::TextureEncoding::Linear
+            },
         }
     }
 }

@@ -1,6 +1,6 @@
 //! Image textures and the colour/scalar parameters that may read them.
 
-use crate::scene::desc::{ColorInput, FloatInput, TextureDesc, WrapMode};
+use crate::scene::desc::{ColorInput, FloatInput, TextureDesc, TextureEncoding, WrapMode};
 use glam::{Vec2, Vec3};
 
 /// A float image looked up bilinearly by UV.
@@ -11,6 +11,7 @@ use glam::{Vec2, Vec3};
 /// | `channels` | 1 (grey), 3 (RGB) or 4 (RGBA; alpha is readable as channel 3 only) |
 /// | `data` | rows from top to bottom; u goes right, v goes up, so v = 0 is the bottom row |
 /// | `wrap` | `repeat`, `clamp`, `mirror` (texel indices reflect at the edges), `black` (outside [0,1) is zero) |
+/// | `encoding` | `linear`, or `srgb`: colour channels interpolated as stored, then decoded |
 ///
 /// Texel (i, j) (j counted from the bottom) is centred at ((i + 0.5)/width, (j + 0.5)/height).
 #[derive(Clone, Debug, PartialEq)]
@@ -20,6 +21,18 @@ pub struct Texture {
     channels: usize,
     data: Vec<f32>,
     wrap: WrapMode,
+    /// Colour channels hold sRGB-encoded values, decoded after interpolation.
+    srgb: bool,
+}
+
+/// The sRGB transfer function's inverse (IEC 61966-2-1), encoded [0, 1] to linear.
+#[inline]
+pub fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
 }
 
 impl Texture {
@@ -45,6 +58,7 @@ impl Texture {
             channels,
             data,
             wrap: desc.wrap,
+            srgb: desc.encoding == TextureEncoding::Srgb,
         }
     }
 
@@ -120,8 +134,18 @@ impl Texture {
             return 0.0;
         }
         match self.footprint(uv) {
-            Some(fp) => self.bilinear(fp, c),
+            Some(fp) => self.decoded(self.bilinear(fp, c), c),
             None => 0.0,
+        }
+    }
+
+    /// Channel `c`'s interpolated value as linear: sRGB-encoded colour channels are decoded.
+    #[inline]
+    fn decoded(&self, v: f32, c: usize) -> f32 {
+        if self.srgb && c < 3 {
+            srgb_to_linear(v)
+        } else {
+            v
         }
     }
 
@@ -131,12 +155,12 @@ impl Texture {
             return Vec3::ZERO;
         };
         if self.channels == 1 {
-            Vec3::splat(self.bilinear(fp, 0))
+            Vec3::splat(self.decoded(self.bilinear(fp, 0), 0))
         } else {
             Vec3::new(
-                self.bilinear(fp, 0),
-                self.bilinear(fp, 1),
-                self.bilinear(fp, 2),
+                self.decoded(self.bilinear(fp, 0), 0),
+                self.decoded(self.bilinear(fp, 1), 1),
+                self.decoded(self.bilinear(fp, 2), 2),
             )
         }
     }
@@ -239,6 +263,8 @@ impl FloatParam {
                 if lo > hi {
                     return (0.0, 0.0);
                 }
+                // The decoding is monotonic: the bounds of the decoded values.
+                let (lo, hi) = (t.decoded(lo, c), t.decoded(hi, c));
                 let (mut a, mut b) = (lo * scale, hi * scale);
                 if t.wrap == WrapMode::Black {
                     // Black wrapping reads zero outside the image.
@@ -263,7 +289,24 @@ mod tests {
             channels: ch,
             data,
             wrap,
+            encoding: TextureEncoding::Linear,
         })
+    }
+
+    #[test]
+    fn srgb_texture_interpolates_encoded_then_decodes() {
+        // Two texels, sRGB-encoded 0 and 1 (a black/white edge): halfway the encoded value
+        // 0.5 decodes to 0.214 (a linear texture would give 0.5); the texels themselves are
+        // decoded exactly; alpha stays linear.
+        let mut t = tex(2, 1, 4, vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0], WrapMode::Clamp);
+        t.srgb = true;
+        let mid = t.eval_rgb(Vec2::new(0.5, 0.5));
+        assert!((mid.x - srgb_to_linear(0.5)).abs() < 1e-6 && (mid.x - 0.2140).abs() < 1e-3);
+        assert!((t.eval_channel(Vec2::new(0.5, 0.5), 3) - 0.5).abs() < 1e-6);
+        assert_eq!(t.eval_rgb(Vec2::new(0.25, 0.5)), Vec3::ZERO);
+        assert!((t.eval_rgb(Vec2::new(0.75, 0.5)).x - 1.0).abs() < 1e-6);
+        // 188/255 decodes to 0.5029 (the sRGB curve, not a 2.2 power).
+        assert!((srgb_to_linear(188.0 / 255.0) - 0.5029).abs() < 1e-3);
     }
 
     #[test]

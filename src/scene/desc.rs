@@ -287,10 +287,24 @@ pub struct TextureDesc {
     pub height: u32,
     /// 1 (grey), 3 (RGB) or 4 (RGBA).
     pub channels: u32,
-    /// `width * height * channels` linear floats.
+    /// `width * height * channels` floats, linear or as `encoding` says.
     pub data: Vec<f32>,
     #[serde(default)]
     pub wrap: WrapMode,
+    /// How `data` encodes the colour channels (alpha is always linear).
+    #[serde(default)]
+    pub encoding: TextureEncoding,
+}
+
+/// `linear`: the values are linear. `srgb`: the colour channels hold sRGB-encoded values in
+/// [0, 1] (an 8-bit image's bytes / 255), interpolated as stored and decoded to linear after
+/// the bilinear lookup, as Cycles looks up 8-bit sRGB images.
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum TextureEncoding {
+    #[default]
+    Linear,
+    Srgb,
 }
 
 #[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]

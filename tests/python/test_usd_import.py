@@ -199,7 +199,8 @@ def test_textures_and_missing_texture(stage_factory, tmp_path):
     assert mats[0]["base_color"] == {"texture": 0, "scale": [1.0, 1.0, 1.0]}
     t0 = r.ir["textures"][0]
     assert (t0["width"], t0["height"], t0["channels"], t0["wrap"]) == (4, 2, 3, "clamp")
-    assert t0["data"][0] == pytest.approx(0.5, abs=0.01)  # 188/255 sRGB -> linear 0.5
+    # An 8-bit sRGB image is passed encoded; the core decodes after interpolating.
+    assert t0["encoding"] == "srgb" and t0["data"][0] == pytest.approx(188 / 255, abs=1e-6)
     assert mats[1]["base_color"] == [1.0, 0.0, 1.0]
     w = [m for m in r.diagnostics.messages() if "missing.png" in m]
     assert w and "/Mat/B/Tex" in w[0]
