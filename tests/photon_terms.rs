@@ -4,11 +4,10 @@
 mod common;
 use common::*;
 use photonmap::geometry::shapes;
-use photonmap::io::exr::read_rgb_layers;
 use photonmap::photon::map::MapKind;
 use photonmap::photon::trace::{build_map, TraceParams};
 use photonmap::render::aov::Term;
-use photonmap::render::film::{Filter, Image};
+use photonmap::render::film::Filter;
 use photonmap::render::{PhotonSettings, RenderSettings};
 use photonmap::scene::desc::*;
 use photonmap::scene::{Scene, SceneDesc};
@@ -183,28 +182,11 @@ fn first_hit_power_equals_light_power() {
     }
 }
 
-fn reference_mean(name: &str) -> Image {
-    read_rgb_layers(data(&format!("references/{name}.exr")))
-        .expect("reference")
-        .0[""]
-        .clone()
-}
-
 fn full_gi_errors(scene: &str, reference: &str, counts: &[usize]) -> Vec<(f64, f64)> {
     let desc = load_scene(scene);
-    let refm = reference_mean(reference);
     counts
         .iter()
-        .map(|&n| {
-            let photons = PhotonSettings { global: n, caustic: n, final_gather_rays: 1024, cache_tolerance: 0.1, ..Default::default() };
-            let out = render_with(&desc, 16, photons, 11);
-            let ours = out.film.combined();
-            // The worst two of 256 blocks are left out: at 16 spp a rare path through the
-            // glass sphere's rim to the light is a firefly worth 2e-4 on its own.
-            let (e, eb) = (rel_mse(&ours, &refm), block_rel_mse_trimmed(&ours, &refm, 8, 2));
-            eprintln!("{reference} with {n} photons: relMSE {e:.3e}, 8x8-block relMSE {eb:.3e}, mean {:?} vs {:?}", ours.mean(), refm.mean());
-            (e, eb)
-        })
+        .map(|&n| common::compare::full_gi(&desc, reference, n, &[]))
         .collect()
 }
 
@@ -223,7 +205,7 @@ fn diffuse_cornell_full_gi_converges_to_mitsuba() {
         errs[1].1 < errs[0].1 && errs[2].1 < errs[1].1,
         "block error must fall as photons grow: {errs:?}"
     );
-    assert!(errs[2].1 < 1.2e-4, "{errs:?}");
+    assert!(errs[2].1 < common::compare::full_gi_limit("cornell_diffuse_full"), "{errs:?}");
 }
 
 #[test]
@@ -237,5 +219,5 @@ fn spheres_cornell_full_gi_converges_to_mitsuba() {
         errs[1].1 < errs[0].1 && errs[2].1 < errs[1].1,
         "block error must fall as photons grow: {errs:?}"
     );
-    assert!(errs[2].1 < 2e-4, "{errs:?}");
+    assert!(errs[2].1 < common::compare::full_gi_limit("cornell_spheres_full"), "{errs:?}");
 }

@@ -8,6 +8,8 @@ use photonmap::render::{RenderOutput, RenderSettings, Renderer};
 use photonmap::scene::{Scene, SceneDesc};
 use std::path::PathBuf;
 
+pub mod compare;
+
 pub fn data(path: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data")

@@ -1,0 +1,279 @@
+#!/usr/bin/env python3
+"""Error at equal time: PhotonMap's presets against Cycles, plain and with shadow caustics, on
+scenes built in Blender.
+
+Run with the bpy venv (bpy 5.0.1, OpenImageIO); the USD path needs a venv with the photonmap
+package (its `photonmap` command and usd-core):
+
+    .venv-bpy/bin/python benches/equal_time_cycles.py --zip EXT.zip \\
+        --usd-python .venv-test/bin/python --json out.json --markdown out.md
+
+Per scene (built by this script with the corpus' building blocks, tests/blender/corpus/):
+
+1. **Reference**: two Cycles renders of different seeds at ``--ref-spp`` each, shadow caustics
+   on (MNEE: every glass object a caster, every other object a receiver, every light a caustic
+   light), 1-pixel box filter. Their mean is the reference; (r1 - r2)^2 / 4 per pixel is its
+   noise floor, subtracted from every error below (so the figures estimate the error against
+   the true image).
+2. **Ours**: every preset through the add-on (``bpy.ops.render.render()``, timed: export,
+   photon pass, cache, camera pass) and through USD (Blender's USD exporter, then the
+   ``photonmap render`` command, timed as a whole process). The USD render is divided by the
+   exporter's known light factor (tests/blender/corpus/usd_export.py).
+3. **Cycles at equal time**: ``bpy.ops.render.render()`` at 16 and 64 spp gives its fixed cost
+   and cost per sample; the spp that matches each add-on time is rendered and timed, plain and
+   with shadow caustics. For the USD time Cycles' error is scaled from the matched run by
+   MSE ~ 1/spp.
+4. **Error**: RMSE over pixels and channels, and relMSE = mean (x - r)^2 / (r^2 + 0.01), both
+   minus the reference's noise floor; the ratio ours / the better Cycles.
+
+The figures go to BENCHMARKS.md ("Equal time against Cycles"). Nothing here is a test.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "tests", "blender"))
+
+import bpy  # noqa: E402
+
+from corpus import make_references, render_addon, scenes  # noqa: E402
+from corpus.scenes import (camera, ceiling_area, courtyard, light, plane, principled,  # noqa: E402
+                           props, reset, room, sphere)
+
+PRESETS = ("draft", "medium", "high")
+
+
+# -- scenes --------------------------------------------------------------------------------
+
+
+def glass_room():
+    """The room with a glass sphere and cube under the ceiling area light (corpus glass_r0)."""
+    return scenes.glass_r0()
+
+
+def mirror_wall():
+    """A mirror on the floor throws a small area light, pointed at it, onto the back wall."""
+    sc = reset()
+    room()
+    props()
+    mirror = principled("Mirror", (0.95, 0.95, 0.95), Metallic=1.0, Roughness=0.0)
+    plane("Mirror", (0.0, -0.1, 0.02), (-20, 0, 0), 0.5, mirror)
+    # Above and behind the camera (out of frame), aimed at the mirror: the reflected patch
+    # lands on the back wall.
+    light("AREA", (0.0, -0.9, 1.9), rotation_deg=(23, 0, 0), energy=40.0, size=0.3)
+    camera()
+    return sc
+
+
+def small_light_glass():
+    """A 3 cm sphere light above a glass sphere: a sharp caustic, no other light."""
+    sc = reset()
+    room()
+    glass = principled("Glass", (1.0, 1.0, 1.0), Transmission_Weight=1.0, Roughness=0.0,
+                       IOR=1.5)
+    sphere("GlassSphere", (0.0, 0.3, 0.25), 0.25, glass)
+    light("POINT", (0.0, 0.3, 1.0), energy=30.0, shadow_soft_size=0.03)
+    camera()
+    return sc
+
+
+def spot_fog():
+    """A spot from above into a fog cube (corpus fog_spot_out)."""
+    return scenes.fog_spot_out()
+
+
+def principled_sun():
+    """Default Principled surfaces in the roofless courtyard under a sun and a grey world."""
+    sc = reset()
+    courtyard()
+    light("SUN", (0, 0, 4), rotation_deg=(40, 0, -35), energy=3.0, angle=math.radians(2))
+    w = bpy.data.worlds.new("World")
+    w.node_tree.nodes["Background"].inputs["Color"].default_value = (0.5, 0.5, 0.5, 1.0)
+    sc.world = w
+    camera()
+    return sc
+
+
+SCENES = {f.__name__: f for f in (glass_room, mirror_wall, small_light_glass, spot_fog,
+                                  principled_sun)}
+
+
+# -- renders -------------------------------------------------------------------------------
+
+
+def shadow_caustics(sc) -> None:
+    """Cycles' shadow caustics (MNEE): glass casts, everything else receives, lights emit."""
+    for ob in sc.objects:
+        if ob.type == "MESH":
+            mats = [s.material for s in ob.material_slots if s.material]
+            glass = any(m.node_tree and any(
+                n.bl_idname == "ShaderNodeBsdfPrincipled"
+                and n.inputs["Transmission Weight"].default_value > 0.5
+                for n in m.node_tree.nodes) for m in mats)
+            ob.cycles.is_caustics_caster = glass
+            ob.cycles.is_caustics_receiver = not glass
+        elif ob.type == "LIGHT":
+            ob.data.cycles.is_caustics_light = True
+
+
+def read_exr(path: str) -> np.ndarray:
+    import OpenImageIO as oiio
+
+    return oiio.ImageBuf(path).get_pixels(oiio.FLOAT)[..., :3].astype(np.float64)
+
+
+def cycles(build, spp: int, seed: int, mnee: bool, work: str) -> tuple[np.ndarray, float]:
+    sc = build()
+    make_references.setup_cycles(sc, spp, seed)
+    if mnee:
+        shadow_caustics(sc)
+    path = os.path.join(work, f"cycles_{spp}_{seed}_{int(mnee)}.exr")
+    sc.render.filepath = path
+    t = time.time()
+    bpy.ops.render.render(write_still=True)
+    secs = time.time() - t
+    return read_exr(path), secs
+
+
+def ours_addon(build, preset: str, seed: int) -> tuple[np.ndarray, float]:
+    out = render_addon.render_scene("bench", {"quality": preset, "filter": "box"}, seed=seed,
+                                    build=build)
+    if out["errors"]:
+        raise RuntimeError(out["errors"])
+    return np.asarray(out["combined"], dtype=np.float64)[..., :3], out["seconds"]
+
+
+def export_usd(build, path: str) -> None:
+    build()
+    bpy.ops.wm.usd_export(filepath=path, export_materials=True, generate_preview_surface=True,
+                          generate_materialx_network=True, export_animation=False,
+                          export_textures_mode="KEEP", relative_paths=True,
+                          evaluation_mode="RENDER", convert_world_material=True)
+
+
+def ours_usd(stage: str, preset: str, seed: int, py: str, work: str, size: tuple):
+    cli = os.path.join(os.path.dirname(py), "photonmap")
+    out = os.path.join(work, f"usd_{preset}_{seed}.exr")
+    t = time.time()
+    subprocess.run([cli, "render", stage, "--quality", preset, "--filter", "box",
+                    "--seed", str(seed), "--width", str(size[1]), "--height", str(size[0]),
+                    "-o", out], check=True, capture_output=True)
+    secs = time.time() - t
+    code = ("import sys, json; sys.path.insert(0, sys.argv[2]); "
+            "from corpus import usd_export; f, _ = usd_export.factor(sys.argv[1]); "
+            "print(json.dumps(None if f is None else [float(x) for x in f]))")
+    f = json.loads(subprocess.run([py, "-c", code, stage, os.path.join(ROOT, "tests", "blender")],
+                                  check=True, capture_output=True, text=True).stdout)
+    img = read_exr(out)
+    return (img / np.asarray(f) if f else img), secs
+
+
+# -- error ---------------------------------------------------------------------------------
+
+
+def errors(img: np.ndarray, ref: np.ndarray, floor: np.ndarray) -> dict:
+    d2 = (img - ref) ** 2
+    w = 1.0 / (ref ** 2 + 1e-2)
+    mse = max(float(d2.mean() - floor.mean()), 0.0)
+    rel = max(float((d2 * w).mean() - (floor * w).mean()), 0.0)
+    return {"rmse": math.sqrt(mse), "relmse": rel, "rmse_raw": math.sqrt(float(d2.mean()))}
+
+
+def scaled(e: dict, spp_from: float, spp_to: float) -> dict:
+    """Cycles' error at another spp: MSE ~ 1 / spp."""
+    k = spp_from / max(spp_to, 1e-9)
+    return {"rmse": e["rmse"] * math.sqrt(k), "relmse": e["relmse"] * k}
+
+
+def bench_scene(name: str, args, work: str) -> dict:
+    build = SCENES[name]
+    print(f"== {name}", file=sys.stderr, flush=True)
+    r = [cycles(build, args.ref_spp, s, True, work) for s in (101, 102)]
+    ref = 0.5 * (r[0][0] + r[1][0])
+    floor = (r[0][0] - r[1][0]) ** 2 / 4
+    res = {"reference": {"spp": 2 * args.ref_spp, "seconds": r[0][1] + r[1][1]}, "rows": []}
+    # Cycles' cost model from two runs.
+    (_, t16), (_, t64) = (cycles(build, s, 7, False, work) for s in (16, 64))
+    per = max((t64 - t16) / 48, 1e-6)
+    fixed = max(t16 - 16 * per, 0.0)
+    stage = os.path.join(work, f"{name}.usda")
+    if args.usd_python:
+        export_usd(build, stage)
+    for preset in args.presets:
+        img, t = ours_addon(build, preset, seed=1)
+        row = {"preset": preset, "addon": dict(errors(img, ref, floor), seconds=t)}
+        spp = max(1, int(round((t - fixed) / per)))
+        for label, mnee in (("cycles", False), ("cycles_mnee", True)):
+            cimg, ct = cycles(build, spp, 11, mnee, work)
+            row[label] = dict(errors(cimg, ref, floor), seconds=ct, spp=spp)
+        if args.usd_python:
+            uimg, ut = ours_usd(stage, preset, 1, args.usd_python, work, ref.shape[:2])
+            row["usd"] = dict(errors(uimg, ref, floor), seconds=ut)
+            uspp = max(1.0, (ut - fixed) / per)
+            best = min(("cycles", "cycles_mnee"), key=lambda k: row[k]["rmse"])
+            row["cycles_at_usd_time"] = dict(scaled(row[best], spp, uspp), spp=uspp, peer=best)
+        res["rows"].append(row)
+        print(json.dumps(row), file=sys.stderr, flush=True)
+    return res
+
+
+def markdown(results: dict) -> str:
+    lines = ["| scene | preset | path | T ours (s) | Cycles spp | RMSE ours | RMSE Cycles | "
+             "RMSE Cycles+MNEE | ratio (ours / better Cycles) | relMSE ratio |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    for name, res in results.items():
+        for row in res["rows"]:
+            c, m = row["cycles"], row["cycles_mnee"]
+            best = min(c, m, key=lambda e: e["rmse"])
+            paths = [("add-on", row["addon"], best)]
+            if "usd" in row:
+                paths.append(("USD", row["usd"], row["cycles_at_usd_time"]))
+            for path, e, peer in paths:
+                lines.append(
+                    f"| {name} | {row['preset']} | {path} | {e['seconds']:.1f} | "
+                    f"{c['spp'] if path == 'add-on' else round(peer['spp'])} | {e['rmse']:.4f} | "
+                    f"{c['rmse']:.4f} | {m['rmse']:.4f} | "
+                    f"{e['rmse'] / max(peer['rmse'], 1e-12):.2f} | "
+                    f"{e['relmse'] / max(peer['relmse'], 1e-12):.2f} |")
+    return "\n".join(lines) + "\n"
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--zip", required=True, help="the Blender extension zip")
+    ap.add_argument("--usd-python", default=None,
+                    help="python of a venv with the photonmap package (the USD path)")
+    ap.add_argument("--scenes", nargs="*", default=list(SCENES), choices=list(SCENES))
+    ap.add_argument("--presets", nargs="*", default=list(PRESETS), choices=list(PRESETS))
+    ap.add_argument("--ref-spp", type=int, default=1024, help="per reference seed")
+    ap.add_argument("--json", default=None)
+    ap.add_argument("--markdown", default=None)
+    args = ap.parse_args()
+    render_addon.install(args.zip)
+    results = {}
+    with tempfile.TemporaryDirectory() as work:
+        for name in args.scenes:
+            results[name] = bench_scene(name, args, work)
+            if args.json:
+                with open(args.json, "w") as f:
+                    json.dump(results, f, indent=1)
+    md = markdown(results)
+    print(md)
+    if args.markdown:
+        with open(args.markdown, "w") as f:
+            f.write(md)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,152 @@
+//! Every reference comparison of the suite sees a small error: each is run here, at its own
+//! tolerance (tests/common/compare.rs), on its scene with one error put in, and must fail.
+//!
+//! | comparison (claim) | tolerance | errors put in |
+//! |---|---|---|
+//! | surface direct, per pixel (`reference_mitsuba.rs`) | relMSE < 1.3x the noise floors, means within 1% | light +2%, albedo -2%, area light two-sided |
+//! | mirror and glass, per pixel (`reference_mitsuba.rs`) | the same | light +2% |
+//! | single scattering, per pixel (`media_reference.rs`) | the same | spot turned by 5 deg, volume term x 0.95 |
+//! | fog, 8x8 blocks and mean (`media_reference.rs`) | block relMSE < 4e-4, mean within 2% | volume term x 0.95 |
+//! | glass in fog, 8x8 blocks and mean (`media_reference.rs`) | block relMSE < 5e-3, mean within 5% | caustic photons dropped |
+//! | full GI, 8x8 blocks at 10^6 photons (`photon_terms.rs`) | trimmed block relMSE < 2e-4 | caustic photons dropped, light +2% |
+//!
+//! The corpus against Cycles has its own sensitivity tests (tests/blender/test_corpus.py).
+
+mod common;
+use common::compare::*;
+use common::*;
+use photonmap::render::aov::Term;
+use photonmap::scene::desc::{LightDesc, MaterialDesc};
+use photonmap::scene::SceneDesc;
+
+fn brighter(mut desc: SceneDesc) -> SceneDesc {
+    for l in desc.lights.iter_mut() {
+        match l {
+            LightDesc::Point { power, .. }
+            | LightDesc::Spot { power, .. }
+            | LightDesc::Rect { power, .. }
+            | LightDesc::Disk { power, .. }
+            | LightDesc::Sphere { power, .. } => *power *= 1.02,
+            _ => panic!("a light kind this test does not scale"),
+        }
+    }
+    desc
+}
+
+fn darker_albedo(mut desc: SceneDesc) -> SceneDesc {
+    let mut n = 0;
+    for m in desc.materials.iter_mut() {
+        if let MaterialDesc::Diffuse { color, .. } = m {
+            if let photonmap::scene::desc::ColorInput::Value(c) = color {
+                for x in c.iter_mut() {
+                    *x *= 0.98;
+                }
+                n += 1;
+            }
+        }
+    }
+    assert!(n > 0, "no diffuse material");
+    desc
+}
+
+fn two_sided(mut desc: SceneDesc) -> SceneDesc {
+    let mut n = 0;
+    for l in desc.lights.iter_mut() {
+        if let LightDesc::Rect { two_sided, .. } = l {
+            *two_sided = true;
+            n += 1;
+        }
+    }
+    assert!(n > 0, "no area light");
+    desc
+}
+
+fn spot_turned(mut desc: SceneDesc) -> SceneDesc {
+    let a = 5f32.to_radians();
+    let mut n = 0;
+    for l in desc.lights.iter_mut() {
+        if let LightDesc::Spot { direction, .. } = l {
+            let [x, y, z] = *direction;
+            *direction = [x * a.cos() - y * a.sin(), x * a.sin() + y * a.cos(), z];
+            n += 1;
+        }
+    }
+    assert!(n > 0, "no spot");
+    desc
+}
+
+fn must_fail_pixels(label: &str, res: PixelResult) {
+    assert!(!res.passed(), "{label} went unnoticed: {res:?}");
+}
+
+const DIRECT: [Term; 2] = [Term::Direct, Term::Emission];
+
+#[test]
+fn surface_direct_sees_a_light_two_percent_brighter() {
+    let desc = brighter(load_scene("cornell_diffuse"));
+    let res = pixel_compare("light +2%", &surface_batches(&desc, &DIRECT, 64, &[]), "cornell_diffuse_direct");
+    must_fail_pixels("light +2%", res);
+}
+
+#[test]
+fn surface_direct_sees_an_albedo_two_percent_darker() {
+    let desc = darker_albedo(load_scene("cornell_diffuse"));
+    let res = pixel_compare("albedo -2%", &surface_batches(&desc, &DIRECT, 64, &[]), "cornell_diffuse_direct");
+    must_fail_pixels("albedo -2%", res);
+}
+
+#[test]
+fn surface_direct_sees_a_two_sided_area_light() {
+    let desc = two_sided(load_scene("cornell_diffuse"));
+    let res = pixel_compare("two-sided", &surface_batches(&desc, &DIRECT, 64, &[]), "cornell_diffuse_direct");
+    must_fail_pixels("two-sided area light", res);
+}
+
+#[test]
+fn mirror_and_glass_see_a_light_two_percent_brighter() {
+    let desc = brighter(load_scene("cornell_spheres"));
+    let terms = [Term::Direct, Term::Specular, Term::Emission];
+    let res = pixel_compare("light +2%", &surface_batches(&desc, &terms, 64, &[]), "cornell_spheres_direct_specular");
+    must_fail_pixels("light +2%", res);
+}
+
+#[test]
+fn single_scattering_sees_a_spot_turned_by_five_degrees() {
+    let desc = spot_turned(load_scene("fog_spot"));
+    let res = pixel_compare("spot +5 deg", &single_scattering_batches(&desc, &[]), "fog_spot_single");
+    must_fail_pixels("spot turned 5 deg", res);
+}
+
+#[test]
+fn single_scattering_sees_the_volume_term_five_percent_low() {
+    let desc = load_scene("fog_spot");
+    let res = pixel_compare("volume x0.95", &single_scattering_batches(&desc, &[(Term::Volume, 0.95)]), "fog_spot_single");
+    must_fail_pixels("volume x 0.95", res);
+}
+
+#[test]
+fn fog_sees_the_volume_term_five_percent_low() {
+    let res = media_full("volume x0.95", &load_scene("fog_spot"), "fog_spot", &[(Term::Volume, 0.95)]);
+    assert!(!res.passed(), "volume x 0.95 went unnoticed: {res:?}");
+}
+
+#[test]
+fn glass_in_fog_sees_the_caustic_photons_dropped() {
+    let res = media_full("no caustic", &load_scene("fog_glass"), "fog_glass", &[(Term::Caustic, 0.0)]);
+    assert!(!res.passed(), "dropped caustics went unnoticed: {res:?}");
+}
+
+#[test]
+fn full_gi_sees_the_caustic_photons_dropped() {
+    let (_, block) = full_gi(&load_scene("cornell_spheres"), "cornell_spheres_full", 1_000_000, &[(Term::Caustic, 0.0)]);
+    let limit = full_gi_limit("cornell_spheres_full");
+    assert!(block > limit, "dropped caustics went unnoticed: {block:.3e} < {limit:.1e}");
+}
+
+#[test]
+fn full_gi_sees_a_light_two_percent_brighter() {
+    let desc = brighter(load_scene("cornell_diffuse"));
+    let (_, block) = full_gi(&desc, "cornell_diffuse_full", 1_000_000, &[]);
+    let limit = full_gi_limit("cornell_diffuse_full");
+    assert!(block > limit, "a 2% brighter light went unnoticed: {block:.3e} < {limit:.1e}");
+}
