@@ -334,9 +334,12 @@ def test_world_and_textures_export(photonmap_scene, addon):
     mat = next(m for m in ir["materials"] if m["name"] == "textured")
     tex = ir["textures"][mat["base_color"]["texture"]]
     data = np.asarray(tex["data"]).reshape(tex["height"], tex["width"], tex["channels"])
-    # Top row (Blender's last) is the grey, decoded from sRGB; the bottom row is red.
-    assert data[0, 0] == pytest.approx([0.2140] * 3, abs=2e-3)
+    # A byte sRGB image is passed encoded (the core decodes after interpolating, as Cycles
+    # does): the top row (Blender's last) is the grey byte 128, the bottom row red.
+    assert tex["encoding"] == "srgb"
+    assert data[0, 0] == pytest.approx([128 / 255] * 3, abs=1e-6)
     assert data[1, 0] == pytest.approx([1, 0, 0], abs=1e-6)
+    assert ir["textures"][env["texture"]]["encoding"] == "linear"  # a float image
     assert ir["meshes"][0]["uvs"].shape == (4, 2)
     photonmap.Scene.from_dict(ir)
 
