@@ -20,7 +20,7 @@ Blender's exporter bugs, the 6500 K tint and the sun's S/4, where one holds:
 tests/blender/corpus/usd_export.py) and prints per scene and path the largest block deviation
 (% and sigmas), the number of blocks beyond tolerance, and the per-pixel relMSE against its
 tolerance. Writes ``--json`` (every figure) and a contact sheet ``--sheet`` (default
-docs/corpus_contact_sheet.png): per scene Cycles | ours through the add-on | its block
+docs/corpus_contact_sheet.jpg): per scene Cycles | ours through the add-on | its block
 deviations | ours through USD | its block deviations, all tone-mapped with the Cycles
 image's exposure (the USD render divided by the luminance of its factor); deviations in %
 from blue (-10%) through white to red (+10%), blocks not judged in grey, blocks beyond
@@ -183,7 +183,7 @@ def main() -> None:
     ap.add_argument("--reuse", action="store_true", help="skip renders already in --work")
     ap.add_argument("--nice", type=int, default=10, help="niceness of the renders (0: none)")
     ap.add_argument("--json", default=None, help="write every figure here")
-    ap.add_argument("--sheet", default=str(ROOT / "docs" / "corpus_contact_sheet.png"))
+    ap.add_argument("--sheet", default=str(ROOT / "docs" / "corpus_contact_sheet.jpg"))
     a = ap.parse_args()
     work = Path(a.work or tempfile.mkdtemp(prefix="photonmap-corpus-"))
     work.mkdir(parents=True, exist_ok=True)
