@@ -31,15 +31,6 @@ pub fn scaled_sum(out: &RenderOutput, terms: &[Term], scale: Scale) -> Image {
     img
 }
 
-pub const ALL_TERMS: [Term; 6] = [
-    Term::Direct,
-    Term::Indirect,
-    Term::Caustic,
-    Term::Specular,
-    Term::Volume,
-    Term::Emission,
-];
-
 /// A Mitsuba reference (`tests/data/references/<name>.exr`) and its per-pixel variance (from
 /// `<name>.stderr.exr`).
 pub fn reference(name: &str) -> (Image, Image) {
@@ -174,7 +165,7 @@ pub fn media_full(label: &str, desc: &SceneDesc, scene: &str, scale: Scale) -> M
         ..Default::default()
     };
     let out = render_media(desc, 8, photons, TermMask::ALL, 7);
-    let ours = scaled_sum(&out, &ALL_TERMS, scale);
+    let ours = scaled_sum(&out, &Term::ALL, scale);
     let refm = reference_mean(&format!("{scene}_full"));
     let block = block_rel_mse(&ours, &refm, 8);
     let mean_ratio = (ours.mean().x / refm.mean().x) as f64;
@@ -217,7 +208,7 @@ pub fn full_gi(desc: &SceneDesc, reference: &str, n: usize, scale: Scale) -> (f6
             ..Default::default()
         },
     );
-    let ours = scaled_sum(&out, &ALL_TERMS, scale);
+    let ours = scaled_sum(&out, &Term::ALL, scale);
     let refm = reference_mean(reference);
     // The worst two of 256 blocks are left out: at 16 spp a rare path through the glass
     // sphere's rim to the light is a firefly worth 2e-4 on its own.
