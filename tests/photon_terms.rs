@@ -205,7 +205,10 @@ fn diffuse_cornell_full_gi_converges_to_mitsuba() {
         errs[1].1 < errs[0].1 && errs[2].1 < errs[1].1,
         "block error must fall as photons grow: {errs:?}"
     );
-    assert!(errs[2].1 < common::compare::full_gi_limit("cornell_diffuse_full"), "{errs:?}");
+    assert!(
+        errs[2].1 < common::compare::full_gi_limit("cornell_diffuse_full"),
+        "{errs:?}"
+    );
 }
 
 #[test]
@@ -219,5 +222,8 @@ fn spheres_cornell_full_gi_converges_to_mitsuba() {
         errs[1].1 < errs[0].1 && errs[2].1 < errs[1].1,
         "block error must fall as photons grow: {errs:?}"
     );
-    assert!(errs[2].1 < common::compare::full_gi_limit("cornell_spheres_full"), "{errs:?}");
+    assert!(
+        errs[2].1 < common::compare::full_gi_limit("cornell_spheres_full"),
+        "{errs:?}"
+    );
 }

@@ -14,7 +14,11 @@ use common::*;
 use photonmap::render::aov::Term;
 
 fn compare(scene: &str, reference_name: &str, terms: &[Term], spp: u32) {
-    let res = pixel_compare(scene, &surface_batches(&load_scene(scene), terms, spp, &[]), reference_name);
+    let res = pixel_compare(
+        scene,
+        &surface_batches(&load_scene(scene), terms, spp, &[]),
+        reference_name,
+    );
     assert!(res.passed(), "{reference_name}: {res:?}");
 }
 

@@ -79,68 +79,104 @@ fn must_fail_pixels(label: &str, res: PixelResult) {
     assert!(!res.passed(), "{label} went unnoticed: {res:?}");
 }
 
-const DIRECT: [Term; 2] = [Term::Direct, Term::Emission];
+/// The surface-direct comparison (cornell_diffuse against its Mitsuba reference) must fail
+/// on `desc`.
+fn surface_direct_must_fail(label: &str, desc: SceneDesc) {
+    let terms = [Term::Direct, Term::Emission];
+    let batches = surface_batches(&desc, &terms, 64, &[]);
+    must_fail_pixels(
+        label,
+        pixel_compare(label, &batches, "cornell_diffuse_direct"),
+    );
+}
 
 #[test]
 fn surface_direct_sees_a_light_two_percent_brighter() {
-    let desc = brighter(load_scene("cornell_diffuse"));
-    let res = pixel_compare("light +2%", &surface_batches(&desc, &DIRECT, 64, &[]), "cornell_diffuse_direct");
-    must_fail_pixels("light +2%", res);
+    surface_direct_must_fail("light +2%", brighter(load_scene("cornell_diffuse")));
 }
 
 #[test]
 fn surface_direct_sees_an_albedo_two_percent_darker() {
-    let desc = darker_albedo(load_scene("cornell_diffuse"));
-    let res = pixel_compare("albedo -2%", &surface_batches(&desc, &DIRECT, 64, &[]), "cornell_diffuse_direct");
-    must_fail_pixels("albedo -2%", res);
+    surface_direct_must_fail("albedo -2%", darker_albedo(load_scene("cornell_diffuse")));
 }
 
 #[test]
 fn surface_direct_sees_a_two_sided_area_light() {
-    let desc = two_sided(load_scene("cornell_diffuse"));
-    let res = pixel_compare("two-sided", &surface_batches(&desc, &DIRECT, 64, &[]), "cornell_diffuse_direct");
-    must_fail_pixels("two-sided area light", res);
+    surface_direct_must_fail(
+        "two-sided area light",
+        two_sided(load_scene("cornell_diffuse")),
+    );
 }
 
 #[test]
 fn mirror_and_glass_see_a_light_two_percent_brighter() {
     let desc = brighter(load_scene("cornell_spheres"));
     let terms = [Term::Direct, Term::Specular, Term::Emission];
-    let res = pixel_compare("light +2%", &surface_batches(&desc, &terms, 64, &[]), "cornell_spheres_direct_specular");
+    let res = pixel_compare(
+        "light +2%",
+        &surface_batches(&desc, &terms, 64, &[]),
+        "cornell_spheres_direct_specular",
+    );
     must_fail_pixels("light +2%", res);
 }
 
 #[test]
 fn single_scattering_sees_a_spot_turned_by_five_degrees() {
     let desc = spot_turned(load_scene("fog_spot"));
-    let res = pixel_compare("spot +5 deg", &single_scattering_batches(&desc, &[]), "fog_spot_single");
+    let res = pixel_compare(
+        "spot +5 deg",
+        &single_scattering_batches(&desc, &[]),
+        "fog_spot_single",
+    );
     must_fail_pixels("spot turned 5 deg", res);
 }
 
 #[test]
 fn single_scattering_sees_the_volume_term_five_percent_low() {
     let desc = load_scene("fog_spot");
-    let res = pixel_compare("volume x0.95", &single_scattering_batches(&desc, &[(Term::Volume, 0.95)]), "fog_spot_single");
+    let res = pixel_compare(
+        "volume x0.95",
+        &single_scattering_batches(&desc, &[(Term::Volume, 0.95)]),
+        "fog_spot_single",
+    );
     must_fail_pixels("volume x 0.95", res);
 }
 
 #[test]
 fn fog_sees_the_volume_term_five_percent_low() {
-    let res = media_full("volume x0.95", &load_scene("fog_spot"), "fog_spot", &[(Term::Volume, 0.95)]);
+    let res = media_full(
+        "volume x0.95",
+        &load_scene("fog_spot"),
+        "fog_spot",
+        &[(Term::Volume, 0.95)],
+    );
     assert!(!res.passed(), "volume x 0.95 went unnoticed: {res:?}");
 }
 
 #[test]
 fn glass_in_fog_sees_the_caustic_photons_dropped() {
-    let res = media_full("no caustic", &load_scene("fog_glass"), "fog_glass", &[(Term::Caustic, 0.0)]);
+    let res = media_full(
+        "no caustic",
+        &load_scene("fog_glass"),
+        "fog_glass",
+        &[(Term::Caustic, 0.0)],
+    );
     assert!(!res.passed(), "dropped caustics went unnoticed: {res:?}");
 }
 
 #[test]
 fn full_gi_sees_the_caustic_photons_dropped() {
-    let (_, block) = full_gi(&load_scene("cornell_spheres"), "cornell_spheres_full", 1_000_000, &[(Term::Caustic, 0.0)]);
+    let (_, block) = full_gi(
+        &load_scene("cornell_spheres"),
+        "cornell_spheres_full",
+        1_000_000,
+        &[(Term::Caustic, 0.0)],
+    );
     let limit = full_gi_limit("cornell_spheres_full");
-    assert!(block > limit, "dropped caustics went unnoticed: {block:.3e} < {limit:.1e}");
+    assert!(
+        block > limit,
+        "dropped caustics went unnoticed: {block:.3e} < {limit:.1e}"
+    );
 }
 
 #[test]
@@ -148,5 +184,8 @@ fn full_gi_sees_a_light_two_percent_brighter() {
     let desc = brighter(load_scene("cornell_diffuse"));
     let (_, block) = full_gi(&desc, "cornell_diffuse_full", 1_000_000, &[]);
     let limit = full_gi_limit("cornell_diffuse_full");
-    assert!(block > limit, "a 2% brighter light went unnoticed: {block:.3e} < {limit:.1e}");
+    assert!(
+        block > limit,
+        "a 2% brighter light went unnoticed: {block:.3e} < {limit:.1e}"
+    );
 }

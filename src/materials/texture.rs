@@ -298,7 +298,13 @@ mod tests {
         // Two texels, sRGB-encoded 0 and 1 (a black/white edge): halfway the encoded value
         // 0.5 decodes to 0.214 (a linear texture would give 0.5); the texels themselves are
         // decoded exactly; alpha stays linear.
-        let mut t = tex(2, 1, 4, vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0], WrapMode::Clamp);
+        let mut t = tex(
+            2,
+            1,
+            4,
+            vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0],
+            WrapMode::Clamp,
+        );
         t.srgb = true;
         let mid = t.eval_rgb(Vec2::new(0.5, 0.5));
         assert!((mid.x - srgb_to_linear(0.5)).abs() < 1e-6 && (mid.x - 0.2140).abs() < 1e-3);

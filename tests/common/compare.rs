@@ -98,7 +98,13 @@ pub fn surface_batches(desc: &SceneDesc, terms: &[Term], spp: u32, scale: Scale)
         .collect()
 }
 
-fn render_media(desc: &SceneDesc, spp: u32, photons: PhotonSettings, terms: TermMask, seed: u64) -> RenderOutput {
+fn render_media(
+    desc: &SceneDesc,
+    spp: u32,
+    photons: PhotonSettings,
+    terms: TermMask,
+    seed: u64,
+) -> RenderOutput {
     render_settings(
         desc,
         RenderSettings {
@@ -122,7 +128,13 @@ pub fn single_scattering_batches(desc: &SceneDesc, scale: Scale) -> Vec<Image> {
         ..Default::default()
     };
     (0..4)
-        .map(|s| scaled_sum(&render_media(desc, 16, photons.clone(), mask, 50 + s), &terms, scale))
+        .map(|s| {
+            scaled_sum(
+                &render_media(desc, 16, photons.clone(), mask, 50 + s),
+                &terms,
+                scale,
+            )
+        })
         .collect()
 }
 
@@ -212,7 +224,10 @@ pub fn full_gi(desc: &SceneDesc, reference: &str, n: usize, scale: Scale) -> (f6
     let refm = reference_mean(reference);
     // The worst two of 256 blocks are left out: at 16 spp a rare path through the glass
     // sphere's rim to the light is a firefly worth 2e-4 on its own.
-    let (e, eb) = (rel_mse(&ours, &refm), block_rel_mse_trimmed(&ours, &refm, 8, 2));
+    let (e, eb) = (
+        rel_mse(&ours, &refm),
+        block_rel_mse_trimmed(&ours, &refm, 8, 2),
+    );
     eprintln!(
         "{reference} with {n} photons: relMSE {e:.3e}, 8x8-block relMSE {eb:.3e}, mean {:?} vs {:?}",
         ours.mean(),
