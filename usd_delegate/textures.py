@@ -1,7 +1,8 @@
 """Image textures: UsdUVTexture, MaterialX image nodes and dome-light files, read with
 OpenImageIO (EXR, PNG, JPEG, TIFF, HDR). sRGB where the colour space says so (``auto``: 8-bit
 images are sRGB): 8-bit images are passed encoded (IR ``encoding: srgb``, decoded by the core
-after interpolation, as Cycles does), others decoded to linear here. A missing file is a warning naming the prim and path."""
+after interpolation, as Cycles does), others decoded to linear here. A missing file is a
+warning naming the prim and path."""
 
 from __future__ import annotations
 

@@ -113,6 +113,11 @@ def test_invalid_dict_is_a_scene_error_naming_the_field():
     with pytest.raises(photonmap.SceneError, match=r"/camera/bogus"):
         photonmap.Scene.from_dict(s)
     s = numpy_scene()
+    s["textures"] = [{"width": 1, "height": 1, "channels": 3, "data": [0.5] * 3,
+                      "encoding": "gamma22"}]
+    with pytest.raises(photonmap.SceneError, match=r"/textures/0/encoding.*`linear` or `srgb`"):
+        photonmap.Scene.from_dict(s)
+    s = numpy_scene()
     s["lights"][0]["power"] = "bright"
     with pytest.raises(photonmap.SceneError, match=r"/lights/0 .*lamp.*bright"):
         photonmap.Scene.from_dict(s)
