@@ -327,3 +327,39 @@ fn density_grid_photons_match_homogeneous_photons() {
     eprintln!("fog_spot homogeneous {ma:?}, constant grid {mb:?}");
     assert!((mb.x / ma.x - 1.0).abs() < 0.03, "{ma:?} vs {mb:?}");
 }
+
+/// The part of a volume estimate's sphere that photons reach, against the closed form of a
+/// sphere of radius r cut by a plane at distance d from its centre: 1 - h^2 (3r - h) / (4 r^3)
+/// with h = r - d; exactly 1 where the sphere misses every surface.
+#[test]
+fn reachable_fraction_matches_the_cut_sphere() {
+    use photonmap::render::terms::volume::reachable_fraction;
+    use photonmap::sampling::Rng;
+    let scene = photonmap::scene::Scene::build(&slab_scene(0.1, 0.5)).unwrap();
+    let r = 0.5f32;
+    let mut rng = Rng::new(7, 0);
+    // Below the top face (y = 1), far from the other faces.
+    for d in [0.01f32, 0.1, 0.25, 0.4] {
+        let x = Vec3::new(0.0, 1.0 - d, 0.0);
+        let n = 40_000;
+        let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+        for _ in 0..n {
+            let f = reachable_fraction(&scene, x, r, &mut rng) as f64;
+            sum += f;
+            sum2 += f * f;
+        }
+        let mean = sum / n as f64;
+        let se = ((sum2 / n as f64 - mean * mean) / n as f64).sqrt();
+        let h = (r - d) as f64;
+        let exact = 1.0 - h * h * (3.0 * r as f64 - h) / (4.0 * (r as f64).powi(3));
+        eprintln!("d {d}: fraction {mean:.4} +- {se:.4}, exact {exact:.4}");
+        assert!(
+            (mean - exact).abs() < 4.0 * se + 1e-3,
+            "d {d}: {mean} vs {exact}"
+        );
+    }
+    let deep = Vec3::new(0.0, 0.0, 0.0);
+    for _ in 0..100 {
+        assert_eq!(reachable_fraction(&scene, deep, r, &mut rng), 1.0);
+    }
+}

@@ -6,10 +6,8 @@
 //!   scattering only. Per-pixel relMSE against the noise-only prediction, as for the surface
 //!   references (`tests/reference_mitsuba.rs`).
 //! - The full scenes compare 8x8-pixel block means (the path-traced references are noisy and
-//!   heavy-tailed around caustics) and image means. Measured with these settings: fog_spot
-//!   block relMSE 1.3e-4, mean ratio 1.002; thick_sphere 1.4e-3, 0.987; fog_glass 2.2e-3,
-//!   0.973 (its reference's own block noise floor is 1.45e-4, and its glass is clear inside
-//!   while ours lets the fog continue into glass that has no interior medium, as Cycles does).
+//!   heavy-tailed around caustics) and image means. The figures
+//!   and limits are `common::compare::media_limits`'s.
 
 mod common;
 use common::compare::{media_full, pixel_compare, single_scattering_batches};

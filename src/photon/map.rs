@@ -302,10 +302,8 @@ fn volume_radiance_in<P: PhotonRecord>(
     k: usize,
     max_r2: f32,
     scratch: &mut KnnScratch,
-) -> Spectrum {
-    let Some((found, r2, skip)) = nearest(tree, x, k, max_r2, scratch) else {
-        return Spectrum::ZERO;
-    };
+) -> Option<(Spectrum, f32)> {
+    let (found, r2, skip) = nearest(tree, x, k, max_r2, scratch)?;
     let mut sum = Spectrum::ZERO;
     for (i, nb) in found.iter().enumerate() {
         if Some(i) == skip {
@@ -314,7 +312,7 @@ fn volume_radiance_in<P: PhotonRecord>(
         let ph = tree.get(nb.index);
         sum += ph.power() * phase.eval(wo, ph.incoming());
     }
-    sum / (4.0 / 3.0 * PI * r2 * r2.sqrt())
+    Some((sum / (4.0 / 3.0 * PI * r2 * r2.sqrt()), r2))
 }
 
 impl PhotonMap {
@@ -370,7 +368,10 @@ impl PhotonMap {
     }
 
     /// In-scattered radiance at `x` towards `wo` from a volume map (Jensen & Christensen 1998):
-    /// sum_p p(wo, wi_p) Phi_p / (4/3 pi r^3), with the k-th photon bounding the sphere.
+    /// sum_p p(wo, wi_p) Phi_p / (4/3 pi r^3), with the k-th photon bounding the sphere, and
+    /// the sphere's squared radius r^2; None when no photon is within `max_r2`. The estimate
+    /// takes the whole sphere as medium; where part of it is not (past a boundary or inside an
+    /// object), the caller divides by the part that is.
     pub fn volume_radiance(
         &self,
         x: Vec3,
@@ -379,7 +380,7 @@ impl PhotonMap {
         k: usize,
         max_r2: f32,
         scratch: &mut KnnScratch,
-    ) -> Spectrum {
+    ) -> Option<(Spectrum, f32)> {
         with_tree!(&self.tree, t => volume_radiance_in(t, x, wo, phase, k, max_r2, scratch))
     }
 

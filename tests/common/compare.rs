@@ -141,15 +141,19 @@ pub fn single_scattering_batches(desc: &SceneDesc, scale: Scale) -> Vec<Image> {
 // -- 8x8 blocks: full images with media -------------------------------------------------------
 
 /// (largest 8x8-block relMSE, largest |mean ratio - 1|) of a full media scene against its
-/// `<scene>_full` reference. Measured: fog_spot block relMSE 1.3e-4, mean ratio 1.002;
-/// thick_sphere 1.4e-3, 0.987; fog_glass 2.2e-3, 0.973 (its reference's own block noise floor
-/// is 1.45e-4, and its glass is clear inside while ours lets the fog continue into glass that
-/// has no interior medium, as Cycles does).
+/// `<scene>_full` reference, about twice the measured figures. Measured (seed 7, 2x10^5
+/// photons per map): fog_spot block relMSE 1.2e-4, mean ratio 1.019; thick_sphere 4.8e-4,
+/// 1.001; fog_glass 2.0e-3, 1.000 (its reference's own block noise floor is 1.45e-4, and its
+/// glass is clear inside while ours lets the fog continue into glass that has no interior
+/// medium, as Cycles does). fog_spot's mean sits 1.9% above Mitsuba's with any number of
+/// volume photons (1.011 at 2x10^5 and at 2x10^6 in a gaussian-filtered render), a spot-in-fog
+/// difference not found yet, so its mean tolerance stays at 2% and the volume-term check of
+/// the sensitivity suite runs on fog_glass.
 pub fn media_limits(scene: &str) -> (f64, f64) {
     match scene {
         "fog_spot" => (4e-4, 0.02),
-        "thick_sphere" => (3e-3, 0.03),
-        "fog_glass" => (5e-3, 0.05),
+        "thick_sphere" => (1e-3, 0.015),
+        "fog_glass" => (4e-3, 0.015),
         _ => panic!("no limits for {scene}"),
     }
 }

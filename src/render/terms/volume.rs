@@ -147,7 +147,11 @@ pub fn march(
             inscatter += sigma_s * single_scattering(scene, stack, x, wo, &phase, rng);
         }
         if let Some(vm) = &maps.volume {
-            inscatter += vm.volume_radiance(x, wo, &phase, s.gather, s.max_r2, scratch);
+            if let Some((l_vol, r2)) =
+                vm.volume_radiance(x, wo, &phase, s.gather, s.max_r2, scratch)
+            {
+                inscatter += l_vol / reachable_fraction(scene, x, r2.sqrt(), rng);
+            }
             lookups += 1;
         }
         steps += 1;
@@ -155,6 +159,41 @@ pub fn march(
         t_start *= exp_neg(sigma_t, step);
     }
     done(l, t_total, steps, lookups)
+}
+
+/// Directions of [`reachable_fraction`]'s estimate, one per stratum of the sphere.
+const SUPPORT_RAYS: u32 = 8;
+/// The smallest fraction it returns: a cube's corner (an eighth of the sphere) is the tightest
+/// place a medium usually has.
+const MIN_SUPPORT: f32 = 0.125;
+
+/// The part of the sphere of radius `r` around `x` that photons in the medium reach: the
+/// volume within `r` seen from `x` before any surface (a medium's boundary, an object in it),
+/// over the sphere's, by `SUPPORT_RAYS` stratified directions:
+/// mean_j (min(d_j, r) / r)^3, with `d_j` the distance to the first surface along direction j
+/// (exact for regions star-shaped around `x`, as directions grow). A density estimate of a
+/// sphere cut by a boundary counts photons of the part inside only; dividing by this removes
+/// the darkening within one radius of a medium's walls, floor and objects. Deep inside, every
+/// ray runs its full length and the fraction is exactly 1.
+pub fn reachable_fraction(scene: &Scene, x: Vec3, r: f32, rng: &mut Rng) -> f32 {
+    if !(r > 0.0) {
+        return 1.0;
+    }
+    let (nu, nv) = (2u32, SUPPORT_RAYS / 2);
+    let mut sum = 0.0;
+    for j in 0..SUPPORT_RAYS {
+        let (a, b) = (j % nu, j / nu);
+        let u = glam::Vec2::new(
+            (a as f32 + rng.f32()) / nu as f32,
+            (b as f32 + rng.f32()) / nv as f32,
+        );
+        let d = crate::sampling::warp::square_to_uniform_sphere(u);
+        let ray = Ray { o: x, d, t_max: r };
+        let t = scene.accel.intersect(&ray).map_or(r, |h| h.t.min(r));
+        let q = t / r;
+        sum += q * q * q;
+    }
+    (sum / SUPPORT_RAYS as f32).max(MIN_SUPPORT)
 }
 
 /// Radiance from the lights arriving at `x` in a medium and scattered towards `wo`, per unit
