@@ -22,7 +22,14 @@ impl LobeFlags {
     pub const GLOSSY: u8 = 8;
     /// A Dirac delta lobe: its direction is chosen, never found by `eval`.
     pub const SPECULAR: u8 = 16;
-    pub const ALL: u8 = 31;
+    /// A glossy lobe so narrow (GGX alpha at most
+    /// [`NEAR_SPECULAR_ALPHA`](super::microfacet::NEAR_SPECULAR_ALPHA)) that the photon
+    /// terms treat it as specular: photon paths through it are caustic paths, and final
+    /// gathering follows it by sampling instead of reading the global map on it. A photon-map
+    /// density estimate cannot resolve such a lobe: its reflection changes within one search
+    /// radius on a curved surface.
+    pub const NEAR_SPECULAR: u8 = 32;
+    pub const ALL: u8 = 63;
 }
 
 /// One sampled scattering event.
@@ -68,6 +75,10 @@ pub enum Component {
     Specular,
     /// Transmission of every kind.
     Transmission,
+    /// The near-specular reflection lobes alone (a part of `Specular`).
+    NearSpecular,
+    /// `Specular` without its near-specular lobes.
+    SpecularOther,
 }
 
 /// Which lobes take part in an operation, and which hemispheres they may scatter into.
@@ -105,6 +116,16 @@ impl Selection {
                 include: LobeFlags::ALL,
                 exclude: 0,
             },
+            Component::NearSpecular => Selection {
+                mask: LobeFlags::REFLECTION,
+                include: LobeFlags::NEAR_SPECULAR,
+                exclude: LobeFlags::DIFFUSE,
+            },
+            Component::SpecularOther => Selection {
+                mask: LobeFlags::REFLECTION,
+                include: LobeFlags::ALL,
+                exclude: LobeFlags::DIFFUSE | LobeFlags::NEAR_SPECULAR,
+            },
         }
     }
     fn keeps(&self, lobe: &Lobe) -> bool {
@@ -112,6 +133,13 @@ impl Selection {
         f & self.include != 0 && f & self.exclude == 0
     }
 }
+
+/// Delta and near-specular lobes on both sides: what final gathering follows by sampling.
+const SELECT_SPECULAR_LIKE: Selection = Selection {
+    mask: LobeFlags::REFLECTION | LobeFlags::TRANSMISSION,
+    include: LobeFlags::SPECULAR | LobeFlags::NEAR_SPECULAR,
+    exclude: 0,
+};
 
 /// Glossy (non-delta, non-diffuse) lobes on both sides.
 const SELECT_GLOSSY: Selection = Selection {
@@ -314,14 +342,46 @@ impl Bsdf {
 
     /// The same BSDF with its glossy lobes only.
     pub fn glossy_part(&self) -> Bsdf {
+        self.part(|l| SELECT_GLOSSY.keeps(l))
+    }
+
+    /// The same BSDF without its near-specular lobes (what a photon-map estimate on it
+    /// answers for).
+    pub fn without_near_specular(&self) -> Bsdf {
+        self.part(|l| l.flags() & LobeFlags::NEAR_SPECULAR == 0)
+    }
+
+    /// The lobes that `keep`, under the same coat.
+    fn part(&self, keep: impl Fn(&Lobe) -> bool) -> Bsdf {
         let mut b = Bsdf::new(self.frame);
         b.coat = self.coat;
         for (i, (w, l)) in self.lobes().enumerate() {
-            if SELECT_GLOSSY.keeps(l) && b.add(w, *l) {
+            if keep(l) && b.add(w, *l) {
                 b.coated[b.count - 1] = self.coated[i];
             }
         }
         b
+    }
+
+    /// Samples the delta and near-specular lobes alone (world space); the weight is theirs,
+    /// f_sel |cos| / pdf_sel, or a delta lobe's factor over its discrete probability.
+    pub fn sample_specular_like(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        let s = self.sample_sel(self.frame.to_local(wo), u_lobe, u, SELECT_SPECULAR_LIKE)?;
+        Some(BsdfSample {
+            wi: self.frame.to_world(s.wi),
+            ..s
+        })
+    }
+
+    /// Directional albedo of one reflection [`Component`] at `wo` (world space), from the
+    /// lobes' estimates (`Lobe::albedo`).
+    pub fn component_albedo(&self, wo: Vec3, component: Component) -> Spectrum {
+        let sel = Selection::for_component(component);
+        let wo = self.frame.to_local(wo);
+        self.lobes_at(wo)
+            .filter(|(_, l)| sel.keeps(l))
+            .map(|(w, l)| w * l.albedo(wo, sel.mask).max(Vec3::ZERO))
+            .sum()
     }
 
     /// [`Bsdf::eval`] with local directions.

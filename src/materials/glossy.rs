@@ -66,7 +66,12 @@ impl MicrofacetReflection {
     }
 
     pub fn flags(&self) -> u8 {
-        LobeFlags::REFLECTION | LobeFlags::GLOSSY
+        let near = if self.ggx.alpha <= super::microfacet::NEAR_SPECULAR_ALPHA {
+            LobeFlags::NEAR_SPECULAR
+        } else {
+            0
+        };
+        LobeFlags::REFLECTION | LobeFlags::GLOSSY | near
     }
 
     pub fn eval(&self, wo: Vec3, wi: Vec3, mask: u8) -> Spectrum {

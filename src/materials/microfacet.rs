@@ -8,6 +8,13 @@ use glam::{Vec2, Vec3};
 /// Smallest GGX alpha; smaller values are numerically a delta and handled as such.
 pub const MIN_ALPHA: f32 = 1e-4;
 
+/// Largest perceptual roughness of a near-specular lobe
+/// ([`LobeFlags::NEAR_SPECULAR`](super::bsdf::LobeFlags::NEAR_SPECULAR)): a Principled coat
+/// (default 0.03) and a polished metal (0.1) are; Blender's default 0.5 is not.
+pub const NEAR_SPECULAR_ROUGHNESS: f32 = 0.2;
+/// [`NEAR_SPECULAR_ROUGHNESS`] as GGX alpha.
+pub const NEAR_SPECULAR_ALPHA: f32 = NEAR_SPECULAR_ROUGHNESS * NEAR_SPECULAR_ROUGHNESS;
+
 /// GGX alpha from perceptual roughness: alpha = roughness^2, clamped to [`MIN_ALPHA`].
 #[inline]
 pub fn alpha_from_roughness(roughness: f32) -> f32 {

@@ -338,13 +338,14 @@ impl Material {
         }
     }
 
-    /// Whether a delta or transmissive lobe is possible (the scene then needs a caustic map).
+    /// Whether a delta, near-specular or transmissive lobe is possible (the scene then needs a
+    /// caustic map).
     pub fn has_specular(&self) -> bool {
         match self {
             Material::Diffuse { .. } | Material::Emission { .. } | Material::Null { .. } => false,
             Material::Mirror { .. } | Material::Dielectric { .. } => true,
             Material::Conductor { roughness, .. } | Material::Glossy { roughness, .. } => {
-                *roughness <= 0.0
+                *roughness <= microfacet::NEAR_SPECULAR_ROUGHNESS
             }
             Material::Principled(p) => p.has_specular(),
         }

@@ -131,20 +131,22 @@ impl Principled {
         bsdf
     }
 
-    /// Whether a delta or transmissive lobe can occur anywhere on the surface.
+    /// Whether a delta, near-specular or transmissive lobe can occur anywhere on the surface.
     pub fn has_specular(&self) -> bool {
         if self.transmission > 0.0 {
             return true;
         }
         let rough_zero = match self.roughness {
-            FloatParam::Const(r) => r <= 0.0,
+            FloatParam::Const(r) => r <= super::microfacet::NEAR_SPECULAR_ROUGHNESS,
             FloatParam::Tex { .. } => true,
         };
         let metal = match self.metallic {
             FloatParam::Const(v) => v > 0.0,
             FloatParam::Tex { scale, .. } => scale > 0.0,
         };
-        let smooth_coat = self.clearcoat.is_some_and(|c| c.roughness <= 0.0);
+        let smooth_coat = self
+            .clearcoat
+            .is_some_and(|c| c.roughness <= super::microfacet::NEAR_SPECULAR_ROUGHNESS);
         smooth_coat || (rough_zero && (metal || self.coat_f0() > 0.0))
     }
 }

@@ -13,7 +13,7 @@ use super::map::{
 use super::{decode_direction, encode_direction, Photon, PhotonError, PhotonF32, PhotonKdTree};
 use crate::geometry::Ray;
 use crate::lights::{LeSample, Light, Target};
-use crate::materials::bsdf::{Component, LobeFlags};
+use crate::materials::bsdf::{Bsdf, Component, LobeFlags};
 use crate::math::{is_finite3, Spectrum};
 use crate::media::{Medium, MediumStack};
 use crate::sampling::Rng;
@@ -192,7 +192,9 @@ fn trace_path(
                     ),
                 }),
                 MapKind::Caustic => {
-                    // Light -> specular+ -> here: a caustic photon. Its path ends here.
+                    // Light -> specular+ -> here: a caustic photon. Its path goes on only
+                    // through a delta or near-specular lobe of this surface (Russian roulette
+                    // below), which makes the path after it a caustic path too.
                     if specular_bounces == interactions && interactions > 0 {
                         out.push(RawPhoton {
                             p: si.p,
@@ -202,7 +204,9 @@ fn trace_path(
                             flags: FLAG_CAUSTIC_PATH as u8,
                         });
                     }
-                    break;
+                    if bsdf.flags() & (LobeFlags::SPECULAR | LobeFlags::NEAR_SPECULAR) == 0 {
+                        break;
+                    }
                 }
                 MapKind::Volume => {}
             }
@@ -216,7 +220,7 @@ fn trace_path(
         let (component, p) = if q < pd {
             (Component::Diffuse, pd)
         } else if q < pd + ps {
-            (Component::Specular, ps)
+            specular_component(&bsdf, si.wo, ps, rng)
         } else if q < pd + ps + pt {
             (Component::Transmission, pt)
         } else {
@@ -235,7 +239,7 @@ fn trace_path(
             break;
         }
         power = new_power;
-        if bs.is_delta() || passes {
+        if bs.is_delta() || passes || component == Component::NearSpecular {
             specular_bounces += 1;
         } else if kind == MapKind::Caustic {
             break;
@@ -246,6 +250,28 @@ fn trace_path(
         interactions += 1;
         last_scatter = false;
         ray = si.spawn_ray(bs.wi);
+    }
+}
+
+/// Splits the specular-and-glossy reflection chosen with probability `p` into its
+/// near-specular lobes and the rest, in proportion to their albedos at `wo`: a photon that
+/// leaves by a near-specular lobe is on a caustic path, one that leaves by a broader lobe is
+/// not. Returns the part and its probability.
+fn specular_component(bsdf: &Bsdf, wo: Vec3, p: f32, rng: &mut Rng) -> (Component, f32) {
+    if bsdf.flags() & LobeFlags::NEAR_SPECULAR == 0 {
+        return (Component::Specular, p);
+    }
+    let near = mean(bsdf.component_albedo(wo, Component::NearSpecular));
+    let other = mean(bsdf.component_albedo(wo, Component::SpecularOther));
+    let f = if near + other > 0.0 {
+        near / (near + other)
+    } else {
+        1.0
+    };
+    if rng.f32() < f {
+        (Component::NearSpecular, p * f)
+    } else {
+        (Component::SpecularOther, p * (1.0 - f))
     }
 }
 

@@ -1,6 +1,7 @@
 //! `indirect`: diffuse interreflection by final gathering (Jensen 2001, §9.3.4): rays leave
-//! the first non-specular surface, follow perfect specular bounces, and at the first
-//! non-specular surface they reach take the global photon map's radiance estimate. Light that
+//! the first non-specular surface, follow perfect specular and near-specular bounces
+//! (`LobeFlags::NEAR_SPECULAR`), and at the first other surface they reach take the global
+//! photon map's radiance estimate of its remaining lobes. Light that
 //! reaches the gather point straight from an emitter (direct) or through specular surfaces
 //! only (caustic) belongs to the other terms and is not counted here.
 //!
@@ -61,23 +62,36 @@ pub fn gather_radiance(
         };
         let bsdf = crate::render::eye::shading_bsdf(scene, mat, &mut si);
         let passes = bsdf.passes_through();
+        let follow = LobeFlags::SPECULAR | LobeFlags::NEAR_SPECULAR;
         if bsdf.has_non_delta() && !passes {
-            // Short rays (corners, contact) take the full estimate: there the irradiance
-            // changes within a point's reach.
-            let near = si.t * ray.d.length() < NEAR_HIT_RADII * maps.global_r2.sqrt();
-            acc += beta * hit_radiance(global, &si, &bsdf, maps, near, scratch);
+            // The estimate answers for the lobes it can resolve; near-specular ones are
+            // followed below, as the photon pass treats them.
+            let est = if bsdf.flags() & LobeFlags::NEAR_SPECULAR != 0 {
+                bsdf.without_near_specular()
+            } else {
+                bsdf
+            };
+            if est.has_non_delta() {
+                // Short rays (corners, contact) take the full estimate: there the
+                // irradiance changes within a point's reach.
+                let near = si.t * ray.d.length() < NEAR_HIT_RADII * maps.global_r2.sqrt();
+                acc += beta * hit_radiance(global, &si, &est, maps, near, scratch);
+            }
         }
-        if bsdf.flags() & LobeFlags::SPECULAR == 0 && !passes {
+        if bsdf.flags() & follow == 0 && !passes {
             break;
         }
-        // The specular part of the surface: follow it by sampling (non-specular samples are
-        // already covered by the estimate above).
-        let Some(bs) = bsdf.sample(si.wo, rng.f32(), rng.vec2()) else {
+        // The specular and near-specular part of the surface: follow it by sampling it
+        // alone (the rest is covered by the estimate above); rough glass, which no estimate
+        // covers, is followed whole.
+        let sampled = if passes {
+            bsdf.sample(si.wo, rng.f32(), rng.vec2())
+        } else {
+            bsdf.sample_specular_like(si.wo, rng.f32(), rng.vec2())
+        };
+        let Some(bs) = sampled else {
             break;
         };
-        if !bs.is_delta() && !passes {
-            break;
-        }
         beta *= bs.weight;
         if beta.max_element() < 1e-4 {
             break;

@@ -16,11 +16,7 @@ GLASS_CAUSTIC = ("core: one caustic block under the glass sphere -15.7% (-5.8 si
                  "rest within tolerance (pooled -0.4%)")
 ROUGH_GLASS = ("core: rough glass has no multiple-scattering compensation: pooled -2.3%, "
                "blocks behind and under it to -24%")
-METAL_SMOOTH = ("core: a smooth metal's reflection of the room is 3.6% dark pooled, blocks to "
-                "-10 sigma (its reflected caustics and the glossy gather)")
 METAL_ROUGH = "core: one ceiling block above the light -5.5% (-6.2 sigma); pooled -0.6%"
-COAT = ("core: the floor under the coated sphere 10-16% dark (-20 sigma, three blocks); "
-        "pooled -1.3% (add-on), -1.45% (USD)")
 EMISSIVE_SPHERE = ("core: one floor block near the glowing sphere, (12,14), is high in both "
                    "paths (+28%, +4.8 sigma, add-on; +8%, +6.3 sigma, USD); pooled within 0.3%")
 SUN_ANGLE_ADDON = "core: three penumbra blocks of the sun's shadow +20% (+5.5 sigma)"
@@ -44,14 +40,12 @@ ONE_BLOCK = "one block only, the add-on path passes: {}"
 
 #: scene -> reason, for the add-on path (tests/blender/test_corpus.py).
 ADDON: dict[str, str] = {
-    "coat": COAT,
     "emission_principled": EMISSIVE_SPHERE,
     "fog_spot_out": FOG_TOP_FACE,
     "glass_bsdf": GLASS_CAUSTIC,
     "glass_r0": GLASS_CAUSTIC,
     "glass_r03": ROUGH_GLASS,
     "metal_rough": METAL_ROUGH,
-    "metal_smooth": METAL_SMOOTH,
     "sun_angle": SUN_ANGLE_ADDON,
 }
 
@@ -62,13 +56,11 @@ USD: dict[str, str] = {
     "area_hidden": HIDDEN,
     "area_rect": ONE_BLOCK.format("the image's top-left block -6.0% (-9.2 sigma)"),
     "area_spread60": SPREAD,
-    "coat": COAT,
     "emission_principled": EMISSIVE_SPHERE,
     "glass_bsdf": GLASS_CAUSTIC,
     "glass_r0": GLASS_CAUSTIC,
     "glass_r03": ROUGH_GLASS,
     "metal_rough": METAL_ROUGH,
-    "metal_smooth": METAL_SMOOTH,
     "point_r01_hard": HARD_FALLOFF,
     "spot_blend": ONE_BLOCK.format("two blocks at the pool's edge -9% and -12% (-6 sigma)"),
     "sun_angle": SUN_HALF_ANGLE,
