@@ -600,3 +600,61 @@ fn layered_and_metal_albedos_are_known() {
         }
     }
 }
+
+/// The near-specular lobes (`LobeFlags::NEAR_SPECULAR`: GGX alpha <= 0.04) are a partition of
+/// the BSDF: the estimate's part (`without_near_specular`) plus the near-specular component
+/// is the whole, direction by direction; the two reflection parts the photon pass splits
+/// `Specular` into sum to it; and the flag is set where the roughness says so.
+#[test]
+fn near_specular_lobes_partition_the_bsdf() {
+    let mut cases = white_materials();
+    cases.push((
+        "principled coat".into(),
+        principled(|d| d.coat_weight = 1.0),
+    ));
+    let mut rng = Rng::new(12, 0);
+    let mut flagged = Vec::new();
+    for (name, desc) in &cases {
+        let m = Material::from_desc(desc);
+        let bsdf = m.bsdf(local(), Vec2::ZERO, &[]);
+        if bsdf.flags() & LobeFlags::NEAR_SPECULAR != 0 {
+            flagged.push(name.clone());
+        }
+        let rest = bsdf.without_near_specular();
+        for _ in 0..200 {
+            let (wo, wi) = (random_dir(&mut rng), random_dir(&mut rng));
+            let whole = bsdf.eval(wo, wi);
+            let parts = rest.eval(wo, wi) + bsdf.eval_component(wo, wi, Component::NearSpecular);
+            let tol = 1e-4 * whole.max_element().max(1.0);
+            assert!(
+                (whole - parts).abs().max_element() <= tol,
+                "{name}: {whole} vs {parts}"
+            );
+            let s = bsdf.eval_component(wo, wi, Component::Specular);
+            let split = bsdf.eval_component(wo, wi, Component::NearSpecular)
+                + bsdf.eval_component(wo, wi, Component::SpecularOther);
+            assert!((s - split).abs().max_element() <= 1e-4 * s.max_element().max(1.0));
+        }
+    }
+    for must in [
+        "conductor r=0.1",
+        "principled metal r=0.1",
+        "principled coat",
+    ] {
+        assert!(
+            flagged.iter().any(|n| n == must),
+            "{must} not near-specular: {flagged:?}"
+        );
+    }
+    for not in [
+        "conductor r=0.4",
+        "diffuse",
+        "principled metal r=0.4",
+        "principled plastic r=0.4",
+    ] {
+        assert!(
+            !flagged.iter().any(|n| n == not),
+            "{not} near-specular: {flagged:?}"
+        );
+    }
+}
