@@ -171,7 +171,7 @@ fn trace_path(
         if too_near(dist) {
             break;
         }
-        let bsdf = crate::render::eye::shading_bsdf(scene, mat, &mut si);
+        let bsdf = scene.shading_bsdf(mat, &mut si);
         let passes = bsdf.passes_through();
         if bsdf.has_non_delta() && !passes {
             let n = encode_direction(if si.ng.dot(si.wo) >= 0.0 {

@@ -4,7 +4,7 @@
 //! record, computed in parallel and inserted in pixel order. The camera pass then only reads
 //! the cache, so the image is the same for any thread count.
 
-use super::eye::{shading_bsdf, EyeCtx};
+use super::eye::EyeCtx;
 use super::irradiance_cache::{IrradianceCache, Record};
 use super::settings::RenderSettings;
 use super::terms::indirect::gather_hemisphere;
@@ -45,7 +45,7 @@ fn first_diffuse(
         };
         length += si.t * ray.d.length();
         let mat = scene.materials.get(si.material as usize)?;
-        let bsdf = shading_bsdf(scene, mat, &mut si);
+        let bsdf = scene.shading_bsdf(mat, &mut si);
         let passes = bsdf.passes_through();
         if bsdf.has_non_delta() && !passes {
             bsdf.diffuse_response(si.wo)?;

@@ -10,8 +10,7 @@ use super::terms::volume::{self, MarchSettings};
 use super::terms::{caustic, direct, emission, indirect, specular};
 use crate::geometry::{Ray, SurfaceInteraction};
 use crate::materials::bsdf::{Bsdf, LobeFlags};
-use crate::materials::Material;
-use crate::math::{is_finite3, Frame, Spectrum, PI};
+use crate::math::{is_finite3, Spectrum, PI};
 use crate::media::MediumStack;
 use crate::photon::map::{EstimateFilter, FLAG_FROM_MEDIUM};
 use crate::photon::KnnScratch;
@@ -37,26 +36,6 @@ pub struct EyeCtx<'a> {
     pub cache: Option<&'a IrradianceCache>,
     pub settings: EyeSettings,
     pub march: MarchSettings,
-}
-
-/// The BSDF at a hit, with opaque surfaces shaded on the side the ray came from (two-sided,
-/// as Blender shades); transmissive surfaces keep their orientation (inside vs outside).
-pub fn shading_bsdf(scene: &Scene, mat: &Material, si: &mut SurfaceInteraction) -> Bsdf {
-    let bsdf = mat.bsdf(
-        Frame::from_normal_tangent(si.ns, si.dpdu),
-        si.uv,
-        &scene.textures,
-    );
-    if bsdf.flags() & LobeFlags::TRANSMISSION == 0 && si.ng.dot(si.wo) < 0.0 {
-        si.ng = -si.ng;
-        si.ns = -si.ns;
-        return mat.bsdf(
-            Frame::from_normal_tangent(si.ns, si.dpdu),
-            si.uv,
-            &scene.textures,
-        );
-    }
-    bsdf
 }
 
 /// Indirect light reflected at a non-specular point: the diffuse part from the irradiance
@@ -280,7 +259,7 @@ pub fn trace_split(
                         beta * emission::surface_emission(scene, &si),
                     );
                 }
-                let bsdf = shading_bsdf(scene, mat, &mut si);
+                let bsdf = scene.shading_bsdf(mat, &mut si);
                 let passes = bsdf.passes_through();
                 if bsdf.has_non_delta() {
                     if wants(Term::Direct, bounces) {

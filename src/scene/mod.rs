@@ -2,6 +2,7 @@
 pub mod build;
 pub mod camera;
 pub mod desc;
+mod shading;
 mod transmit;
 mod validate;
 

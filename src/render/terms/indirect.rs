@@ -60,7 +60,7 @@ pub fn gather_radiance(
         let Some(mat) = scene.materials.get(si.material as usize) else {
             break;
         };
-        let bsdf = crate::render::eye::shading_bsdf(scene, mat, &mut si);
+        let bsdf = scene.shading_bsdf(mat, &mut si);
         let passes = bsdf.passes_through();
         let follow = LobeFlags::SPECULAR | LobeFlags::NEAR_SPECULAR;
         if bsdf.has_non_delta() && !passes {
