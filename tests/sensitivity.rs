@@ -141,26 +141,15 @@ fn single_scattering_sees_the_volume_term_five_percent_low() {
     must_fail_pixels("volume x 0.95", res);
 }
 
+/// One render of fog_glass, judged with the volume term 5% low and with its caustic photons
+/// dropped.
 #[test]
-fn fog_sees_the_volume_term_five_percent_low() {
-    let res = media_full(
-        "volume x0.95",
-        &load_scene("fog_glass"),
-        "fog_glass",
-        &[(Term::Volume, 0.95)],
-    );
-    assert!(!res.passed(), "volume x 0.95 went unnoticed: {res:?}");
-}
-
-#[test]
-fn glass_in_fog_sees_the_caustic_photons_dropped() {
-    let res = media_full(
-        "no caustic",
-        &load_scene("fog_glass"),
-        "fog_glass",
-        &[(Term::Caustic, 0.0)],
-    );
-    assert!(!res.passed(), "dropped caustics went unnoticed: {res:?}");
+fn glass_in_fog_sees_the_volume_term_low_and_the_caustic_photons_dropped() {
+    let scales: [Scale; 2] = [&[(Term::Volume, 0.95)], &[(Term::Caustic, 0.0)]];
+    let res = media_full_each("fog_glass", &load_scene("fog_glass"), "fog_glass", &scales);
+    for (what, r) in ["volume x 0.95", "dropped caustics"].iter().zip(&res) {
+        assert!(!r.passed(), "{what} went unnoticed: {r:?}");
+    }
 }
 
 #[test]

@@ -173,6 +173,16 @@ impl MediaResult {
 }
 
 pub fn media_full(label: &str, desc: &SceneDesc, scene: &str, scale: Scale) -> MediaResult {
+    media_full_each(label, desc, scene, &[scale])[0]
+}
+
+/// [`media_full`] of one render with each of `scales` applied to its terms.
+pub fn media_full_each(
+    label: &str,
+    desc: &SceneDesc,
+    scene: &str,
+    scales: &[Scale],
+) -> Vec<MediaResult> {
     let photons = PhotonSettings {
         global: 200_000,
         volume: 200_000,
@@ -181,16 +191,24 @@ pub fn media_full(label: &str, desc: &SceneDesc, scene: &str, scale: Scale) -> M
         ..Default::default()
     };
     let out = render_media(desc, 8, photons, TermMask::ALL, 7);
-    let ours = scaled_sum(&out, &Term::ALL, scale);
     let refm = reference_mean(&format!("{scene}_full"));
-    let block = block_rel_mse(&ours, &refm, 8);
-    let mean_ratio = (ours.mean().x / refm.mean().x) as f64;
-    eprintln!("{label} vs {scene}_full: 8x8-block relMSE {block:.3e}, mean ratio {mean_ratio:.4}");
-    MediaResult {
-        block,
-        mean_ratio,
-        limits: media_limits(scene),
-    }
+    scales
+        .iter()
+        .map(|scale| {
+            let ours = scaled_sum(&out, &Term::ALL, scale);
+            let block = block_rel_mse(&ours, &refm, 8);
+            let mean_ratio = (ours.mean().x / refm.mean().x) as f64;
+            eprintln!(
+                "{label} {scale:?} vs {scene}_full: 8x8-block relMSE {block:.3e}, mean ratio \
+                 {mean_ratio:.4}"
+            );
+            MediaResult {
+                block,
+                mean_ratio,
+                limits: media_limits(scene),
+            }
+        })
+        .collect()
 }
 
 // -- 8x8 blocks: full global illumination ---------------------------------------------------
