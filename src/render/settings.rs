@@ -142,18 +142,20 @@ pub fn parse_photon_power(s: &str) -> Result<bool, String> {
     }
 }
 
+/// The `medium` preset's photon settings: a `Renderer` without settings renders as the CLI,
+/// Python and Blender do at their default quality.
 impl Default for PhotonSettings {
     fn default() -> Self {
         PhotonSettings {
-            global: 200_000,
-            caustic: 100_000,
-            volume: 100_000,
+            global: 100_000,
+            caustic: 50_000,
+            volume: 50_000,
             volume_step: None,
-            gather: 100,
+            gather: 50,
             max_radius: None,
-            final_gather_rays: 256,
+            final_gather_rays: 128,
             irradiance_cache: true,
-            cache_tolerance: 0.15,
+            cache_tolerance: 0.1,
             max_bounces: 64,
             max_emitted_factor: 20,
             f32_power: false,
@@ -195,7 +197,8 @@ pub const SPPM_ALPHA: f32 = 0.7;
 /// 35% less error than 100 at equal time.
 pub const SPPM_INITIAL_PHOTONS: usize = 20;
 
-#[derive(Clone, Debug)]
+/// Everything a render is asked to do. The stats of a render record it (`settings`).
+#[derive(Clone, Debug, Serialize)]
 pub struct RenderSettings {
     pub spp: u32,
     pub seed: u64,
@@ -297,4 +300,19 @@ pub fn parse_bytes(s: &str) -> Result<u64, String> {
         return Err(bad());
     }
     n.checked_mul(1u64 << shift).ok_or_else(bad)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `RenderSettings::default()` is the `medium` preset, field for field.
+    #[test]
+    fn the_default_settings_are_the_medium_preset() {
+        assert_eq!(
+            format!("{:?}", RenderSettings::default()),
+            format!("{:?}", Quality::Medium.settings())
+        );
+        assert_eq!(PhotonSettings::default(), Quality::Medium.photons());
+    }
 }
