@@ -119,10 +119,10 @@ class PhotonMapRenderEngine(bpy.types.RenderEngine):
             self._report("WARNING", w)
         settings = render_settings(scene.photonmap)
         if self.is_preview:
-            settings.update(quality="draft", spp=min(settings["spp"], 8),
-                            photons=min(settings["photons"], 50_000),
-                            caustic_photons=min(settings["caustic_photons"], 20_000),
-                            final_gather_rays=min(settings["final_gather_rays"], 64))
+            draft = photonmap.preset("draft")
+            settings.update(quality="draft", **{
+                k: min(settings[k], draft[k])
+                for k in ("spp", "photons", "caustic_photons", "final_gather_rays")})
         budget = settings.get("time_budget")
         if budget:
             win = exported.window

@@ -1,5 +1,5 @@
 """Settings under ``scene.photonmap``: the CLI's names, defaults and quality presets (the
-numbers come from ``photonmap.preset``)."""
+numbers come from ``photonmap.preset`` and ``photonmap.defaults``)."""
 
 from __future__ import annotations
 
@@ -7,7 +7,8 @@ import bpy
 import photonmap
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
 
-_DEFAULT_QUALITY = "medium"
+_D = photonmap.defaults()
+_DEFAULT_QUALITY = _D["quality"]
 _P = photonmap.preset(_DEFAULT_QUALITY)
 _QUALITY_ITEMS = [(q, q.capitalize(), f"The {q} preset of the core") for q in photonmap.QUALITIES]
 #: The fields a preset fills.
@@ -49,17 +50,17 @@ class PhotonMapSettings(bpy.types.PropertyGroup):
                                     min=0, soft_max=64,
                                     description="Perfectly specular bounces followed from the eye")
     mode: EnumProperty(
-        name="Mode", default="jensen",
+        name="Mode", default=_D["mode"],
         items=[("jensen", "Jensen", "Photon maps built once; final gathering with the "
                 "irradiance cache"),
                ("sppm", "Progressive", "Stochastic progressive photon mapping: Samples passes, "
                 "each with a fresh map of Photons photons and a shrinking search radius; "
                 "converges to the exact image")],
         description="How caustics and indirect light are estimated")
-    alpha: FloatProperty(name="Alpha", default=0.7, min=0.01, max=0.99,
+    alpha: FloatProperty(name="Alpha", default=_D["alpha"], min=0.01, max=0.99,
                          description="Progressive mode: fraction of each pass's photons a pixel "
                          "keeps as its radius shrinks")
-    initial_photons: IntProperty(name="Initial Photons", default=20, min=1,
+    initial_photons: IntProperty(name="Initial Photons", default=_D["initial_photons"], min=1,
                                  description="Progressive mode: photons within a pixel's first "
                                  "search radius, which shrinks from there")
     time_budget: FloatProperty(name="Time Budget", default=0.0, min=0.0,
@@ -70,14 +71,14 @@ class PhotonMapSettings(bpy.types.PropertyGroup):
                                  "take, in bytes or as 512M, 8G (empty = the available memory); "
                                  "a render that would need more stops up front")
     filter: EnumProperty(
-        name="Pixel Filter", default="gaussian",
+        name="Pixel Filter", default=_D["filter"],
         items=[("gaussian", "Gaussian", "Gaussian of standard deviation 0.5 px (the core's "
                 "default)"),
                ("box", "Box", "Uniform over the pixel (Cycles' Box filter of width 1 px)"),
                ("tent", "Tent", "Triangle of radius 1 px")],
         description="Pixel reconstruction filter (as --filter)")
-    seed: IntProperty(name="Seed", default=0, min=0, description="Random seed")
-    threads: IntProperty(name="Threads", default=0, min=0, description="Worker threads (0 = all)")
+    seed: IntProperty(name="Seed", default=_D["seed"], min=0, description="Random seed")
+    threads: IntProperty(name="Threads", default=_D["threads"], min=0, description="Worker threads (0 = all)")
 
 
 def render_settings(s: PhotonMapSettings) -> dict:

@@ -253,3 +253,30 @@ fn a_light_hidden_from_the_camera_still_lights_the_scene() {
         hidden.film.term(Term::Direct).data
     );
 }
+
+/// The stats record the settings the render was given, named as in the core.
+#[test]
+fn stats_record_the_settings() {
+    let mut desc = photonmap::scene::default_scene();
+    desc.film.width = 16;
+    desc.film.height = 12;
+    let scene = photonmap::scene::Scene::build(&desc).expect("scene builds");
+    let mut settings = photonmap::render::Quality::Draft.settings();
+    settings.seed = 7;
+    settings.spp = 2;
+    settings.photons.gather = 33;
+    settings.terms = TermMask::NONE.with(Term::Direct).with(Term::Caustic);
+    let out = photonmap::render::Renderer::new(&scene)
+        .settings(settings)
+        .render()
+        .expect("render succeeds");
+    let json = serde_json::to_value(&out.stats).expect("stats serialise");
+    let s = &json["settings"];
+    assert_eq!(s["seed"], 7);
+    assert_eq!(s["spp"], 2);
+    assert_eq!(s["photons"]["gather"], 33);
+    assert_eq!(s["photons"]["global"], 50_000);
+    assert_eq!(s["filter"], "gaussian");
+    assert_eq!(s["mode"], "jensen");
+    assert_eq!(s["terms"], serde_json::json!(["direct", "caustic"]));
+}

@@ -56,6 +56,7 @@ __all__ = [
     "SceneError",
     "RenderCancelled",
     "preset",
+    "defaults",
 ]
 
 _MESH_ARRAYS = ("positions", "indices", "normals", "uvs", "material_indices")
@@ -308,6 +309,14 @@ def preset(name: str) -> dict[str, Any]:
         return json.loads(_core.preset(name))
     except ValueError as e:
         raise ValueError(str(e)) from None
+
+
+def defaults() -> dict[str, Any]:
+    """The defaults of the ``render`` keywords that no preset sets, named as the keywords and
+    CLI flags: ``quality``, ``seed``, ``threads``, ``filter``, ``mode``, ``alpha``,
+    ``initial_photons``, ``photon_power``, ``progressive``. The values come from the core (the
+    ``render`` command's defaults)."""
+    return json.loads(_core.defaults())
 
 
 class Renderer:

@@ -712,19 +712,65 @@ fn preset(name: &str) -> PyResult<String> {
     })?;
     let s = q.settings();
     let p = &s.photons;
-    Ok(format!(
-        "{{\"spp\": {}, \"photons\": {}, \"caustic_photons\": {}, \"volume_photons\": {}, \"gather\": {}, \"radius\": {}, \"final_gather_rays\": {}, \"irradiance_cache\": {}, \"cache_tolerance\": {}, \"max_specular_depth\": {}}}",
-        s.spp,
-        p.global,
-        p.caustic,
-        p.volume,
-        p.gather,
-        p.max_radius.unwrap_or(0.0),
-        p.final_gather_rays,
-        p.irradiance_cache,
-        p.cache_tolerance,
-        s.max_specular_depth
-    ))
+    // Written from a struct, not `json!`: that widens `f32` to `f64` (0.1 -> 0.100000001).
+    #[derive(serde::Serialize)]
+    struct Preset {
+        spp: u32,
+        photons: usize,
+        caustic_photons: usize,
+        volume_photons: usize,
+        gather: usize,
+        radius: f32,
+        final_gather_rays: u32,
+        irradiance_cache: bool,
+        cache_tolerance: f32,
+        max_specular_depth: u32,
+    }
+    serde_json::to_string(&Preset {
+        spp: s.spp,
+        photons: p.global,
+        caustic_photons: p.caustic,
+        volume_photons: p.volume,
+        gather: p.gather,
+        radius: p.max_radius.unwrap_or(0.0),
+        final_gather_rays: p.final_gather_rays,
+        irradiance_cache: p.irradiance_cache,
+        cache_tolerance: p.cache_tolerance,
+        max_specular_depth: s.max_specular_depth,
+    })
+    .map_err(|e| PhotonmapError::new_err(e.to_string()))
+}
+
+/// The defaults of the `render` keywords that no preset sets, named as the keywords and CLI
+/// flags, from the command's own defaults (`RenderArgs::defaults`).
+#[pyfunction]
+fn defaults() -> PyResult<String> {
+    let a = RenderArgs::defaults();
+    let s = a.settings();
+    #[derive(serde::Serialize)]
+    struct Defaults {
+        quality: &'static str,
+        seed: u64,
+        threads: usize,
+        filter: crate::render::film::Filter,
+        mode: crate::render::settings::RenderMode,
+        alpha: f32,
+        initial_photons: usize,
+        photon_power: &'static str,
+        progressive: bool,
+    }
+    serde_json::to_string(&Defaults {
+        quality: a.quality.name(),
+        seed: a.seed,
+        threads: a.threads,
+        filter: s.filter.clone(),
+        mode: a.mode,
+        alpha: a.alpha,
+        initial_photons: a.initial_photons,
+        photon_power: s.photons.photon_power(),
+        progressive: a.progressive,
+    })
+    .map_err(|e| PhotonmapError::new_err(e.to_string()))
 }
 
 /// Panics inside the guarded boundary, to test that a panic becomes an exception.
@@ -768,6 +814,7 @@ fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(render, m)?)?;
     m.add_function(wrap_pyfunction!(run_cli, m)?)?;
     m.add_function(wrap_pyfunction!(preset, m)?)?;
+    m.add_function(wrap_pyfunction!(defaults, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
     Ok(())
 }

@@ -100,6 +100,13 @@ impl TermMask {
     }
 }
 
+/// Written as the list of its terms' names.
+impl serde::Serialize for TermMask {
+    fn serialize<S: serde::Serializer>(&self, ser: S) -> std::result::Result<S::Ok, S::Error> {
+        ser.collect_seq(self.iter().map(Term::name))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -58,6 +58,25 @@ impl Filter {
     }
 }
 
+/// A filter is written by the name `Filter::parse` reads (`box`, `tent`, `gaussian`), or, with
+/// another width than the parsed one, as `{"tent": {"radius": r}}` / `{"gaussian": {"sigma": s}}`.
+impl serde::Serialize for Filter {
+    fn serialize<S: serde::Serializer>(&self, ser: S) -> std::result::Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let (name, key, value, parsed) = match self {
+            Filter::Box => return ser.serialize_str("box"),
+            Filter::Tent { radius } => ("tent", "radius", *radius, 1.0),
+            Filter::Gaussian { sigma, .. } => ("gaussian", "sigma", *sigma, 0.5),
+        };
+        if value == parsed {
+            return ser.serialize_str(name);
+        }
+        let mut m = ser.serialize_map(Some(1))?;
+        m.serialize_entry(name, &std::collections::BTreeMap::from([(key, value)]))?;
+        m.end()
+    }
+}
+
 /// Inverse CDF of the unit tent on [-1, 1].
 fn sample_tent(u: f32) -> f32 {
     if u < 0.5 {

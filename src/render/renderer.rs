@@ -104,6 +104,8 @@ pub struct RenderStats {
     pub sppm: Option<SppmStats>,
     /// Work done per kind (march steps, volume and caustic map lookups).
     pub work: crate::render::work::WorkStats,
+    /// The settings the render was given (a budgeted render's plan is under `time_budget`).
+    pub settings: RenderSettings,
 }
 
 /// Memory that the photon maps and the BVH of a render take, estimated before the photon
@@ -578,6 +580,7 @@ impl<'a> Renderer<'a> {
         seconds.insert("render".to_string(), t2.elapsed().as_secs_f64());
         let photon_bytes: u64 = map_stats.iter().map(|m| m.memory_bytes).sum();
         let stats = RenderStats {
+            settings: self.settings.clone(),
             work: self.work.stats(),
             version: env!("CARGO_PKG_VERSION"),
             seed: s.seed,
@@ -700,6 +703,7 @@ impl<'a> Renderer<'a> {
             }
         });
         let stats = RenderStats {
+            settings: self.settings.clone(),
             work: self.work.stats(),
             version: env!("CARGO_PKG_VERSION"),
             seed: s.seed,

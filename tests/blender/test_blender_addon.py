@@ -44,6 +44,16 @@ def test_quality_fills_the_settings_from_the_core_presets(addon):
         assert s.max_specular_depth == p["max_specular_depth"]
 
 
+def test_settings_no_preset_fills_default_to_the_cores(addon):
+    """Mode, progressive alpha and initial photons, filter, seed and threads start at the
+    core's defaults (``photonmap.defaults``), not at numbers of the add-on's own."""
+    s = bpy.context.scene.photonmap
+    d = photonmap.defaults()
+    for key in ("quality", "mode", "filter", "seed", "threads", "initial_photons"):
+        assert s.bl_rna.properties[key].default == d[key], key
+    assert s.bl_rna.properties["alpha"].default == pytest.approx(d["alpha"])
+
+
 def test_presets_are_what_the_core_renders_with(addon):
     scene = photonmap.Scene.from_dict({
         "camera": {"fov": 0.7, "transform": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 3], [0, 0, 0, 1]]},
@@ -57,6 +67,12 @@ def test_presets_are_what_the_core_renders_with(addon):
     assert out["stats"]["spp"] == p["spp"]
     # Photons are traced in batches until the requested number is stored.
     assert p["photons"] <= out["stats"]["photons_stored"]["global"] < 1.1 * p["photons"]
+    # The stats record the settings the render used.
+    got = out["stats"]["settings"]
+    assert got["spp"] == p["spp"]
+    assert got["photons"]["global"] == p["photons"]
+    assert got["photons"]["gather"] == p["gather"]
+    assert got["photons"]["cache_tolerance"] == pytest.approx(p["cache_tolerance"])
 
 
 def test_passes_in_the_result_and_in_multilayer_exr(photonmap_scene, addon, tmp_path, monkeypatch):

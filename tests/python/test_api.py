@@ -157,6 +157,31 @@ def test_default_scene_and_settings_like_cli():
     assert out["combined"].shape == (512, 512, 3)
 
 
+def test_keywords_arrive_in_the_recorded_settings():
+    """Every keyword lands in the core's settings, as the stats record them; the defaults of
+    the keywords no preset sets are the CLI's (``photonmap.defaults``)."""
+    out = photonmap.render(photonmap.Scene.from_dict(numpy_scene()), quality="draft", spp=1,
+                           seed=5, photons=1000, caustic_photons=500, volume_photons=300,
+                           gather=10, radius=0.1, final_gather_rays=4, irradiance_cache=False,
+                           cache_tolerance=0.3, max_specular_depth=3, filter="box",
+                           photon_power="f32")
+    s = out["stats"]["settings"]
+    p = s["photons"]
+    assert (s["spp"], s["seed"], s["max_specular_depth"], s["filter"]) == (1, 5, 3, "box")
+    assert (p["global"], p["caustic"], p["volume"], p["gather"]) == (1000, 500, 300, 10)
+    assert p["max_radius"] == pytest.approx(0.1)
+    assert (p["final_gather_rays"], p["irradiance_cache"], p["f32_power"]) == (4, False, True)
+    assert p["cache_tolerance"] == pytest.approx(0.3)
+    d = photonmap.defaults()
+    plain = photonmap.render(photonmap.Scene.from_dict(numpy_scene()), quality="draft", spp=1)
+    s = plain["stats"]["settings"]
+    assert (s["seed"], s["threads"], s["filter"], s["mode"]) == (
+        d["seed"], d["threads"], d["filter"], d["mode"])
+    assert s["sppm_alpha"] == pytest.approx(d["alpha"])
+    assert s["sppm_initial_photons"] == d["initial_photons"]
+    assert s["progressive"] == d["progressive"]
+
+
 def test_density_grid_from_numpy_renders_fog():
     """A heterogeneous medium from a numpy density grid (shape nz, ny, nx): a cube of fog whose
     density ramps along x scatters more light where it is denser."""
