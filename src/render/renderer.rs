@@ -108,6 +108,23 @@ pub struct RenderStats {
     pub settings: RenderSettings,
 }
 
+/// What a render measured, for [`RenderStats`].
+struct StatsParts {
+    width: usize,
+    height: usize,
+    spp: u32,
+    threads: usize,
+    seconds: std::collections::BTreeMap<String, f64>,
+    maps: Vec<MapStats>,
+    irradiance_cache_records: u64,
+    skipped: Vec<SkippedTerm>,
+    non_finite_samples: u64,
+    estimate: MemoryEstimate,
+    time_budget: Option<BudgetStats>,
+    mode: RenderMode,
+    sppm: Option<SppmStats>,
+}
+
 /// Memory that the photon maps and the BVH of a render take, estimated before the photon
 /// pass from the stored-photon targets of the maps that will be built.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
@@ -578,39 +595,21 @@ impl<'a> Renderer<'a> {
             (self.single_pass(&ctx, s, &non_finite)?, s.spp)
         };
         seconds.insert("render".to_string(), t2.elapsed().as_secs_f64());
-        let photon_bytes: u64 = map_stats.iter().map(|m| m.memory_bytes).sum();
-        let stats = RenderStats {
-            settings: self.settings.clone(),
-            work: self.work.stats(),
-            version: env!("CARGO_PKG_VERSION"),
-            seed: s.seed,
+        let stats = self.stats(StatsParts {
             width: w,
             height: h,
             spp,
             threads,
-            triangles: self.scene.triangle_count,
-            lights: self.scene.lights.len(),
             seconds,
-            camera_rays: (w * h) as u64 * spp as u64,
-            photons_stored: map_stats
-                .iter()
-                .filter(|m| m.built)
-                .map(|m| (m.map.to_string(), m.stored))
-                .collect(),
-            photon_maps: map_stats,
+            maps: map_stats,
             irradiance_cache_records: cache.as_ref().map_or(0, |c| c.len() as u64),
             skipped: self.skipped_terms(&maps),
             non_finite_samples: non_finite.load(Ordering::Relaxed) as u64,
-            memory_bytes: (w * h * Term::COUNT * 12) as u64
-                + self.scene.triangle_count as u64 * 64
-                + photon_bytes,
-            memory_estimate: estimate,
-            bytes_per_photon: s.photons.bytes_per_photon(),
-            bytes_per_triangle: BYTES_PER_TRIANGLE,
+            estimate,
             time_budget: None,
             mode: RenderMode::Jensen,
             sppm: None,
-        };
+        });
         let mut stats = stats;
         if let Some(mut bs) = budget_stats {
             bs.actual_seconds = start.elapsed().as_secs_f64();
@@ -686,7 +685,6 @@ impl<'a> Renderer<'a> {
             m.skipped_because =
                 Some("progressive mode: each pass's global map holds the caustic photons".into());
         }
-        let photon_bytes: u64 = maps.iter().map(|m| m.memory_bytes).sum();
         let time_budget = budget_seconds.map(|b| {
             let actual = start.elapsed().as_secs_f64();
             BudgetStats {
@@ -702,42 +700,65 @@ impl<'a> Renderer<'a> {
                 ..BudgetStats::default()
             }
         });
-        let stats = RenderStats {
-            settings: self.settings.clone(),
-            work: self.work.stats(),
-            version: env!("CARGO_PKG_VERSION"),
-            seed: s.seed,
+        let stats = self.stats(StatsParts {
             width: w,
             height: h,
             spp: out.passes,
             threads,
-            triangles: self.scene.triangle_count,
-            lights: self.scene.lights.len(),
             seconds,
-            camera_rays: (w * h) as u64 * out.passes as u64,
-            photons_stored: maps
-                .iter()
-                .filter(|m| m.built)
-                .map(|m| (m.map.to_string(), m.stored))
-                .collect(),
-            photon_maps: maps,
+            maps,
             irradiance_cache_records: 0,
             skipped,
             non_finite_samples: non_finite.load(Ordering::Relaxed) as u64,
-            memory_bytes: (w * h * (Term::COUNT + 1) * 12) as u64
-                + self.scene.triangle_count as u64 * 64
-                + photon_bytes,
-            memory_estimate: estimate,
-            bytes_per_photon: s.photons.bytes_per_photon(),
-            bytes_per_triangle: BYTES_PER_TRIANGLE,
+            estimate,
             time_budget,
             mode: RenderMode::Sppm,
             sppm: Some(out.stats),
-        };
+        });
         Ok(RenderOutput {
             film: out.film,
             stats,
         })
+    }
+
+    /// The stats of a render of either mode, from what it measured.
+    fn stats(&self, p: StatsParts) -> RenderStats {
+        let s = &self.settings;
+        let photon_bytes: u64 = p.maps.iter().map(|m| m.memory_bytes).sum();
+        RenderStats {
+            settings: s.clone(),
+            work: self.work.stats(),
+            version: env!("CARGO_PKG_VERSION"),
+            seed: s.seed,
+            width: p.width,
+            height: p.height,
+            spp: p.spp,
+            threads: p.threads,
+            triangles: self.scene.triangle_count,
+            lights: self.scene.lights.len(),
+            seconds: p.seconds,
+            camera_rays: (p.width * p.height) as u64 * p.spp as u64,
+            photons_stored: p
+                .maps
+                .iter()
+                .filter(|m| m.built)
+                .map(|m| (m.map.to_string(), m.stored))
+                .collect(),
+            photon_maps: p.maps,
+            irradiance_cache_records: p.irradiance_cache_records,
+            skipped: p.skipped,
+            non_finite_samples: p.non_finite_samples,
+            // The film: one image per term and the error AOV, RGB f32.
+            memory_bytes: (p.width * p.height * (Term::COUNT + 1) * 12) as u64
+                + self.scene.triangle_count as u64 * 64
+                + photon_bytes,
+            memory_estimate: p.estimate,
+            bytes_per_photon: s.photons.bytes_per_photon(),
+            bytes_per_triangle: BYTES_PER_TRIANGLE,
+            time_budget: p.time_budget,
+            mode: p.mode,
+            sppm: p.sppm,
+        }
     }
 
     /// Traces sample `u` (in [0,1)^2, warped by the filter) of pixel (x, y) into `acc`, and
