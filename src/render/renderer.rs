@@ -424,11 +424,7 @@ impl<'a> Renderer<'a> {
                         final_gather_rays: budget::CALIBRATION_GATHER_RAYS,
                         gather_rays_per_sample: budget::CALIBRATION_GATHER_RAYS,
                     },
-                    march: MarchSettings {
-                        step: s.photons.volume_step.unwrap_or(self.scene.radius / 64.0),
-                        gather: s.photons.gather,
-                        max_r2: cal_maps.global_r2,
-                    },
+                    march: MarchSettings::for_render(&s, self.scene, cal_maps.global_r2),
                 };
                 let cache =
                     cache_fill::fill(&ctx, &cal_settings, &|_| {}, &|| self.is_cancelled())?;
@@ -536,11 +532,7 @@ impl<'a> Renderer<'a> {
                 },
             ),
         };
-        let march = MarchSettings {
-            step: s.photons.volume_step.unwrap_or(self.scene.radius / 64.0),
-            gather: s.photons.gather,
-            max_r2: maps.global_r2,
-        };
+        let march = MarchSettings::for_render(s, self.scene, maps.global_r2);
         // Irradiance cache, filled in deterministic rounds.
         let t1 = Instant::now();
         let photon_planned_seconds = t0.elapsed().as_secs_f64();

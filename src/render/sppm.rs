@@ -245,11 +245,7 @@ impl<'a> SppmJob<'a> {
                 final_gather_rays: 0,
                 gather_rays_per_sample: 0,
             },
-            march: MarchSettings {
-                step: s.photons.volume_step.unwrap_or(scene.radius / 64.0),
-                gather: s.photons.gather,
-                max_r2: maps.global_r2,
-            },
+            march: MarchSettings::for_render(s, scene, maps.global_r2),
         };
         pixels.par_chunks_mut(w).enumerate().for_each_init(
             || (KnnScratch::new(), Vec::<VisiblePoint>::with_capacity(4)),

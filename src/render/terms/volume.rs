@@ -34,6 +34,24 @@ pub struct MarchSettings {
     pub max_r2: f32,
 }
 
+/// The default ray-marching step, as a fraction of the scene's bounding radius.
+pub const DEFAULT_STEP_FRACTION: f32 = 1.0 / 64.0;
+
+impl MarchSettings {
+    /// The march of a render: its step (`volume_step`, or [`DEFAULT_STEP_FRACTION`] of the
+    /// scene's radius) and gather count, and `max_r2` of its photon maps.
+    pub fn for_render(s: &crate::render::RenderSettings, scene: &Scene, max_r2: f32) -> Self {
+        MarchSettings {
+            step: s
+                .photons
+                .volume_step
+                .unwrap_or(scene.radius * DEFAULT_STEP_FRACTION),
+            gather: s.photons.gather,
+            max_r2,
+        }
+    }
+}
+
 #[inline]
 fn mean(c: Spectrum) -> f32 {
     (c.x + c.y + c.z) / 3.0
