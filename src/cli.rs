@@ -215,7 +215,7 @@ pub fn is_usd(path: &Path) -> bool {
 /// Parses a usdrecord frame list: `7`, `1,5,9`, `1:10` or `1:10x2` (and lists of those).
 pub fn parse_frames(spec: &str) -> Result<Vec<f64>> {
     let bad = |m: String| Error::InvalidSetting {
-        setting: "--frames".into(),
+        setting: "frames".into(),
         message: m,
     };
     let num = |t: &str| -> Result<f64> {
@@ -433,44 +433,52 @@ impl RenderArgs {
             })
         };
         if self.spp == Some(0) {
-            return bad("--spp", "must be at least 1");
+            return bad("spp", "must be at least 1");
         }
         if self.gather == Some(0) {
-            return bad("--gather", "must be at least 1");
+            return bad("gather", "must be at least 1");
         }
         if let Some(r) = self.radius {
             if !(r.is_finite() && r > 0.0) {
-                return bad("--radius", "must be a finite number > 0");
+                return bad("radius", "must be a finite number > 0");
             }
         }
         if let Some(v) = self.volume_step {
             if !(v.is_finite() && v > 0.0) {
-                return bad("--volume-step", "must be a finite number > 0");
+                return bad("volume_step", "must be a finite number > 0");
             }
         }
         if let Some(t) = self.cache_tolerance {
             if !(t.is_finite() && t > 0.0) {
-                return bad("--cache-tolerance", "must be a finite number > 0");
+                return bad("cache_tolerance", "must be a finite number > 0");
             }
         }
         if !(self.alpha > 0.0 && self.alpha < 1.0) {
-            return bad("--alpha", "must be in (0, 1)");
+            return bad("alpha", "must be in (0, 1)");
         }
         if self.initial_photons == 0 {
-            return bad("--initial-photons", "must be at least 1");
+            return bad("initial_photons", "must be at least 1");
         }
         if self.gather_rays_per_sample == Some(0) {
-            return bad("--gather-rays-per-sample", "must be at least 1");
+            return bad("gather_rays_per_sample", "must be at least 1");
         }
         if self.width == Some(0) || self.height == Some(0) {
-            return bad("--width/--height", "must be at least 1");
+            return bad("width/height", "must be at least 1");
         }
         Ok(())
     }
 }
 
-/// Renders and writes every requested output. `progress` receives (fraction, phase).
+/// Renders and writes every requested output. `progress` receives (fraction, phase). Errors
+/// name settings by their flags ([`Error::for_cli`]).
 pub fn run_render(
+    args: &RenderArgs,
+    progress: Option<Arc<crate::render::ProgressFn>>,
+) -> Result<RenderOutput> {
+    render_and_write(args, progress).map_err(Error::for_cli)
+}
+
+fn render_and_write(
     args: &RenderArgs,
     progress: Option<Arc<crate::render::ProgressFn>>,
 ) -> Result<RenderOutput> {

@@ -23,10 +23,31 @@ pub enum Error {
     Io { path: String, message: String },
     #[error("render cancelled")]
     Cancelled,
+    /// `setting` is the setting's keyword (as Python and the stats name it); the command
+    /// line reports it by its flag ([`Error::for_cli`]).
     #[error("invalid render setting `{setting}`: {message}")]
     InvalidSetting { setting: String, message: String },
     #[error("internal error: {0}")]
     Internal(String),
+}
+
+impl Error {
+    /// The error as the command line reports it: a setting, named in the core by its keyword
+    /// (`time_budget`, `width/height`), is named by its flag (`--time-budget`,
+    /// `--width/--height`).
+    pub fn for_cli(self) -> Error {
+        match self {
+            Error::InvalidSetting { setting, message } => Error::InvalidSetting {
+                setting: setting
+                    .split('/')
+                    .map(|k| format!("--{}", k.replace('_', "-")))
+                    .collect::<Vec<_>>()
+                    .join("/"),
+                message,
+            },
+            other => other,
+        }
+    }
 }
 
 fn object_suffix(object: &str) -> String {
@@ -54,3 +75,25 @@ impl Error {
 }
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+#[cfg(test)]
+mod cli_name_tests {
+    use super::Error;
+
+    #[test]
+    fn the_command_line_names_settings_by_their_flags() {
+        let e = |s: &str| Error::InvalidSetting {
+            setting: s.into(),
+            message: "m".into(),
+        };
+        assert_eq!(
+            e("time_budget").for_cli().to_string(),
+            "invalid render setting `--time-budget`: m"
+        );
+        assert_eq!(
+            e("width/height").for_cli().to_string(),
+            "invalid render setting `--width/--height`: m"
+        );
+        assert_eq!(e("spp").to_string(), "invalid render setting `spp`: m");
+    }
+}

@@ -981,7 +981,7 @@ fn memory_limit_fails_fast_with_the_estimate() {
         phases.lock().unwrap()
     );
     assert!(
-        matches!(&e, Error::InvalidSetting { setting, .. } if setting == "--memory-limit"),
+        matches!(&e, Error::InvalidSetting { setting, .. } if setting == "memory_limit"),
         "{e:?}"
     );
     assert!(msg.contains(&est.peak_bytes.to_string()) && msg.contains("2000000000"));

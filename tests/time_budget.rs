@@ -129,7 +129,7 @@ fn recorded_plan_reproduces_the_image_bit_for_bit() {
 }
 
 #[test]
-fn invalid_budgets_name_the_flag() {
+fn invalid_budgets_name_the_setting() {
     let scene = scene_64();
     for bad in [-1.0, f64::NAN, f64::INFINITY] {
         let err = Renderer::new(&scene)
@@ -137,7 +137,8 @@ fn invalid_budgets_name_the_flag() {
             .render()
             .err()
             .expect("an invalid budget is an error");
-        assert!(err.to_string().contains("--time-budget"), "{err}");
+        assert!(err.to_string().contains("`time_budget`"), "{err}");
+        assert!(err.for_cli().to_string().contains("`--time-budget`"));
     }
 }
 

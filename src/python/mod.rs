@@ -81,18 +81,6 @@ fn caught<T>(f: impl FnOnce() -> Result<T, Error>) -> Result<T, Error> {
     })
 }
 
-/// As `to_py`, with the setting named as the Python keyword (`memory_limit`) rather than as
-/// the command-line flag (`--memory-limit`).
-fn to_py_keyword(e: Error) -> PyErr {
-    match e {
-        Error::InvalidSetting { setting, message } => to_py(Error::InvalidSetting {
-            setting: setting.trim_start_matches("--").replace('-', "_"),
-            message,
-        }),
-        other => to_py(other),
-    }
-}
-
 /// `memory_limit=`: bytes as an int, or a size string as `--memory-limit` takes (`"512M"`).
 fn memory_limit_arg(v: &Bound<'_, PyAny>) -> PyResult<u64> {
     let bad = |message: String| {
@@ -568,7 +556,7 @@ fn render<'py>(
         progress.as_ref(),
         preview.as_ref(),
         flag,
-        to_py_keyword,
+        to_py,
         None,
     )?;
     let d = PyDict::new(py);
@@ -614,6 +602,7 @@ fn run_cli(
     // scene build, the render and the writing of every frame all count.
     let clock = args.wall_clock();
     let fail = |e: Error| {
+        let e = e.for_cli();
         eprintln!("photonmap: error: {e}");
         Ok(if matches!(e, Error::InvalidSetting { .. }) {
             2
@@ -677,7 +666,7 @@ fn run_cli(
             None,
             None,
             cancel,
-            to_py,
+            |e| to_py(e.for_cli()),
             output,
         );
         let out = match out {

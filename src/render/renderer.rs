@@ -321,7 +321,7 @@ impl<'a> Renderer<'a> {
         let s = &self.settings;
         if let Some(b) = s.time_budget {
             budget::check_budget(b).map_err(|message| Error::InvalidSetting {
-                setting: "--time-budget".into(),
+                setting: "time_budget".into(),
                 message,
             })?;
         }
@@ -335,7 +335,7 @@ impl<'a> Renderer<'a> {
         if let Some(limit) = s.memory_limit {
             if estimate.peak_bytes > limit {
                 return Err(Error::InvalidSetting {
-                    setting: "--memory-limit".into(),
+                    setting: "memory_limit".into(),
                     message: format!(
                         "the render needs an estimated {} bytes at its peak ({} photons x {} B \
                          = {} B for the photon maps, {} B of precomputed irradiance, {} \

@@ -146,7 +146,7 @@ def test_json_round_trip_and_bad_settings():
     assert again.to_json() == s.to_json()
     with pytest.raises(ValueError, match="quality"):
         photonmap.render(s, quality="ultra")
-    with pytest.raises(ValueError, match="--spp"):
+    with pytest.raises(ValueError, match="`spp`"):
         photonmap.render(s, spp=0)
 
 
