@@ -280,3 +280,39 @@ fn stats_record_the_settings() {
     assert_eq!(s["mode"], "jensen");
     assert_eq!(s["terms"], serde_json::json!(["direct", "caustic"]));
 }
+
+/// Both modes give a skipped term the same reason: a scene without specular surfaces has no
+/// caustic term in Jensen's mode or the progressive one, and says why in the same words.
+#[test]
+fn both_modes_say_the_same_about_skipped_terms() {
+    let mut desc = load_scene("cornell_diffuse");
+    desc.film.width = 8;
+    desc.film.height = 8;
+    let scene = photonmap::scene::Scene::build(&desc).expect("scene builds");
+    let reasons = |mode| {
+        let mut s = photonmap::render::Quality::Draft.settings();
+        s.spp = 1;
+        s.mode = mode;
+        s.photons.global = 2000;
+        let out = photonmap::render::Renderer::new(&scene)
+            .settings(s)
+            .render()
+            .expect("render succeeds");
+        let mut v: Vec<(String, String)> = out
+            .stats
+            .skipped
+            .iter()
+            .map(|k| (k.term.to_string(), k.reason.clone()))
+            .collect();
+        v.sort();
+        v
+    };
+    use photonmap::render::settings::RenderMode;
+    let jensen = reasons(RenderMode::Jensen);
+    assert_eq!(jensen, reasons(RenderMode::Sppm));
+    assert!(jensen.contains(&(
+        "caustic".to_string(),
+        "the scene has no specular or transmissive surfaces".to_string()
+    )));
+    assert!(jensen.iter().any(|(t, _)| t == "volume"));
+}

@@ -21,6 +21,14 @@
 //! the same photon counts and `final_gather_rays`, `spp = passes`, `progressive = true` and the same
 //! `gather_rays_per_sample` is bit-identical to it.
 
+use super::cache_fill;
+use super::eye::{EyeCtx, EyeSettings};
+use super::memory::build_extra;
+use super::photons;
+use super::renderer::Renderer;
+use super::settings::{RenderSettings, BYTES_PER_TRIANGLE};
+use super::terms::volume::MarchSettings;
+use crate::error::{Error, Result};
 use serde::Serialize;
 use std::time::Instant;
 
@@ -155,6 +163,122 @@ pub fn check_budget(seconds: f64) -> Result<(), String> {
         ));
     }
     Ok(())
+}
+
+impl Renderer<'_> {
+    /// Plans a budgeted render: a calibration photon pass measures the seconds per stored
+    /// photon, then the photon targets are scaled (keeping their ratios) so that the photon
+    /// pass takes `PHOTON_SHARE` of the budget. Returns the settings to render with.
+    pub(super) fn plan_budget(
+        &self,
+        budget_seconds: f64,
+        need: [bool; 3],
+        stats: &mut BudgetStats,
+    ) -> Result<RenderSettings> {
+        let mut s = self.settings.clone();
+        let t = Instant::now();
+        let p = &s.photons;
+        let targets = [
+            (need[0], p.global),
+            (need[1], p.caustic),
+            (need[2], p.volume),
+        ];
+        let preset_total: usize = targets.iter().filter(|(n, _)| *n).map(|(_, c)| *c).sum();
+        let mut scale = 1.0;
+        if preset_total > 0 && !self.scene.lights.is_empty() {
+            let mut cal = p.clone();
+            cal.global = scale_count(p.global, CALIBRATION_FRACTION);
+            cal.caustic = scale_count(p.caustic, CALIBRATION_FRACTION);
+            cal.volume = scale_count(p.volume, CALIBRATION_FRACTION);
+            let (cal_maps, cal_stats) = photons::build(
+                self.scene,
+                &cal,
+                s.seed ^ 0xCA1B_4A7E,
+                need,
+                self.cancel.as_deref(),
+            );
+            if self.is_cancelled() {
+                return Err(Error::Cancelled);
+            }
+            let stored: u64 = cal_stats.iter().filter(|m| m.built).map(|m| m.stored).sum();
+            let photon_secs = t.elapsed().as_secs_f64();
+            let preset_photons = preset_total as f64;
+            // A bigger map costs more per photon (kd-tree balancing, cache misses): about in
+            // proportion to log n.
+            let log_ratio = |n: f64| (n.max(2.0).ln() / (stored.max(2) as f64).ln()).max(1.0);
+            if stored > 0 {
+                stats.seconds_per_photon = photon_secs / stored as f64;
+            }
+            // Irradiance cache: fill it with the calibration maps and a few gather rays to
+            // count the records and time a gather ray.
+            let mut cache_preset = 0.0;
+            let fg = s.photons.final_gather_rays;
+            if need[0] && s.photons.irradiance_cache && cal_maps.global.is_some() && fg > 0 {
+                let tc = Instant::now();
+                let mut cal_settings = s.clone();
+                cal_settings.photons.final_gather_rays = CALIBRATION_GATHER_RAYS;
+                let ctx = EyeCtx {
+                    scene: self.scene,
+                    work: &self.work,
+                    maps: &cal_maps,
+                    cache: None,
+                    settings: EyeSettings {
+                        terms: s.terms,
+                        max_specular_depth: s.max_specular_depth,
+                        final_gather_rays: CALIBRATION_GATHER_RAYS,
+                        gather_rays_per_sample: CALIBRATION_GATHER_RAYS,
+                    },
+                    march: MarchSettings::for_render(&s, self.scene, cal_maps.global_r2),
+                };
+                let cache =
+                    cache_fill::fill(&ctx, &cal_settings, &|_| {}, &|| self.is_cancelled())?;
+                let secs = tc.elapsed().as_secs_f64();
+                stats.calibration_cache_records = cache.len() as u64;
+                cache_preset =
+                    secs * fg as f64 / CALIBRATION_GATHER_RAYS as f64 * log_ratio(p.global as f64);
+            }
+            let photon_preset =
+                stats.seconds_per_photon * preset_photons * log_ratio(preset_photons);
+            let room = (budget_seconds * MAPS_SHARE - t.elapsed().as_secs_f64()).max(0.0);
+            if photon_preset + cache_preset > 0.0 {
+                scale = room / (photon_preset + cache_preset);
+            }
+            // Final-gathering rays grow with the plan only up to the preset's.
+            if scale > 1.0 && photon_preset > 0.0 {
+                scale = ((room - cache_preset) / photon_preset).max(1.0);
+            }
+            if let Some(limit) = s.memory_limit {
+                let bvh = self.scene.triangle_count as u64 * BYTES_PER_TRIANGLE;
+                let record = s.photons.bytes_per_photon();
+                let fit = limit.saturating_sub(bvh) / (record + build_extra(record));
+                scale = scale.min(fit as f64 / preset_photons);
+            }
+        }
+        let spp_equivalent = (s.spp as f64 * scale).max(1.0);
+        let p = &mut s.photons;
+        p.global = scale_count(p.global, scale);
+        p.caustic = scale_count(p.caustic, scale);
+        p.volume = scale_count(p.volume, scale);
+        if p.final_gather_rays > 0 {
+            p.final_gather_rays =
+                ((p.final_gather_rays as f64 * scale.min(1.0)).round() as u32).max(MIN_GATHER_RAYS);
+        }
+        s.progressive = true;
+        let gather = s
+            .gather_rays_per_sample
+            .unwrap_or(match p.final_gather_rays {
+                0 => 0,
+                n => ((n as f64 / spp_equivalent).ceil() as u32).max(4),
+            });
+        s.gather_rays_per_sample = Some(gather);
+        stats.calibration_seconds = t.elapsed().as_secs_f64();
+        stats.photons_global = p.global;
+        stats.photons_caustic = p.caustic;
+        stats.photons_volume = p.volume;
+        stats.gather_rays_per_sample = gather;
+        stats.final_gather_rays = p.final_gather_rays;
+        Ok(s)
+    }
 }
 
 #[cfg(test)]

@@ -6,15 +6,16 @@ pub mod error;
 pub mod eye;
 pub mod film;
 pub mod irradiance_cache;
+mod memory;
 pub mod photons;
 mod renderer;
 pub mod settings;
 pub mod sppm;
+mod stats;
 pub mod terms;
 pub mod work;
 
-pub use renderer::{
-    MemoryEstimate, OutputTimeFn, PreviewFn, ProgressFn, RenderOutput, RenderStats, Renderer,
-    SkippedTerm,
-};
+pub use memory::MemoryEstimate;
+pub use renderer::{OutputTimeFn, PreviewFn, ProgressFn, RenderOutput, Renderer};
 pub use settings::{PhotonSettings, Quality, RenderSettings};
+pub use stats::{RenderStats, SkippedTerm};

@@ -9,10 +9,12 @@ use super::cache_fill;
 use super::error::{replicate_of, Replicates, Shifts, REPLICATES};
 use super::eye::{self, EyeCtx, EyeSettings};
 use super::film::{Film, TermRadiance};
-use super::photons::{self, MapStats, PhotonMaps};
+use super::memory::MemoryEstimate;
+use super::photons;
 use super::settings::RenderMode;
 use super::settings::{RenderSettings, BYTES_PER_TRIANGLE};
-use super::sppm::{SppmJob, SppmStats};
+use super::sppm::SppmJob;
+use super::stats::{RenderStats, StatsParts};
 use super::terms::volume::MarchSettings;
 use crate::error::{Error, Result};
 use crate::math::Spectrum;
@@ -20,7 +22,6 @@ use crate::photon::KnnScratch;
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use glam::Vec2;
-use serde::Serialize;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
@@ -37,15 +38,6 @@ pub type PreviewFn = dyn Fn(&Film, u32) + Send + Sync;
 /// the first camera pass of a budgeted render, whose last passes leave that much time free).
 pub type OutputTimeFn = dyn Fn(&Film) -> f64 + Send + Sync;
 
-/// Bytes per photon held, besides the finished record, while a map is built: the traced
-/// photon (`RAW_PHOTON_BYTES`) until it is converted, or the kd-tree's scratch copy of the
-/// record during balancing, whichever is more (measured at 10^8 photons: 40 B/photon peak).
-fn build_extra(record: u64) -> u64 {
-    crate::photon::trace::RAW_PHOTON_BYTES
-        .saturating_sub(record)
-        .max(record)
-}
-
 /// Shortest interval between two previews, in seconds (powers of two aside).
 pub const PREVIEW_SECONDS: f64 = 0.25;
 
@@ -58,108 +50,19 @@ pub fn preview_due(passes: u32, last: &mut Instant) -> bool {
     false
 }
 
-/// Why a term is zero in this render.
-#[derive(Clone, Debug, Serialize)]
-pub struct SkippedTerm {
-    pub term: &'static str,
-    pub reason: String,
-}
-
-#[derive(Clone, Debug, Default, Serialize)]
-pub struct RenderStats {
-    pub version: &'static str,
-    pub seed: u64,
-    pub width: usize,
-    pub height: usize,
-    pub spp: u32,
-    pub threads: usize,
-    pub triangles: usize,
-    pub lights: usize,
-    /// Wall-clock seconds per pass.
-    pub seconds: std::collections::BTreeMap<String, f64>,
-    pub camera_rays: u64,
-    /// Photons stored per map that was built.
-    pub photons_stored: std::collections::BTreeMap<String, u64>,
-    /// Every map: built (photons stored and emitted, memory, time) or skipped, and why.
-    pub photon_maps: Vec<MapStats>,
-    pub irradiance_cache_records: u64,
-    pub skipped: Vec<SkippedTerm>,
-    /// Estimates that came out NaN or infinite and were dropped.
-    pub non_finite_samples: u64,
-    /// Approximate bytes held by the render (film and scene geometry).
-    pub memory_bytes: u64,
-    /// The estimate checked against the memory limit before the photon pass.
-    pub memory_estimate: MemoryEstimate,
-    /// Bytes per stored photon in the estimate.
-    pub bytes_per_photon: u64,
-    /// Bytes per triangle of the BVH in the estimate.
-    pub bytes_per_triangle: u64,
-    /// The plan of a render to a time budget, and how it went; absent without a budget.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub time_budget: Option<BudgetStats>,
-    /// Jensen's two passes or progressive photon mapping.
-    pub mode: RenderMode,
-    /// What a progressive render did; absent in Jensen's mode.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub sppm: Option<SppmStats>,
-    /// Work done per kind (march steps, volume and caustic map lookups).
-    pub work: crate::render::work::WorkStats,
-    /// The settings the render was given (a budgeted render's plan is under `time_budget`).
-    pub settings: RenderSettings,
-}
-
-/// What a render measured, for [`RenderStats`].
-struct StatsParts {
-    width: usize,
-    height: usize,
-    spp: u32,
-    threads: usize,
-    seconds: std::collections::BTreeMap<String, f64>,
-    maps: Vec<MapStats>,
-    irradiance_cache_records: u64,
-    skipped: Vec<SkippedTerm>,
-    non_finite_samples: u64,
-    estimate: MemoryEstimate,
-    time_budget: Option<BudgetStats>,
-    mode: RenderMode,
-    sppm: Option<SppmStats>,
-}
-
-/// Memory that the photon maps and the BVH of a render take, estimated before the photon
-/// pass from the stored-photon targets of the maps that will be built.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
-pub struct MemoryEstimate {
-    /// Photons stored over every map that will be built.
-    pub photons: u64,
-    /// `photons * PhotonSettings::bytes_per_photon()` (20 B RGBE, 28 B `f32` power).
-    pub photon_bytes: u64,
-    pub triangles: u64,
-    /// `triangles * BYTES_PER_TRIANGLE`.
-    pub bvh_bytes: u64,
-    /// The global map's precomputed irradiance points: one per `irradiance::STRIDE` photons,
-    /// `size_of::<IrradiancePoint>()` (20) bytes each.
-    pub irradiance_bytes: u64,
-    /// `photon_bytes + bvh_bytes + irradiance_bytes`.
-    pub total_bytes: u64,
-    /// The most the render holds at once, which the memory limit is checked against: the
-    /// BVH, the maps, and, while the largest map is built, its photons a second time (as
-    /// traced, `RAW_PHOTON_BYTES` each, or as the kd-tree's scratch copy, whichever is more).
-    pub peak_bytes: u64,
-}
-
 pub struct RenderOutput {
     pub film: Film,
     pub stats: RenderStats,
 }
 
 pub struct Renderer<'a> {
-    scene: &'a Scene,
-    settings: RenderSettings,
+    pub(super) scene: &'a Scene,
+    pub(super) settings: RenderSettings,
     progress: Option<Arc<ProgressFn>>,
-    cancel: Option<Arc<AtomicBool>>,
+    pub(super) cancel: Option<Arc<AtomicBool>>,
     pub(super) preview: Option<Arc<PreviewFn>>,
     output_time: Option<Arc<OutputTimeFn>>,
-    work: crate::render::work::WorkCounts,
+    pub(super) work: crate::render::work::WorkCounts,
 }
 
 impl<'a> Renderer<'a> {
@@ -210,50 +113,20 @@ impl<'a> Renderer<'a> {
         self
     }
 
-    fn skipped_terms(&self, maps: &PhotonMaps) -> Vec<SkippedTerm> {
-        let mut out = Vec::new();
-        for t in Term::ALL {
-            let reason = if !self.settings.terms.contains(t) {
-                "disabled in the render settings".to_string()
-            } else {
-                match t {
-                    Term::Indirect if maps.global.is_none() => {
-                        "no global photon map (see photon_maps)".into()
-                    }
-                    Term::Indirect if self.settings.photons.final_gather_rays == 0 => {
-                        "final gathering disabled (0 rays)".into()
-                    }
-                    Term::Caustic if maps.caustic.is_none() => {
-                        "no caustic photon map (see photon_maps)".into()
-                    }
-                    Term::Volume if !self.scene.has_media() => {
-                        "the scene has no participating media".into()
-                    }
-                    _ => continue,
-                }
-            };
-            out.push(SkippedTerm {
-                term: t.name(),
-                reason,
-            });
-        }
-        out
-    }
-
-    fn is_cancelled(&self) -> bool {
+    pub(super) fn is_cancelled(&self) -> bool {
         self.cancel
             .as_ref()
             .is_some_and(|c| c.load(Ordering::Relaxed))
     }
 
-    fn report(&self, fraction: f32, phase: &str) {
+    pub(super) fn report(&self, fraction: f32, phase: &str) {
         if let Some(p) = &self.progress {
             p(fraction, phase);
         }
     }
 
     /// Which maps the render reads: global, caustic, volume.
-    fn needed_maps(&self) -> [bool; 3] {
+    pub(super) fn needed_maps(&self) -> [bool; 3] {
         let s = &self.settings;
         let need_volume = s.terms.contains(Term::Volume) && self.scene.has_media();
         if s.mode == RenderMode::Sppm {
@@ -264,56 +137,6 @@ impl<'a> Renderer<'a> {
         let need_global = s.terms.contains(Term::Indirect) && s.photons.final_gather_rays > 0;
         let need_caustic = s.terms.contains(Term::Caustic);
         [need_global, need_caustic, need_volume]
-    }
-
-    /// The memory the photon maps (stored targets of every map that will be built, at
-    /// `PhotonSettings::bytes_per_photon`) and the BVH (`BYTES_PER_TRIANGLE`) take.
-    pub fn memory_estimate(&self) -> MemoryEstimate {
-        let p = &self.settings.photons;
-        let [need_global, need_caustic, need_volume] = self.needed_maps();
-        let built: Vec<u64> = if self.scene.lights.is_empty() {
-            Vec::new()
-        } else {
-            let caustic =
-                need_caustic && p.caustic > 0 && !photons::specular_targets(self.scene).is_empty();
-            [
-                (need_global, p.global),
-                (caustic, p.caustic),
-                (need_volume, p.volume),
-            ]
-            .iter()
-            .filter(|(b, _)| *b)
-            .map(|(_, n)| *n as u64)
-            .collect()
-        };
-        let photons = built.iter().fold(0u64, |acc, n| acc.saturating_add(*n));
-        let global = if need_global && !self.scene.lights.is_empty() {
-            p.global as u64
-        } else {
-            0
-        };
-        let irradiance_bytes = global
-            .div_ceil(crate::photon::irradiance::STRIDE as u64)
-            .saturating_mul(
-                std::mem::size_of::<crate::photon::irradiance::IrradiancePoint>() as u64,
-            );
-        let largest = built.iter().copied().max().unwrap_or(0);
-        let triangles = self.scene.triangle_count as u64;
-        let record = p.bytes_per_photon();
-        let photon_bytes = photons.saturating_mul(record);
-        let bvh_bytes = triangles.saturating_mul(BYTES_PER_TRIANGLE);
-        let total_bytes = photon_bytes
-            .saturating_add(bvh_bytes)
-            .saturating_add(irradiance_bytes);
-        MemoryEstimate {
-            photons,
-            photon_bytes,
-            triangles,
-            bvh_bytes,
-            irradiance_bytes,
-            total_bytes,
-            peak_bytes: total_bytes.saturating_add(largest.saturating_mul(build_extra(record))),
-        }
     }
 
     pub fn render(self) -> Result<RenderOutput> {
@@ -360,120 +183,6 @@ impl<'a> Renderer<'a> {
             .build()
             .map_err(|e| Error::Internal(format!("thread pool: {e}")))?;
         pool.install(|| self.render_in_pool(pool.current_num_threads(), estimate, start))
-    }
-
-    /// Plans a budgeted render: a calibration photon pass measures the seconds per stored
-    /// photon, then the photon targets are scaled (keeping their ratios) so that the photon
-    /// pass takes `budget::PHOTON_SHARE` of the budget. Returns the settings to render with.
-    fn plan_budget(
-        &self,
-        budget_seconds: f64,
-        need: [bool; 3],
-        stats: &mut BudgetStats,
-    ) -> Result<RenderSettings> {
-        let mut s = self.settings.clone();
-        let t = Instant::now();
-        let p = &s.photons;
-        let targets = [
-            (need[0], p.global),
-            (need[1], p.caustic),
-            (need[2], p.volume),
-        ];
-        let preset_total: usize = targets.iter().filter(|(n, _)| *n).map(|(_, c)| *c).sum();
-        let mut scale = 1.0;
-        if preset_total > 0 && !self.scene.lights.is_empty() {
-            let mut cal = p.clone();
-            cal.global = budget::scale_count(p.global, budget::CALIBRATION_FRACTION);
-            cal.caustic = budget::scale_count(p.caustic, budget::CALIBRATION_FRACTION);
-            cal.volume = budget::scale_count(p.volume, budget::CALIBRATION_FRACTION);
-            let (cal_maps, cal_stats) = photons::build(
-                self.scene,
-                &cal,
-                s.seed ^ 0xCA1B_4A7E,
-                need,
-                self.cancel.as_deref(),
-            );
-            if self.is_cancelled() {
-                return Err(Error::Cancelled);
-            }
-            let stored: u64 = cal_stats.iter().filter(|m| m.built).map(|m| m.stored).sum();
-            let photon_secs = t.elapsed().as_secs_f64();
-            let preset_photons = preset_total as f64;
-            // A bigger map costs more per photon (kd-tree balancing, cache misses): about in
-            // proportion to log n.
-            let log_ratio = |n: f64| (n.max(2.0).ln() / (stored.max(2) as f64).ln()).max(1.0);
-            if stored > 0 {
-                stats.seconds_per_photon = photon_secs / stored as f64;
-            }
-            // Irradiance cache: fill it with the calibration maps and a few gather rays to
-            // count the records and time a gather ray.
-            let mut cache_preset = 0.0;
-            let fg = s.photons.final_gather_rays;
-            if need[0] && s.photons.irradiance_cache && cal_maps.global.is_some() && fg > 0 {
-                let tc = Instant::now();
-                let mut cal_settings = s.clone();
-                cal_settings.photons.final_gather_rays = budget::CALIBRATION_GATHER_RAYS;
-                let ctx = EyeCtx {
-                    scene: self.scene,
-                    work: &self.work,
-                    maps: &cal_maps,
-                    cache: None,
-                    settings: EyeSettings {
-                        terms: s.terms,
-                        max_specular_depth: s.max_specular_depth,
-                        final_gather_rays: budget::CALIBRATION_GATHER_RAYS,
-                        gather_rays_per_sample: budget::CALIBRATION_GATHER_RAYS,
-                    },
-                    march: MarchSettings::for_render(&s, self.scene, cal_maps.global_r2),
-                };
-                let cache =
-                    cache_fill::fill(&ctx, &cal_settings, &|_| {}, &|| self.is_cancelled())?;
-                let secs = tc.elapsed().as_secs_f64();
-                stats.calibration_cache_records = cache.len() as u64;
-                cache_preset = secs * fg as f64 / budget::CALIBRATION_GATHER_RAYS as f64
-                    * log_ratio(p.global as f64);
-            }
-            let photon_preset =
-                stats.seconds_per_photon * preset_photons * log_ratio(preset_photons);
-            let room = (budget_seconds * budget::MAPS_SHARE - t.elapsed().as_secs_f64()).max(0.0);
-            if photon_preset + cache_preset > 0.0 {
-                scale = room / (photon_preset + cache_preset);
-            }
-            // Final-gathering rays grow with the plan only up to the preset's.
-            if scale > 1.0 && photon_preset > 0.0 {
-                scale = ((room - cache_preset) / photon_preset).max(1.0);
-            }
-            if let Some(limit) = s.memory_limit {
-                let bvh = self.scene.triangle_count as u64 * BYTES_PER_TRIANGLE;
-                let record = s.photons.bytes_per_photon();
-                let fit = limit.saturating_sub(bvh) / (record + build_extra(record));
-                scale = scale.min(fit as f64 / preset_photons);
-            }
-        }
-        let spp_equivalent = (s.spp as f64 * scale).max(1.0);
-        let p = &mut s.photons;
-        p.global = budget::scale_count(p.global, scale);
-        p.caustic = budget::scale_count(p.caustic, scale);
-        p.volume = budget::scale_count(p.volume, scale);
-        if p.final_gather_rays > 0 {
-            p.final_gather_rays = ((p.final_gather_rays as f64 * scale.min(1.0)).round() as u32)
-                .max(budget::MIN_GATHER_RAYS);
-        }
-        s.progressive = true;
-        let gather = s
-            .gather_rays_per_sample
-            .unwrap_or(match p.final_gather_rays {
-                0 => 0,
-                n => ((n as f64 / spp_equivalent).ceil() as u32).max(4),
-            });
-        s.gather_rays_per_sample = Some(gather);
-        stats.calibration_seconds = t.elapsed().as_secs_f64();
-        stats.photons_global = p.global;
-        stats.photons_caustic = p.caustic;
-        stats.photons_volume = p.volume;
-        stats.gather_rays_per_sample = gather;
-        stats.final_gather_rays = p.final_gather_rays;
-        Ok(s)
     }
 
     fn render_in_pool(
@@ -595,7 +304,7 @@ impl<'a> Renderer<'a> {
             seconds,
             maps: map_stats,
             irradiance_cache_records: cache.as_ref().map_or(0, |c| c.len() as u64),
-            skipped: self.skipped_terms(&maps),
+            skipped: self.skipped_terms(Some(&maps)),
             non_finite_samples: non_finite.load(Ordering::Relaxed) as u64,
             estimate,
             time_budget: None,
@@ -654,24 +363,7 @@ impl<'a> Renderer<'a> {
         let mut seconds = std::collections::BTreeMap::new();
         seconds.insert("photons".to_string(), out.stats.photon_seconds);
         seconds.insert("render".to_string(), out.stats.camera_seconds);
-        let mut skipped = Vec::new();
-        for t in Term::ALL {
-            let reason = if !s.terms.contains(t) {
-                "disabled in the render settings"
-            } else if self.scene.lights.is_empty() && matches!(t, Term::Caustic | Term::Indirect) {
-                "the scene has no lights"
-            } else if t == Term::Caustic && photons::specular_targets(self.scene).is_empty() {
-                "the scene has no specular or transmissive surfaces"
-            } else if t == Term::Volume && !self.scene.has_media() {
-                "the scene has no participating media"
-            } else {
-                continue;
-            };
-            skipped.push(SkippedTerm {
-                term: t.name(),
-                reason: reason.to_string(),
-            });
-        }
+        let skipped = self.skipped_terms(None);
         let mut maps = out.maps;
         for m in maps.iter_mut().filter(|m| m.map == "caustic") {
             m.skipped_because =
@@ -711,46 +403,6 @@ impl<'a> Renderer<'a> {
             film: out.film,
             stats,
         })
-    }
-
-    /// The stats of a render of either mode, from what it measured.
-    fn stats(&self, p: StatsParts) -> RenderStats {
-        let s = &self.settings;
-        let photon_bytes: u64 = p.maps.iter().map(|m| m.memory_bytes).sum();
-        RenderStats {
-            settings: s.clone(),
-            work: self.work.stats(),
-            version: env!("CARGO_PKG_VERSION"),
-            seed: s.seed,
-            width: p.width,
-            height: p.height,
-            spp: p.spp,
-            threads: p.threads,
-            triangles: self.scene.triangle_count,
-            lights: self.scene.lights.len(),
-            seconds: p.seconds,
-            camera_rays: (p.width * p.height) as u64 * p.spp as u64,
-            photons_stored: p
-                .maps
-                .iter()
-                .filter(|m| m.built)
-                .map(|m| (m.map.to_string(), m.stored))
-                .collect(),
-            photon_maps: p.maps,
-            irradiance_cache_records: p.irradiance_cache_records,
-            skipped: p.skipped,
-            non_finite_samples: p.non_finite_samples,
-            // The film: one image per term and the error AOV, RGB f32.
-            memory_bytes: (p.width * p.height * (Term::COUNT + 1) * 12) as u64
-                + self.scene.triangle_count as u64 * 64
-                + photon_bytes,
-            memory_estimate: p.estimate,
-            bytes_per_photon: s.photons.bytes_per_photon(),
-            bytes_per_triangle: BYTES_PER_TRIANGLE,
-            time_budget: p.time_budget,
-            mode: p.mode,
-            sppm: p.sppm,
-        }
     }
 
     /// Traces sample `u` (in [0,1)^2, warped by the filter) of pixel (x, y) into `acc`, and

@@ -1,0 +1,157 @@
+//! The stats of a render: what it did, what it skipped and why, with the settings it was
+//! given. Written as the stats JSON.
+
+use super::aov::Term;
+use super::budget::BudgetStats;
+use super::memory::MemoryEstimate;
+use super::photons::{self, MapStats, PhotonMaps};
+use super::renderer::Renderer;
+use super::settings::{RenderMode, RenderSettings, BYTES_PER_TRIANGLE};
+use super::sppm::SppmStats;
+use serde::Serialize;
+
+/// Why a term is zero in this render.
+#[derive(Clone, Debug, Serialize)]
+pub struct SkippedTerm {
+    pub term: &'static str,
+    pub reason: String,
+}
+
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct RenderStats {
+    pub version: &'static str,
+    pub seed: u64,
+    pub width: usize,
+    pub height: usize,
+    pub spp: u32,
+    pub threads: usize,
+    pub triangles: usize,
+    pub lights: usize,
+    /// Wall-clock seconds per pass.
+    pub seconds: std::collections::BTreeMap<String, f64>,
+    pub camera_rays: u64,
+    /// Photons stored per map that was built.
+    pub photons_stored: std::collections::BTreeMap<String, u64>,
+    /// Every map: built (photons stored and emitted, memory, time) or skipped, and why.
+    pub photon_maps: Vec<MapStats>,
+    pub irradiance_cache_records: u64,
+    pub skipped: Vec<SkippedTerm>,
+    /// Estimates that came out NaN or infinite and were dropped.
+    pub non_finite_samples: u64,
+    /// Approximate bytes held by the render (film and scene geometry).
+    pub memory_bytes: u64,
+    /// The estimate checked against the memory limit before the photon pass.
+    pub memory_estimate: MemoryEstimate,
+    /// Bytes per stored photon in the estimate.
+    pub bytes_per_photon: u64,
+    /// Bytes per triangle of the BVH in the estimate.
+    pub bytes_per_triangle: u64,
+    /// The plan of a render to a time budget, and how it went; absent without a budget.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time_budget: Option<BudgetStats>,
+    /// Jensen's two passes or progressive photon mapping.
+    pub mode: RenderMode,
+    /// What a progressive render did; absent in Jensen's mode.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sppm: Option<SppmStats>,
+    /// Work done per kind (march steps, volume and caustic map lookups).
+    pub work: crate::render::work::WorkStats,
+    /// The settings the render was given (a budgeted render's plan is under `time_budget`).
+    pub settings: RenderSettings,
+}
+
+/// What a render measured, for [`RenderStats`].
+pub(super) struct StatsParts {
+    pub(super) width: usize,
+    pub(super) height: usize,
+    pub(super) spp: u32,
+    pub(super) threads: usize,
+    pub(super) seconds: std::collections::BTreeMap<String, f64>,
+    pub(super) maps: Vec<MapStats>,
+    pub(super) irradiance_cache_records: u64,
+    pub(super) skipped: Vec<SkippedTerm>,
+    pub(super) non_finite_samples: u64,
+    pub(super) estimate: MemoryEstimate,
+    pub(super) time_budget: Option<BudgetStats>,
+    pub(super) mode: RenderMode,
+    pub(super) sppm: Option<SppmStats>,
+}
+
+impl Renderer<'_> {
+    /// The terms that are zero in this render, and why: first what the settings and the scene
+    /// rule out (both modes), then, given Jensen's `maps`, the maps that were not built.
+    pub(super) fn skipped_terms(&self, maps: Option<&PhotonMaps>) -> Vec<SkippedTerm> {
+        let s = &self.settings;
+        let photon_term = |t| matches!(t, Term::Caustic | Term::Indirect);
+        let mut out = Vec::new();
+        for t in Term::ALL {
+            let reason = if !s.terms.contains(t) {
+                "disabled in the render settings"
+            } else if self.scene.lights.is_empty() && photon_term(t) {
+                "the scene has no lights"
+            } else if t == Term::Caustic && photons::specular_targets(self.scene).is_empty() {
+                "the scene has no specular or transmissive surfaces"
+            } else if t == Term::Volume && !self.scene.has_media() {
+                "the scene has no participating media"
+            } else {
+                match (t, maps) {
+                    (Term::Indirect, Some(m)) if m.global.is_none() => {
+                        "no global photon map (see photon_maps)"
+                    }
+                    (Term::Indirect, Some(_)) if s.photons.final_gather_rays == 0 => {
+                        "final gathering disabled (0 rays)"
+                    }
+                    (Term::Caustic, Some(m)) if m.caustic.is_none() => {
+                        "no caustic photon map (see photon_maps)"
+                    }
+                    _ => continue,
+                }
+            };
+            out.push(SkippedTerm {
+                term: t.name(),
+                reason: reason.to_string(),
+            });
+        }
+        out
+    }
+
+    /// The stats of a render of either mode, from what it measured.
+    pub(super) fn stats(&self, p: StatsParts) -> RenderStats {
+        let s = &self.settings;
+        let photon_bytes: u64 = p.maps.iter().map(|m| m.memory_bytes).sum();
+        RenderStats {
+            settings: s.clone(),
+            work: self.work.stats(),
+            version: env!("CARGO_PKG_VERSION"),
+            seed: s.seed,
+            width: p.width,
+            height: p.height,
+            spp: p.spp,
+            threads: p.threads,
+            triangles: self.scene.triangle_count,
+            lights: self.scene.lights.len(),
+            seconds: p.seconds,
+            camera_rays: (p.width * p.height) as u64 * p.spp as u64,
+            photons_stored: p
+                .maps
+                .iter()
+                .filter(|m| m.built)
+                .map(|m| (m.map.to_string(), m.stored))
+                .collect(),
+            photon_maps: p.maps,
+            irradiance_cache_records: p.irradiance_cache_records,
+            skipped: p.skipped,
+            non_finite_samples: p.non_finite_samples,
+            // The film: one image per term and the error AOV, RGB f32.
+            memory_bytes: (p.width * p.height * (Term::COUNT + 1) * 12) as u64
+                + self.scene.triangle_count as u64 * 64
+                + photon_bytes,
+            memory_estimate: p.estimate,
+            bytes_per_photon: s.photons.bytes_per_photon(),
+            bytes_per_triangle: BYTES_PER_TRIANGLE,
+            time_budget: p.time_budget,
+            mode: p.mode,
+            sppm: p.sppm,
+        }
+    }
+}
