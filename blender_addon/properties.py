@@ -77,6 +77,19 @@ class PhotonMapSettings(bpy.types.PropertyGroup):
                ("box", "Box", "Uniform over the pixel (Cycles' Box filter of width 1 px)"),
                ("tent", "Tent", "Triangle of radius 1 px")],
         description="Pixel reconstruction filter (as --filter)")
+    photon_power: EnumProperty(
+        name="Photon Power", default=_D["photon_power"],
+        items=[("rgbe", "RGBE", "20-byte photons, the power in Ward's shared exponent"),
+               ("f32", "Float", "28-byte photons, the power unquantised")],
+        description="How a stored photon's power is encoded (as --photon-power)")
+    progressive: BoolProperty(name="Whole Passes", default=_D["progressive"],
+                              description="Jensen mode: take the camera samples in whole passes "
+                              "over the image, as a time budget does (to replay a budgeted "
+                              "render's recorded plan)")
+    gather_rays_per_sample: IntProperty(
+        name="Gather Rays per Sample", default=0, min=0,
+        description="Final-gathering rays per camera sample where the irradiance cache does "
+        "not apply (0 = Final Gather Rays / Samples, at least 4)")
     seed: IntProperty(name="Seed", default=_D["seed"], min=0, description="Random seed")
     threads: IntProperty(name="Threads", default=_D["threads"], min=0, description="Worker threads (0 = all)")
 
@@ -94,6 +107,8 @@ def render_settings(s: PhotonMapSettings) -> dict:
         "time_budget": s.time_budget if s.time_budget > 0 else None,
         "mode": s.mode, "alpha": s.alpha, "initial_photons": s.initial_photons,
         "memory_limit": s.memory_limit.strip() or None,
+        "photon_power": s.photon_power, "progressive": s.progressive,
+        "gather_rays_per_sample": s.gather_rays_per_sample or None,
     }
 
 

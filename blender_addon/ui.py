@@ -45,6 +45,8 @@ class PHOTONMAP_PT_quality(PhotonMapPanel, bpy.types.Panel):
         layout.prop(s, "time_budget")
         layout.prop(s, "memory_limit")
         layout.prop(s, "filter")
+        if s.mode == "jensen":
+            layout.prop(s, "progressive")
         layout.prop(s, "seed")
         layout.prop(s, "threads")
 
@@ -56,7 +58,8 @@ class PHOTONMAP_PT_photons(PhotonMapPanel, bpy.types.Panel):
         s = context.scene.photonmap
         layout = self.layout
         layout.use_property_split = True
-        for name in ("photons", "caustic_photons", "volume_photons", "volume_step", "gather", "radius"):
+        for name in ("photons", "caustic_photons", "volume_photons", "volume_step", "gather", "radius",
+                     "photon_power"):
             layout.prop(s, name)
 
 
@@ -72,6 +75,7 @@ class PHOTONMAP_PT_gather(PhotonMapPanel, bpy.types.Panel):
         row = layout.row()
         row.active = s.irradiance_cache
         row.prop(s, "cache_tolerance")
+        layout.prop(s, "gather_rays_per_sample")
         layout.prop(s, "max_specular_depth")
 
 

@@ -54,6 +54,27 @@ def test_settings_no_preset_fills_default_to_the_cores(addon):
     assert s.bl_rna.properties["alpha"].default == pytest.approx(d["alpha"])
 
 
+def test_every_render_keyword_reaches_the_addon_and_the_command_line(addon, capfd):
+    """Each setting of ``photonmap.render`` is a property of ``scene.photonmap`` of the same
+    name, goes into the keywords the engine renders with, and is a flag of the command."""
+    import re
+
+    sig = photonmap._core.render.__text_signature__
+    keywords = [k for k in re.findall(r"(\w+)=", sig)
+                if k not in ("progress", "preview", "cancel")]
+    assert len(keywords) > 20, sig
+    s = bpy.context.scene.photonmap
+    sent = addon.properties.render_settings(s)
+    for k in keywords:
+        assert k in s.bl_rna.properties, f"no Blender property {k}"
+        assert k in sent, f"{k} does not reach photonmap.render"
+    capfd.readouterr()
+    assert photonmap._core.run_cli(["render", "--help"]) == 0
+    helptext = capfd.readouterr().out
+    for k in keywords:
+        assert f"--{k.replace('_', '-')}" in helptext, f"no command-line flag for {k}"
+
+
 def test_presets_are_what_the_core_renders_with(addon):
     scene = photonmap.Scene.from_dict({
         "camera": {"fov": 0.7, "transform": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 3], [0, 0, 0, 1]]},
