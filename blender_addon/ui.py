@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import bpy
 
+from .properties import SCHEMA
+
 ENGINE = "PHOTONMAP"
 
 # Built-in panels that show for EEVEE/Workbench and make sense here too (materials, world and
@@ -29,54 +31,38 @@ class PhotonMapPanel:
         return context.engine in cls.COMPAT_ENGINES
 
 
+def draw_group(layout, s, group: str) -> None:
+    """The settings of one schema group, in schema order; a setting of the other mode is
+    hidden, one whose switch is off is greyed out."""
+    layout.use_property_split = True
+    for f in SCHEMA:
+        if f["group"] != group or (f["mode"] and f["mode"] != s.mode):
+            continue
+        row = layout.row()
+        if f["requires"]:
+            row.active = bool(getattr(s, f["requires"]))
+        row.prop(s, f["name"])
+
+
 class PHOTONMAP_PT_quality(PhotonMapPanel, bpy.types.Panel):
     bl_label = "Quality"
 
     def draw(self, context):
-        s = context.scene.photonmap
-        layout = self.layout
-        layout.use_property_split = True
-        layout.prop(s, "quality")
-        layout.prop(s, "mode")
-        if s.mode == "sppm":
-            layout.prop(s, "alpha")
-            layout.prop(s, "initial_photons")
-        layout.prop(s, "spp")
-        layout.prop(s, "time_budget")
-        layout.prop(s, "memory_limit")
-        layout.prop(s, "filter")
-        if s.mode == "jensen":
-            layout.prop(s, "progressive")
-        layout.prop(s, "seed")
-        layout.prop(s, "threads")
+        draw_group(self.layout, context.scene.photonmap, "quality")
 
 
 class PHOTONMAP_PT_photons(PhotonMapPanel, bpy.types.Panel):
     bl_label = "Photons"
 
     def draw(self, context):
-        s = context.scene.photonmap
-        layout = self.layout
-        layout.use_property_split = True
-        for name in ("photons", "caustic_photons", "volume_photons", "volume_step", "gather", "radius",
-                     "photon_power"):
-            layout.prop(s, name)
+        draw_group(self.layout, context.scene.photonmap, "photons")
 
 
 class PHOTONMAP_PT_gather(PhotonMapPanel, bpy.types.Panel):
     bl_label = "Final Gathering"
 
     def draw(self, context):
-        s = context.scene.photonmap
-        layout = self.layout
-        layout.use_property_split = True
-        layout.prop(s, "final_gather_rays")
-        layout.prop(s, "irradiance_cache")
-        row = layout.row()
-        row.active = s.irradiance_cache
-        row.prop(s, "cache_tolerance")
-        layout.prop(s, "gather_rays_per_sample")
-        layout.prop(s, "max_specular_depth")
+        draw_group(self.layout, context.scene.photonmap, "gathering")
 
 
 CLASSES = (PHOTONMAP_PT_quality, PHOTONMAP_PT_photons, PHOTONMAP_PT_gather)

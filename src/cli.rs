@@ -3,8 +3,7 @@
 
 use crate::error::{Error, Result};
 use crate::io;
-use crate::render::settings::RenderMode;
-use crate::render::{film::Filter, Quality, RenderOutput, RenderSettings, Renderer};
+use crate::render::{RenderOptions, RenderOutput, RenderSettings, Renderer};
 use crate::scene::{Scene, SceneDesc};
 use clap::{Args, Parser, Subcommand};
 use std::collections::BTreeMap;
@@ -43,87 +42,9 @@ pub struct RenderArgs {
     /// Image height in pixels (default: keeps the scene's aspect ratio when only --width is given).
     #[arg(long)]
     pub height: Option<u32>,
-    /// Quality preset: draft, medium, high, final.
-    #[arg(long, default_value = "medium", value_parser = parse_quality)]
-    pub quality: Quality,
-    /// Camera samples per pixel (overrides the preset).
-    #[arg(long)]
-    pub spp: Option<u32>,
-    /// Random seed; the same seed gives the same image for any thread count.
-    #[arg(long, default_value_t = 0)]
-    pub seed: u64,
-    /// Worker threads (0 = all cores).
-    #[arg(long, default_value_t = 0)]
-    pub threads: usize,
-    /// Maximum number of perfectly specular bounces followed from the eye.
-    #[arg(long, default_value_t = 8)]
-    pub max_specular_depth: u32,
-    /// Pixel filter: box, tent, gaussian.
-    #[arg(long, default_value = "gaussian", value_parser = parse_filter)]
-    pub filter: Filter,
-    /// Photons to store in the global map (overrides the preset).
-    #[arg(long)]
-    pub photons: Option<usize>,
-    /// Photons to store in the caustic map (overrides the preset).
-    #[arg(long)]
-    pub caustic_photons: Option<usize>,
-    /// Photons to store in the volume map (scenes with participating media).
-    #[arg(long)]
-    pub volume_photons: Option<usize>,
-    /// Ray-marching step through media, in scene units (default: from the scene size).
-    #[arg(long)]
-    pub volume_step: Option<f32>,
-    /// Photons per radiance estimate (k nearest).
-    #[arg(long)]
-    pub gather: Option<usize>,
-    /// Largest photon search radius, in scene units (default: from the scene size).
-    #[arg(long)]
-    pub radius: Option<f32>,
-    /// Final-gathering rays per irradiance-cache record, and per pixel elsewhere (overrides the preset).
-    #[arg(long)]
-    pub final_gather_rays: Option<u32>,
-    /// Irradiance caching for final gathering: on or off.
-    #[arg(long, value_parser = parse_on_off)]
-    pub irradiance_cache: Option<bool>,
-    /// Irradiance-cache error tolerance (Ward's a; smaller is more accurate and slower).
-    #[arg(long)]
-    pub cache_tolerance: Option<f32>,
-    /// Photon power encoding: rgbe (20-byte photons, Ward's shared exponent) or f32 (28 bytes,
-    /// unquantised).
-    #[arg(long, default_value = "rgbe", value_name = "rgbe|f32", action = clap::ArgAction::Set,
-          value_parser = crate::render::settings::parse_photon_power)]
-    pub photon_power: bool,
-    /// Largest memory the photon maps and the BVH may take, in bytes or with a binary suffix
-    /// (`512M`, `8G`); checked against an estimate before the photon pass (default: the
-    /// available memory, MemAvailable in /proc/meminfo; no limit where that cannot be read).
-    #[arg(long, value_name = "BYTES_OR_SIZE", value_parser = crate::render::settings::parse_bytes)]
-    pub memory_limit: Option<u64>,
-    /// Seconds the whole render should take (photon pass, irradiance cache, camera pass);
-    /// photon counts and camera passes are planned to fill it, and the plan is written to the
-    /// stats (`time_budget`). 0 = off.
-    #[arg(long, value_name = "SECONDS", value_parser = parse_time_budget)]
-    pub time_budget: Option<f64>,
-    /// Render mode: `jensen` (photon maps built once, final gathering, irradiance cache) or
-    /// `sppm` (stochastic progressive photon mapping: `--spp` passes, each with a fresh map
-    /// of `--photons` stored photons and a shrinking search radius per pixel; consistent).
-    #[arg(long, default_value = "jensen", value_parser = parse_mode)]
-    pub mode: RenderMode,
-    /// Progressive mode's radius reduction α in (0, 1): the fraction of each pass's photons
-    /// a pixel keeps (Hachisuka & Jensen 2009).
-    #[arg(long, default_value_t = crate::render::settings::SPPM_ALPHA)]
-    pub alpha: f32,
-    /// Progressive mode: photons within a pixel's first search radius (the k nearest around
-    /// its first visible point); the radius shrinks from there.
-    #[arg(long, default_value_t = crate::render::settings::SPPM_INITIAL_PHOTONS)]
-    pub initial_photons: usize,
-    /// Jensen mode: take the camera samples in whole passes over the image (as a time
-    /// budget does), to replay a budgeted render's recorded plan.
-    #[arg(long)]
-    pub progressive: bool,
-    /// Final-gathering rays per camera sample where the irradiance cache does not apply
-    /// (default: --final-gather-rays / --spp, at least 4).
-    #[arg(long)]
-    pub gather_rays_per_sample: Option<u32>,
+    /// The render settings (`render::options`, one schema with Python and Blender).
+    #[command(flatten)]
+    pub options: RenderOptions,
     /// USD: camera prim path to render through (default: the first camera found).
     #[arg(long, value_name = "PRIM")]
     pub camera: Option<String>,
@@ -149,36 +70,6 @@ pub struct RenderArgs {
     /// No progress output.
     #[arg(long)]
     pub quiet: bool,
-}
-
-fn parse_time_budget(s: &str) -> std::result::Result<f64, String> {
-    let v: f64 = s
-        .trim()
-        .parse()
-        .map_err(|_| format!("`{s}` is not a number of seconds (0 = off)"))?;
-    crate::render::budget::check_budget(v)?;
-    Ok(v)
-}
-
-fn parse_quality(s: &str) -> std::result::Result<Quality, String> {
-    Quality::parse(s)
-        .ok_or_else(|| format!("unknown quality `{s}` (expected draft, medium, high or final)"))
-}
-
-fn parse_mode(s: &str) -> std::result::Result<RenderMode, String> {
-    RenderMode::parse(s).ok_or_else(|| format!("unknown mode `{s}` (expected jensen or sppm)"))
-}
-
-fn parse_on_off(s: &str) -> std::result::Result<bool, String> {
-    match s {
-        "on" | "true" | "1" => Ok(true),
-        "off" | "false" | "0" => Ok(false),
-        _ => Err(format!("expected on or off, got `{s}`")),
-    }
-}
-
-fn parse_filter(s: &str) -> std::result::Result<Filter, String> {
-    Filter::parse(s).ok_or_else(|| format!("unknown filter `{s}` (expected box, tent or gaussian)"))
 }
 
 /// What a front end's scene reader (the Python package's USD importer) is asked to read.
@@ -395,75 +286,17 @@ impl RenderArgs {
 
     /// The preset, with every explicit flag applied over it.
     pub fn settings(&self) -> RenderSettings {
-        let mut s = self.quality.settings();
-        s.spp = self.spp.unwrap_or(s.spp);
-        s.seed = self.seed;
-        s.threads = self.threads;
-        s.max_specular_depth = self.max_specular_depth;
-        s.filter = self.filter.clone();
-        let p = &mut s.photons;
-        p.global = self.photons.unwrap_or(p.global);
-        p.caustic = self.caustic_photons.unwrap_or(p.caustic);
-        p.volume = self.volume_photons.unwrap_or(p.volume);
-        p.volume_step = self.volume_step.or(p.volume_step);
-        p.gather = self.gather.unwrap_or(p.gather);
-        p.max_radius = self.radius.or(p.max_radius);
-        p.final_gather_rays = self.final_gather_rays.unwrap_or(p.final_gather_rays);
-        p.irradiance_cache = self.irradiance_cache.unwrap_or(p.irradiance_cache);
-        p.cache_tolerance = self.cache_tolerance.unwrap_or(p.cache_tolerance);
-        p.f32_power = self.photon_power;
-        s.memory_limit = self
-            .memory_limit
-            .or_else(crate::render::settings::available_memory);
-        s.time_budget = self.time_budget.filter(|b| *b > 0.0);
-        s.mode = self.mode;
-        s.sppm_alpha = self.alpha;
-        s.sppm_initial_photons = self.initial_photons;
-        s.progressive = self.progressive;
-        s.gather_rays_per_sample = self.gather_rays_per_sample;
-        s
+        self.options.settings()
     }
 
-    /// Checks the values clap cannot: positive counts and radii.
+    /// Checks the values clap cannot: the ranges of the schema, and the image size.
     pub fn check(&self) -> Result<()> {
-        let bad = |setting: &str, message: &str| {
-            Err(Error::InvalidSetting {
-                setting: setting.into(),
-                message: message.into(),
-            })
-        };
-        if self.spp == Some(0) {
-            return bad("spp", "must be at least 1");
-        }
-        if self.gather == Some(0) {
-            return bad("gather", "must be at least 1");
-        }
-        if let Some(r) = self.radius {
-            if !(r.is_finite() && r > 0.0) {
-                return bad("radius", "must be a finite number > 0");
-            }
-        }
-        if let Some(v) = self.volume_step {
-            if !(v.is_finite() && v > 0.0) {
-                return bad("volume_step", "must be a finite number > 0");
-            }
-        }
-        if let Some(t) = self.cache_tolerance {
-            if !(t.is_finite() && t > 0.0) {
-                return bad("cache_tolerance", "must be a finite number > 0");
-            }
-        }
-        if !(self.alpha > 0.0 && self.alpha < 1.0) {
-            return bad("alpha", "must be in (0, 1)");
-        }
-        if self.initial_photons == 0 {
-            return bad("initial_photons", "must be at least 1");
-        }
-        if self.gather_rays_per_sample == Some(0) {
-            return bad("gather_rays_per_sample", "must be at least 1");
-        }
+        self.options.validate()?;
         if self.width == Some(0) || self.height == Some(0) {
-            return bad("width/height", "must be at least 1");
+            return Err(Error::InvalidSetting {
+                setting: "width/height".into(),
+                message: "must be at least 1".into(),
+            });
         }
         Ok(())
     }
@@ -496,7 +329,8 @@ impl RenderArgs {
     /// The command's wall clock when `--time-budget` is given: it covers reading the scene,
     /// rendering and writing every output.
     pub fn wall_clock(&self) -> Option<crate::render::budget::WallClock> {
-        self.time_budget
+        self.options
+            .time_budget
             .filter(|b| *b > 0.0)
             .map(crate::render::budget::WallClock::start)
     }
@@ -677,7 +511,7 @@ mod tests {
     #[test]
     fn defaults_match_the_flags() {
         let a = RenderArgs::defaults();
-        assert_eq!(a.quality, Quality::Medium);
-        assert_eq!(a.settings().spp, Quality::Medium.spp());
+        assert_eq!(a.options.quality, crate::render::Quality::Medium);
+        assert_eq!(a.settings().spp, crate::render::Quality::Medium.spp());
     }
 }

@@ -1034,14 +1034,26 @@ fn memory_limit_flag_parses_sizes() {
             }
         })
     };
-    assert_eq!(parse("8G").unwrap().memory_limit, Some(8 << 30));
+    assert_eq!(
+        parse("8G").unwrap().options.memory_limit.map(|b| b.0),
+        Some(8 << 30)
+    );
     assert_eq!(
         parse("512M").unwrap().settings().memory_limit,
         Some(512 << 20)
     );
-    assert_eq!(parse("1000").unwrap().memory_limit, Some(1000));
-    assert_eq!(parse("2GiB").unwrap().memory_limit, Some(2 << 30));
-    assert_eq!(parse("64kb").unwrap().memory_limit, Some(64 << 10));
+    assert_eq!(
+        parse("1000").unwrap().options.memory_limit.map(|b| b.0),
+        Some(1000)
+    );
+    assert_eq!(
+        parse("2GiB").unwrap().options.memory_limit.map(|b| b.0),
+        Some(2 << 30)
+    );
+    assert_eq!(
+        parse("64kb").unwrap().options.memory_limit.map(|b| b.0),
+        Some(64 << 10)
+    );
     for bad in ["", "G", "8X", "1.5G", "-1", "99999999999T"] {
         assert!(parse(bad).is_err(), "`{bad}` accepted");
     }
@@ -1058,7 +1070,7 @@ fn memory_limit_flag_parses_sizes() {
     let mut a = parse("1G").unwrap();
     a.scene = Some(scene);
     a.output = out.clone();
-    a.photons = Some(100_000_000);
+    a.options.photons = Some(100_000_000);
     a.quiet = true;
     let e = photonmap::cli::run_render(&a, None)
         .err()

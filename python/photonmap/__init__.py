@@ -57,6 +57,7 @@ __all__ = [
     "RenderCancelled",
     "preset",
     "defaults",
+    "settings_schema",
 ]
 
 _MESH_ARRAYS = ("positions", "indices", "normals", "uvs", "material_indices")
@@ -221,72 +222,41 @@ def _to_scene(scene: Any) -> "_core.Scene":
 def render(
     scene: Any,
     *,
-    quality: str = "medium",
-    spp: int | None = None,
-    seed: int = 0,
-    threads: int = 0,
-    photons: int | None = None,
-    caustic_photons: int | None = None,
-    volume_photons: int | None = None,
-    volume_step: float | None = None,
-    gather: int | None = None,
-    radius: float | None = None,
-    final_gather_rays: int | None = None,
-    irradiance_cache: bool | None = None,
-    cache_tolerance: float | None = None,
-    max_specular_depth: int | None = None,
-    filter: str | None = None,
-    time_budget: float | None = None,
-    mode: str = "jensen",
-    alpha: float | None = None,
-    initial_photons: int | None = None,
-    progressive: bool | None = None,
-    gather_rays_per_sample: int | None = None,
-    memory_limit: int | str | None = None,
-    photon_power: str = "rgbe",
     progress: Callable[[float, str], Any] | None = None,
     preview: Callable[[np.ndarray, int], Any] | None = None,
     cancel: CancelToken | None = None,
+    **settings: Any,
 ) -> dict:
     """Renders ``scene`` (a Scene, an IR dict, JSON text, or a .json/.usd path).
 
     Returns ``{"combined": (H,W,3) float32, <term>: (H,W,3) float32 for each of TERMS,
-    "stats": dict}``; ``combined`` is the sum of the terms. Settings mean what the CLI flags of
-    the same names mean. The GIL is released while rendering; ``progress(fraction, phase)`` is
-    called from the calling thread; Ctrl-C or ``cancel.cancel()`` raise within ~50 ms
-    (KeyboardInterrupt, RenderCancelled). ``time_budget`` (seconds; None or 0 = off) plans
-    photon counts and camera passes to fill it; the plan is in ``stats["time_budget"]``.
-    ``mode="sppm"`` renders by progressive photon mapping: ``spp`` passes (or as many as fit
-    in ``time_budget``), each with a fresh map of ``photons`` stored photons, every pixel's
-    radius starting at its ``initial_photons`` (default 20) nearest photons and shrinking by
-    ``alpha`` (default 0.7). ``out["error"]`` is the estimated standard
-    error of ``combined`` per pixel and channel (not a term; see the README).
-    ``preview(image, passes)``, called from the calling thread, receives the beauty so far of
-    a progressive render (``progressive``, ``time_budget`` or ``mode="sppm"``): the core
-    previews after passes 1, 2, 4, ... and at most every 0.25 s between, and the calling
-    thread hands on the latest one every 50 ms, and the last one at the end.
-    ``memory_limit`` (bytes, or a size such as ``"512M"`` or ``"8G"``, as ``--memory-limit``;
-    default: the available memory) stops the render up front, with ``ValueError`` naming
-    ``memory_limit`` and the estimate, when its photon maps and BVH would need more.
-    ``photon_power`` is ``"rgbe"`` (20-byte photons, the default) or ``"f32"`` (28 bytes, no
-    quantisation of the photons' power).
+    "stats": dict}``; ``combined`` is the sum of the terms. ``out["error"]`` is the estimated
+    standard error of ``combined`` per pixel and channel (not a term; see the README).
+
+    ``settings`` are the render settings of ``settings_schema()``, each meaning what the
+    command-line flag of the same name means (``quality="high"``, ``spp=64``,
+    ``mode="sppm"``, ``memory_limit="8G"``, ...). ``None`` is a setting's default; a preset
+    field not given takes the ``quality`` preset's value. An unknown keyword raises
+    ``TypeError``, a bad value ``ValueError``, both naming the keyword.
+
+    The GIL is released while rendering; ``progress(fraction, phase)`` is called from the
+    calling thread; Ctrl-C or ``cancel.cancel()`` raise within ~50 ms (KeyboardInterrupt,
+    RenderCancelled). ``time_budget`` plans photon counts and camera passes to fill it; the
+    plan is in ``stats["time_budget"]``. ``preview(image, passes)``, called from the calling
+    thread, receives the beauty so far of a progressive render (``progressive``,
+    ``time_budget`` or ``mode="sppm"``): the core previews after passes 1, 2, 4, ... and at
+    most every 0.25 s between, and the calling thread hands on the latest one every 50 ms, and
+    the last one at the end. ``memory_limit`` stops the render up front, with ``ValueError``
+    naming ``memory_limit`` and the estimate, when its photon maps and BVH would need more.
     """
+    text = _settings_json(settings)
     s = _to_scene(scene)
 
     def show(b: bytes, w: int, h: int, passes: int) -> None:
         preview(np.frombuffer(b, dtype="<f4").reshape(h, w, 3).copy(), passes)
 
-    raw = _core.render(
-        s, quality=quality, spp=spp, seed=seed, threads=threads, photons=photons,
-        caustic_photons=caustic_photons, volume_photons=volume_photons, volume_step=volume_step,
-        gather=gather, radius=radius,
-        final_gather_rays=final_gather_rays, irradiance_cache=irradiance_cache,
-        cache_tolerance=cache_tolerance, max_specular_depth=max_specular_depth, filter=filter,
-        time_budget=time_budget, memory_limit=memory_limit, mode=mode, alpha=alpha,
-        initial_photons=initial_photons, progressive=progressive, photon_power=photon_power,
-        gather_rays_per_sample=gather_rays_per_sample, progress=progress,
-        preview=show if preview is not None else None, cancel=cancel,
-    )
+    raw = _core.render(s, text, progress=progress,
+                       preview=show if preview is not None else None, cancel=cancel)
     h, w = raw["height"], raw["width"]
 
     def img(b: bytes) -> np.ndarray:
@@ -300,11 +270,37 @@ def render(
     return out
 
 
+def _settings_json(settings: Mapping[str, Any]) -> str:
+    """The keywords as the JSON object the core reads; numpy scalars become numbers."""
+
+    def plain(v: Any) -> Any:
+        if isinstance(v, np.generic):
+            return v.item()
+        raise TypeError(f"setting value {v!r} of type {type(v).__name__} is not a number, "
+                        "string or bool")
+
+    try:
+        return json.dumps(dict(settings), default=plain, allow_nan=True)
+    except TypeError as e:
+        raise TypeError(f"render(): {e}") from None
+
+
+def settings_schema() -> list[dict[str, Any]]:
+    """The render settings, in order, as the core defines them: for each its ``name`` (the
+    keyword), ``flag`` (the command-line flag), ``label``, ``doc``, ``type`` (``int``,
+    ``float``, ``bool``, ``enum`` with ``choices``, or ``size``), ``default`` (a preset
+    field's is the default preset's value), ``optional`` (``None`` is allowed), ``min``,
+    ``max`` (``min_open``/``max_open`` exclude them), ``soft_max``, ``unit``, ``preset`` (a
+    quality preset sets it), ``group``, and the ``mode`` or boolean setting (``requires``) it
+    applies under. The Blender add-on builds its properties from it."""
+    return json.loads(_core.settings_schema())
+
+
 def preset(name: str) -> dict[str, Any]:
-    """The settings of a quality preset, named as the ``render`` keywords and CLI flags:
-    ``spp``, ``photons``, ``caustic_photons``, ``gather``, ``radius`` (0 = from the scene size),
-    ``final_gather_rays``, ``irradiance_cache``, ``cache_tolerance``, ``max_specular_depth``.
-    The numbers come from the core (``Quality::settings``)."""
+    """The settings a quality preset sets, named as the ``render`` keywords and CLI flags:
+    ``spp``, ``photons``, ``caustic_photons``, ``volume_photons``, ``gather``, ``radius``
+    (``None``: from the scene size), ``final_gather_rays``, ``irradiance_cache``,
+    ``cache_tolerance``, ``max_specular_depth``. The numbers come from the core."""
     try:
         return json.loads(_core.preset(name))
     except ValueError as e:
@@ -312,11 +308,9 @@ def preset(name: str) -> dict[str, Any]:
 
 
 def defaults() -> dict[str, Any]:
-    """The defaults of the ``render`` keywords that no preset sets, named as the keywords and
-    CLI flags: ``quality``, ``seed``, ``threads``, ``filter``, ``mode``, ``alpha``,
-    ``initial_photons``, ``photon_power``, ``progressive``. The values come from the core (the
-    ``render`` command's defaults)."""
-    return json.loads(_core.defaults())
+    """The defaults of the ``render`` keywords that no preset sets (``quality``, ``seed``,
+    ``threads``, ``filter``, ``mode``, ``alpha``, ...), from ``settings_schema()``."""
+    return {f["name"]: f["default"] for f in settings_schema() if not f["preset"]}
 
 
 class Renderer:

@@ -15,7 +15,7 @@
 
 mod pointer;
 
-use crate::cli::{self, Cli, Command, LoadedScene, RenderArgs, SceneRequest};
+use crate::cli::{self, Cli, Command, LoadedScene, SceneRequest};
 use crate::error::Error;
 use crate::io::scene_json;
 use crate::render::aov::Term;
@@ -56,6 +56,7 @@ fn to_py(e: Error) -> PyErr {
     match e {
         Error::InvalidScene { .. } | Error::Json { .. } => SceneError::new_err(e.to_string()),
         Error::InvalidSetting { .. } => PyValueError::new_err(e.to_string()),
+        Error::UnknownSetting { .. } => pyo3::exceptions::PyTypeError::new_err(e.to_string()),
         Error::Cancelled => RenderCancelled::new_err(e.to_string()),
         _ => PhotonmapError::new_err(e.to_string()),
     }
@@ -78,30 +79,6 @@ fn caught<T>(f: impl FnOnce() -> Result<T, Error>) -> Result<T, Error> {
             "the renderer panicked: {}",
             panic_message(p.as_ref())
         )))
-    })
-}
-
-/// `memory_limit=`: bytes as an int, or a size string as `--memory-limit` takes (`"512M"`).
-fn memory_limit_arg(v: &Bound<'_, PyAny>) -> PyResult<u64> {
-    let bad = |message: String| {
-        to_py(Error::InvalidSetting {
-            setting: "memory_limit".into(),
-            message,
-        })
-    };
-    if let Ok(s) = v.extract::<String>() {
-        return crate::render::settings::parse_bytes(&s).map_err(bad);
-    }
-    if v.is_instance_of::<pyo3::types::PyBool>() {
-        return Err(bad(
-            "expected bytes (an int) or a size such as \"512M\"".into()
-        ));
-    }
-    v.extract::<u64>().map_err(|_| {
-        bad(format!(
-            "expected bytes (an int >= 0) or a size such as \"512M\", got {}",
-            v.repr().map_or_else(|_| "?".into(), |r| r.to_string())
-        ))
     })
 }
 
@@ -452,102 +429,23 @@ fn image_bytes<'py>(py: Python<'py>, img: &crate::render::film::Image) -> Bound<
 }
 
 /// Renders `scene`. Returns `{"width", "height", "terms": {name: bytes}, "combined": bytes,
-/// "stats": json}`, images as float32 RGB rows top to bottom; settings as the CLI flags.
+/// "stats": json}`, images as float32 RGB rows top to bottom. `settings` is a JSON object of
+/// render settings named as the schema names them (`settings_schema`); `null` is a default.
 #[pyfunction]
-#[pyo3(signature = (scene, *, quality="medium", spp=None, seed=0, threads=0, photons=None,
-    caustic_photons=None, volume_photons=None, volume_step=None, gather=None, radius=None, final_gather_rays=None,
-    irradiance_cache=None, cache_tolerance=None, max_specular_depth=None, filter=None,
-    time_budget=None, mode="jensen", alpha=None, initial_photons=None, progressive=None, gather_rays_per_sample=None,
-    memory_limit=None, photon_power="rgbe", progress=None, preview=None, cancel=None))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (scene, settings="{}", *, progress=None, preview=None, cancel=None))]
 fn render<'py>(
     py: Python<'py>,
     scene: &PyScene,
-    quality: &str,
-    spp: Option<u32>,
-    seed: u64,
-    threads: usize,
-    photons: Option<usize>,
-    caustic_photons: Option<usize>,
-    volume_photons: Option<usize>,
-    volume_step: Option<f32>,
-    gather: Option<usize>,
-    radius: Option<f32>,
-    final_gather_rays: Option<u32>,
-    irradiance_cache: Option<bool>,
-    cache_tolerance: Option<f32>,
-    max_specular_depth: Option<u32>,
-    filter: Option<&str>,
-    time_budget: Option<f64>,
-    mode: &str,
-    alpha: Option<f32>,
-    initial_photons: Option<usize>,
-    progressive: Option<bool>,
-    gather_rays_per_sample: Option<u32>,
-    memory_limit: Option<Bound<'py, PyAny>>,
-    photon_power: &str,
+    settings: &str,
     progress: Option<Bound<'py, PyAny>>,
     preview: Option<Bound<'py, PyAny>>,
     cancel: Option<&CancelToken>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let mut a = RenderArgs::defaults();
-    a.quality = Quality::parse(quality).ok_or_else(|| {
-        PyValueError::new_err(format!(
-            "unknown quality `{quality}` (expected draft, medium, high or final)"
-        ))
-    })?;
-    a.spp = spp;
-    a.seed = seed;
-    a.threads = threads;
-    a.photons = photons;
-    a.caustic_photons = caustic_photons;
-    a.volume_photons = volume_photons;
-    a.volume_step = volume_step;
-    a.gather = gather;
-    a.radius = radius;
-    a.final_gather_rays = final_gather_rays;
-    a.irradiance_cache = irradiance_cache;
-    a.cache_tolerance = cache_tolerance;
-    if let Some(d) = max_specular_depth {
-        a.max_specular_depth = d;
-    }
-    if let Some(f) = filter {
-        a.filter = crate::render::film::Filter::parse(f).ok_or_else(|| {
-            PyValueError::new_err(format!(
-                "unknown filter `{f}` (expected box, tent or gaussian)"
-            ))
-        })?;
-    }
-    if let Some(b) = time_budget {
-        crate::render::budget::check_budget(b).map_err(|message| {
-            to_py(crate::error::Error::InvalidSetting {
-                setting: "time_budget".into(),
-                message,
-            })
-        })?;
-    }
-    a.time_budget = time_budget;
-    a.mode = crate::render::settings::RenderMode::parse(mode).ok_or_else(|| {
-        PyValueError::new_err(format!("unknown mode `{mode}` (expected jensen or sppm)"))
-    })?;
-    if let Some(v) = alpha {
-        a.alpha = v;
-    }
-    if let Some(v) = initial_photons {
-        a.initial_photons = v;
-    }
-    a.progressive = progressive.unwrap_or(false);
-    a.gather_rays_per_sample = gather_rays_per_sample;
-    a.photon_power =
-        crate::render::settings::parse_photon_power(photon_power).map_err(PyValueError::new_err)?;
-    a.check().map_err(to_py)?;
+    let options = crate::render::RenderOptions::from_json(settings).map_err(to_py)?;
     let flag = cancel
         .map(|c| c.flag.clone())
         .unwrap_or_else(|| Arc::new(AtomicBool::new(false)));
-    let mut settings = a.settings();
-    if let Some(m) = &memory_limit {
-        settings.memory_limit = Some(memory_limit_arg(m)?);
-    }
+    let settings = options.settings();
     let out = render_blocking(
         py,
         &scene.desc,
@@ -691,7 +589,7 @@ fn run_cli(
     Ok(0)
 }
 
-/// The settings of a quality preset as JSON, named as the `render` keywords and CLI flags.
+/// The preset fields of a quality preset as JSON, named as the `render` keywords.
 #[pyfunction]
 fn preset(name: &str) -> PyResult<String> {
     let q = Quality::parse(name).ok_or_else(|| {
@@ -699,67 +597,13 @@ fn preset(name: &str) -> PyResult<String> {
             "unknown quality `{name}` (expected draft, medium, high or final)"
         ))
     })?;
-    let s = q.settings();
-    let p = &s.photons;
-    // Written from a struct, not `json!`: that widens `f32` to `f64` (0.1 -> 0.100000001).
-    #[derive(serde::Serialize)]
-    struct Preset {
-        spp: u32,
-        photons: usize,
-        caustic_photons: usize,
-        volume_photons: usize,
-        gather: usize,
-        radius: f32,
-        final_gather_rays: u32,
-        irradiance_cache: bool,
-        cache_tolerance: f32,
-        max_specular_depth: u32,
-    }
-    serde_json::to_string(&Preset {
-        spp: s.spp,
-        photons: p.global,
-        caustic_photons: p.caustic,
-        volume_photons: p.volume,
-        gather: p.gather,
-        radius: p.max_radius.unwrap_or(0.0),
-        final_gather_rays: p.final_gather_rays,
-        irradiance_cache: p.irradiance_cache,
-        cache_tolerance: p.cache_tolerance,
-        max_specular_depth: s.max_specular_depth,
-    })
-    .map_err(|e| PhotonmapError::new_err(e.to_string()))
+    Ok(crate::render::RenderOptions::preset_json(q).to_string())
 }
 
-/// The defaults of the `render` keywords that no preset sets, named as the keywords and CLI
-/// flags, from the command's own defaults (`RenderArgs::defaults`).
+/// The render settings' schema as JSON (`RenderOptions::schema`).
 #[pyfunction]
-fn defaults() -> PyResult<String> {
-    let a = RenderArgs::defaults();
-    let s = a.settings();
-    #[derive(serde::Serialize)]
-    struct Defaults {
-        quality: &'static str,
-        seed: u64,
-        threads: usize,
-        filter: crate::render::film::Filter,
-        mode: crate::render::settings::RenderMode,
-        alpha: f32,
-        initial_photons: usize,
-        photon_power: &'static str,
-        progressive: bool,
-    }
-    serde_json::to_string(&Defaults {
-        quality: a.quality.name(),
-        seed: a.seed,
-        threads: a.threads,
-        filter: s.filter.clone(),
-        mode: a.mode,
-        alpha: a.alpha,
-        initial_photons: a.initial_photons,
-        photon_power: s.photons.photon_power(),
-        progressive: a.progressive,
-    })
-    .map_err(|e| PhotonmapError::new_err(e.to_string()))
+fn settings_schema() -> String {
+    crate::render::RenderOptions::schema().to_string()
 }
 
 /// Panics inside the guarded boundary, to test that a panic becomes an exception.
@@ -803,7 +647,7 @@ fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(render, m)?)?;
     m.add_function(wrap_pyfunction!(run_cli, m)?)?;
     m.add_function(wrap_pyfunction!(preset, m)?)?;
-    m.add_function(wrap_pyfunction!(defaults, m)?)?;
+    m.add_function(wrap_pyfunction!(settings_schema, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
     Ok(())
 }

@@ -7,6 +7,7 @@ pub mod eye;
 pub mod film;
 pub mod irradiance_cache;
 mod memory;
+pub mod options;
 pub mod photons;
 mod renderer;
 pub mod settings;
@@ -16,6 +17,7 @@ pub mod terms;
 pub mod work;
 
 pub use memory::MemoryEstimate;
+pub use options::RenderOptions;
 pub use renderer::{OutputTimeFn, PreviewFn, ProgressFn, RenderOutput, Renderer};
 pub use settings::{PhotonSettings, Quality, RenderSettings};
 pub use stats::{RenderStats, SkippedTerm};

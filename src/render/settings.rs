@@ -2,15 +2,19 @@
 
 use super::aov::TermMask;
 use super::film::Filter;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Quality presets. Each maps to camera samples and photon-map parameters.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum Quality {
+    /// Draft: the fastest, for previews and look development.
     Draft,
+    /// Medium: the default.
     Medium,
+    /// High: less noise, for reviews.
     High,
+    /// Final: the least noise, for final frames.
     Final,
 }
 
@@ -164,17 +168,16 @@ impl Default for PhotonSettings {
 }
 
 /// How the photon terms are estimated.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum RenderMode {
-    /// Jensen's two passes: photon maps built once, caustics from the caustic map, indirect
-    /// light by final gathering (with the irradiance cache).
+    /// Jensen: photon maps built once; caustics from the caustic map, indirect light by final
+    /// gathering with the irradiance cache.
     #[default]
     Jensen,
-    /// Stochastic progressive photon mapping (Hachisuka & Jensen 2009): `spp` passes, each a
-    /// fresh photon map of `photons.global` stored photons and one camera sample per pixel;
-    /// every pixel's search radius shrinks by `sppm_alpha`, so the caustic and indirect terms
-    /// converge to the exact solution as passes grow.
+    /// Progressive: stochastic progressive photon mapping (Hachisuka & Jensen 2009); `spp`
+    /// passes, each with a fresh map of `photons` stored photons and a shrinking search radius
+    /// per pixel, converging to the exact image as passes grow.
     Sppm,
 }
 

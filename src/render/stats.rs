@@ -58,6 +58,10 @@ pub struct RenderStats {
     pub work: crate::render::work::WorkStats,
     /// The settings the render was given (a budgeted render's plan is under `time_budget`).
     pub settings: RenderSettings,
+    /// The same settings as the render keywords and flags name them (`render::options`):
+    /// `photonmap.render(scene, **stats["options"])` renders the same image (a budgeted
+    /// render is replayed from its plan, `time_budget`).
+    pub options: super::options::RenderOptions,
 }
 
 /// What a render measured, for [`RenderStats`].
@@ -121,6 +125,7 @@ impl Renderer<'_> {
         let photon_bytes: u64 = p.maps.iter().map(|m| m.memory_bytes).sum();
         RenderStats {
             settings: s.clone(),
+            options: super::options::RenderOptions::from_settings(s),
             work: self.work.stats(),
             version: env!("CARGO_PKG_VERSION"),
             seed: s.seed,

@@ -1,0 +1,800 @@
+//! The render settings as users give them, and their one schema: the `render` command's flags,
+//! the Python `render` keywords and the Blender add-on's properties all come from the fields of
+//! [`RenderOptions`].
+//!
+//! Each field carries its documentation (the doc comment: the flag's help, the keyword's and the
+//! property's description), its default (the clap attribute, which is also what serde and
+//! Python fill in), and its range, label, unit and panel (the `schema` attribute). Adding a
+//! setting is one field here plus its use in [`RenderOptions::settings`].
+//!
+//! An option that is not given (Python `None`, Blender's 0 or empty field for an optional one)
+//! takes its default: for the preset fields (`preset: true`) the quality preset's value.
+
+use super::budget::check_budget;
+use super::film::Filter;
+use super::settings::{
+    available_memory, parse_bytes, Quality, RenderMode, RenderSettings, SPPM_ALPHA,
+    SPPM_INITIAL_PHOTONS,
+};
+use crate::error::{Error, Result};
+use clap::{Args, FromArgMatches, ValueEnum};
+use serde::{Deserialize, Serialize};
+
+/// The value a setting takes, for front ends that build widgets from the schema.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Kind {
+    Int,
+    Float,
+    Bool,
+    /// One of named choices.
+    Enum,
+    /// A byte count: an integer, or a string with a binary suffix (`512M`, `8G`).
+    Size,
+}
+
+/// One choice of an enumerated setting. A variant's doc comment `Label: description` gives
+/// both; without a short label before `: `, the label is the capitalised name.
+#[derive(Clone, Debug, Serialize)]
+pub struct Choice {
+    pub name: String,
+    pub label: String,
+    pub doc: String,
+}
+
+impl Choice {
+    fn new(name: &str, help: &str) -> Choice {
+        let (label, doc) = match help.split_once(": ") {
+            Some((l, d)) if l.len() <= 24 => (l.to_string(), d.to_string()),
+            _ => {
+                let mut c = name.chars();
+                let cap = c.next().map(|f| f.to_uppercase().chain(c).collect());
+                (cap.unwrap_or_default(), help.to_string())
+            }
+        };
+        Choice {
+            name: name.to_string(),
+            label,
+            doc,
+        }
+    }
+}
+
+/// The type of a setting's field, as the schema names it.
+pub trait OptionValue {
+    fn kind() -> Kind;
+    fn choices() -> Vec<Choice> {
+        Vec::new()
+    }
+    /// The value as a number, for range checks; `None` for non-numbers and unset values.
+    fn number(&self) -> Option<f64> {
+        None
+    }
+}
+
+macro_rules! numeric {
+    ($kind:ident: $($t:ty),*) => {$(
+        impl OptionValue for $t {
+            fn kind() -> Kind { Kind::$kind }
+            fn number(&self) -> Option<f64> { Some(*self as f64) }
+        }
+    )*};
+}
+numeric!(Int: u32, u64, usize);
+numeric!(Float: f32, f64);
+
+impl OptionValue for bool {
+    fn kind() -> Kind {
+        Kind::Bool
+    }
+}
+
+impl<T: OptionValue> OptionValue for Option<T> {
+    fn kind() -> Kind {
+        T::kind()
+    }
+    fn choices() -> Vec<Choice> {
+        T::choices()
+    }
+    fn number(&self) -> Option<f64> {
+        self.as_ref().and_then(T::number)
+    }
+}
+
+macro_rules! enumerated {
+    ($($t:ty),*) => {$(
+        impl OptionValue for $t {
+            fn kind() -> Kind { Kind::Enum }
+            fn choices() -> Vec<Choice> {
+                <$t as ValueEnum>::value_variants()
+                    .iter()
+                    .filter_map(|v| v.to_possible_value())
+                    .map(|p| {
+                        let help = p.get_help().map(|h| h.to_string()).unwrap_or_default();
+                        Choice::new(p.get_name(), &help)
+                    })
+                    .collect()
+            }
+        }
+    )*};
+}
+enumerated!(Quality, RenderMode, FilterName, PhotonPower);
+
+/// Pixel reconstruction filters by name (their widths are the core's).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum FilterName {
+    /// Box: uniform over the pixel (Cycles' Box filter of width 1 px).
+    Box,
+    /// Tent: a triangle of radius 1 px.
+    Tent,
+    /// Gaussian: standard deviation 0.5 px, truncated at 3 sigma.
+    Gaussian,
+}
+
+impl FilterName {
+    pub fn filter(self) -> Filter {
+        match self {
+            FilterName::Box => Filter::Box,
+            FilterName::Tent => Filter::Tent { radius: 1.0 },
+            FilterName::Gaussian => Filter::gaussian(0.5),
+        }
+    }
+}
+
+/// How a stored photon's power is encoded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum PhotonPower {
+    /// RGBE: 20-byte photons, the power in Ward's shared exponent.
+    Rgbe,
+    /// Float: 28-byte photons, the power unquantised.
+    F32,
+}
+
+/// A byte count, read from an integer or from a size such as `512M` or `8G`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(transparent)]
+pub struct Bytes(pub u64);
+
+impl OptionValue for Bytes {
+    fn kind() -> Kind {
+        Kind::Size
+    }
+}
+
+impl<'de> Deserialize<'de> for Bytes {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum Raw {
+            N(u64),
+            S(String),
+        }
+        match Raw::deserialize(d).map_err(|_| {
+            serde::de::Error::custom("expected a number of bytes or a size such as 512M or 8G")
+        })? {
+            Raw::N(n) => Ok(Bytes(n)),
+            Raw::S(s) => parse_bytes(&s).map(Bytes).map_err(serde::de::Error::custom),
+        }
+    }
+}
+
+fn parse_bytes_arg(s: &str) -> std::result::Result<Bytes, String> {
+    parse_bytes(s).map(Bytes)
+}
+
+fn parse_time_budget(s: &str) -> std::result::Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{s}` is not a number of seconds (0 = off)"))?;
+    check_budget(v)?;
+    Ok(v)
+}
+
+fn parse_on_off(s: &str) -> std::result::Result<bool, String> {
+    match s {
+        "on" | "true" | "1" => Ok(true),
+        "off" | "false" | "0" => Ok(false),
+        _ => Err(format!("expected on or off, got `{s}`")),
+    }
+}
+
+/// The panel a setting shows in (Blender) and the group it is listed under.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Group {
+    Quality,
+    Photons,
+    Gathering,
+}
+
+/// What the schema says of one setting besides its type, documentation and default.
+#[derive(Clone, Copy, Debug)]
+pub struct Spec {
+    /// Short label (Blender's property name).
+    pub label: &'static str,
+    pub group: Group,
+    /// Smallest value; `min_open` excludes it.
+    pub min: Option<f64>,
+    pub min_open: bool,
+    /// Largest value; `max_open` excludes it.
+    pub max: Option<f64>,
+    pub max_open: bool,
+    /// Largest value a slider offers (larger ones can be typed).
+    pub soft_max: Option<f64>,
+    /// `distance` (scene units) or `seconds`.
+    pub unit: Option<&'static str>,
+    /// A quality preset sets this field.
+    pub preset: bool,
+    /// The setting applies in this mode only.
+    pub mode: Option<RenderMode>,
+    /// The setting applies only while this boolean setting is on.
+    pub requires: Option<&'static str>,
+}
+
+impl Spec {
+    const BASE: Spec = Spec {
+        label: "",
+        group: Group::Quality,
+        min: None,
+        min_open: false,
+        max: None,
+        max_open: false,
+        soft_max: None,
+        unit: None,
+        preset: false,
+        mode: None,
+        requires: None,
+    };
+
+    /// Why `v` is out of range, if it is.
+    fn out_of_range(&self, v: f64, kind: &Kind) -> Option<String> {
+        let low = self.min.is_some_and(|m| v < m || (self.min_open && v == m));
+        let high = self.max.is_some_and(|m| v > m || (self.max_open && v == m));
+        if v.is_finite() && !low && !high {
+            return None;
+        }
+        let fmt = |b: f64| format!("{b}");
+        Some(match (self.min, self.max) {
+            (Some(a), Some(b)) => format!(
+                "must be in {}{}, {}{}",
+                if self.min_open { "(" } else { "[" },
+                fmt(a),
+                fmt(b),
+                if self.max_open { ")" } else { "]" }
+            ),
+            (Some(a), None) if *kind == Kind::Int => format!("must be at least {}", fmt(a)),
+            (Some(a), None) => format!(
+                "must be a finite number {} {}",
+                if self.min_open { ">" } else { ">=" },
+                fmt(a)
+            ),
+            _ => "must be a finite number".to_string(),
+        })
+    }
+}
+
+/// One setting of the schema, as `settings_schema()` exports it.
+pub struct Field {
+    pub name: &'static str,
+    pub doc: String,
+    pub kind: Kind,
+    pub choices: Vec<Choice>,
+    pub optional: bool,
+    pub spec: Spec,
+}
+
+macro_rules! render_options {
+    ($(
+        $(#[doc = $doc:literal])+
+        #[arg($($arg:tt)*)]
+        #[schema($($key:ident: $value:expr),* $(,)?)]
+        pub $name:ident: $ty:ty,
+    )*) => {
+        /// The render settings as the command line, Python and Blender take them (see the
+        /// module's documentation).
+        #[derive(Args, Clone, Debug, PartialEq, Serialize, Deserialize)]
+        #[serde(deny_unknown_fields, default)]
+        pub struct RenderOptions {
+            $(
+                $(#[doc = $doc])+
+                #[arg($($arg)*)]
+                pub $name: $ty,
+            )*
+        }
+
+        impl RenderOptions {
+            /// Every setting, in the order of the fields.
+            pub fn fields() -> Vec<Field> {
+                vec![$(
+                    Field {
+                        name: stringify!($name),
+                        doc: join_doc(&[$($doc),+]),
+                        kind: <$ty as OptionValue>::kind(),
+                        choices: <$ty as OptionValue>::choices(),
+                        optional: stringify!($ty).starts_with("Option"),
+                        spec: Spec { $($key: $value,)* ..Spec::BASE },
+                    },
+                )*]
+            }
+
+            /// Each numeric setting's value, by name.
+            fn numbers(&self) -> Vec<(&'static str, Option<f64>)> {
+                vec![$((stringify!($name), OptionValue::number(&self.$name)),)*]
+            }
+        }
+    };
+}
+
+/// A doc comment's lines as one text: paragraphs kept, lines joined.
+fn join_doc(lines: &[&str]) -> String {
+    let mut out = String::new();
+    for l in lines {
+        let l = l.trim();
+        if l.is_empty() {
+            out.push_str("\n\n");
+        } else {
+            if !out.is_empty() && !out.ends_with('\n') {
+                out.push(' ');
+            }
+            out.push_str(l);
+        }
+    }
+    out.trim().to_string()
+}
+
+render_options! {
+    /// Quality preset: draft, medium, high or final. It sets the samples, photon counts and
+    /// final gathering that are not given.
+    #[arg(long, value_enum, default_value_t = Quality::Medium)]
+    #[schema(label: "Quality")]
+    pub quality: Quality,
+    /// Render mode: `jensen` (photon maps built once, final gathering, irradiance cache) or
+    /// `sppm` (stochastic progressive photon mapping: `spp` passes, each with a fresh map of
+    /// `photons` stored photons and a shrinking search radius per pixel; consistent).
+    #[arg(long, value_enum, default_value_t = RenderMode::Jensen)]
+    #[schema(label: "Mode")]
+    pub mode: RenderMode,
+    /// Progressive mode's radius reduction α in (0, 1): the fraction of each pass's photons a
+    /// pixel keeps (Hachisuka & Jensen 2009).
+    #[arg(long, default_value_t = SPPM_ALPHA)]
+    #[schema(label: "Alpha", min: Some(0.0), min_open: true, max: Some(1.0), max_open: true,
+             mode: Some(RenderMode::Sppm))]
+    pub alpha: f32,
+    /// Progressive mode: photons within a pixel's first search radius (the k nearest around
+    /// its first visible point); the radius shrinks from there.
+    #[arg(long, default_value_t = SPPM_INITIAL_PHOTONS)]
+    #[schema(label: "Initial Photons", min: Some(1.0), mode: Some(RenderMode::Sppm))]
+    pub initial_photons: usize,
+    /// Camera samples per pixel (default: the preset's).
+    #[arg(long)]
+    #[schema(label: "Samples", min: Some(1.0), soft_max: Some(4096.0), preset: true)]
+    pub spp: Option<u32>,
+    /// Seconds the whole render should take (photon pass, irradiance cache, camera pass);
+    /// photon counts and camera passes are planned to fill it, and the plan is written to the
+    /// stats (`time_budget`). 0 = off.
+    #[arg(long, value_name = "SECONDS", value_parser = parse_time_budget)]
+    #[schema(label: "Time Budget", min: Some(0.0), unit: Some("seconds"))]
+    pub time_budget: Option<f64>,
+    /// Largest memory the photon maps and the BVH may take, in bytes or with a binary suffix
+    /// (`512M`, `8G`); checked against an estimate before the photon pass (default: the
+    /// available memory, MemAvailable in /proc/meminfo; no limit where that cannot be read).
+    #[arg(long, value_name = "BYTES_OR_SIZE", value_parser = parse_bytes_arg)]
+    #[schema(label: "Memory Limit")]
+    pub memory_limit: Option<Bytes>,
+    /// Pixel reconstruction filter: box, tent or gaussian.
+    #[arg(long, value_enum, default_value_t = FilterName::Gaussian)]
+    #[schema(label: "Pixel Filter")]
+    pub filter: FilterName,
+    /// Jensen mode: take the camera samples in whole passes over the image (as a time budget
+    /// does), to replay a budgeted render's recorded plan.
+    #[arg(long)]
+    #[schema(label: "Whole Passes", mode: Some(RenderMode::Jensen))]
+    pub progressive: bool,
+    /// Random seed; the same seed gives the same image for any thread count.
+    #[arg(long, default_value_t = 0)]
+    #[schema(label: "Seed")]
+    pub seed: u64,
+    /// Worker threads (0 = all cores).
+    #[arg(long, default_value_t = 0)]
+    #[schema(label: "Threads")]
+    pub threads: usize,
+    /// Photons to store in the global map (default: the preset's).
+    #[arg(long)]
+    #[schema(label: "Photons", group: Group::Photons, min: Some(0.0), preset: true)]
+    pub photons: Option<usize>,
+    /// Photons to store in the caustic map (default: the preset's).
+    #[arg(long)]
+    #[schema(label: "Caustic Photons", group: Group::Photons, min: Some(0.0), preset: true)]
+    pub caustic_photons: Option<usize>,
+    /// Photons to store in the volume map, for scenes with participating media (default: the
+    /// preset's).
+    #[arg(long)]
+    #[schema(label: "Volume Photons", group: Group::Photons, min: Some(0.0), preset: true)]
+    pub volume_photons: Option<usize>,
+    /// Ray-marching step through media, in scene units (default: from the scene size).
+    #[arg(long)]
+    #[schema(label: "Volume Step", group: Group::Photons, min: Some(0.0), min_open: true,
+             unit: Some("distance"))]
+    pub volume_step: Option<f32>,
+    /// Photons per radiance estimate (k nearest).
+    #[arg(long)]
+    #[schema(label: "Gather", group: Group::Photons, min: Some(1.0), preset: true)]
+    pub gather: Option<usize>,
+    /// Largest photon search radius, in scene units (default: from the scene size).
+    #[arg(long)]
+    #[schema(label: "Radius", group: Group::Photons, min: Some(0.0), min_open: true,
+             unit: Some("distance"), preset: true)]
+    pub radius: Option<f32>,
+    /// Photon power encoding: rgbe (20-byte photons, Ward's shared exponent) or f32 (28
+    /// bytes, unquantised).
+    #[arg(long, value_enum, default_value_t = PhotonPower::Rgbe)]
+    #[schema(label: "Photon Power", group: Group::Photons)]
+    pub photon_power: PhotonPower,
+    /// Final-gathering rays per irradiance-cache record, and per pixel elsewhere (default:
+    /// the preset's).
+    #[arg(long)]
+    #[schema(label: "Final Gather Rays", group: Group::Gathering, min: Some(0.0), preset: true)]
+    pub final_gather_rays: Option<u32>,
+    /// Irradiance caching for final gathering (Ward's cache): on or off (default: the
+    /// preset's).
+    #[arg(long, value_name = "on|off", value_parser = parse_on_off)]
+    #[schema(label: "Irradiance Cache", group: Group::Gathering, preset: true)]
+    pub irradiance_cache: Option<bool>,
+    /// Irradiance-cache error tolerance (Ward's a; smaller is more accurate and slower;
+    /// default: the preset's).
+    #[arg(long)]
+    #[schema(label: "Cache Tolerance", group: Group::Gathering, min: Some(0.0), min_open: true,
+             soft_max: Some(1.0), preset: true, requires: Some("irradiance_cache"))]
+    pub cache_tolerance: Option<f32>,
+    /// Final-gathering rays per camera sample where the irradiance cache does not apply
+    /// (default: final_gather_rays / spp, at least 4).
+    #[arg(long)]
+    #[schema(label: "Gather Rays per Sample", group: Group::Gathering, min: Some(1.0))]
+    pub gather_rays_per_sample: Option<u32>,
+    /// Perfectly specular bounces followed from the eye.
+    #[arg(long, default_value_t = 8)]
+    #[schema(label: "Max Specular Depth", group: Group::Gathering, min: Some(0.0),
+             soft_max: Some(64.0), preset: true)]
+    pub max_specular_depth: u32,
+}
+
+impl Default for RenderOptions {
+    /// The clap defaults: the same values the flags, the keywords and the properties start at.
+    fn default() -> Self {
+        let cmd = RenderOptions::augment_args(clap::Command::new("photonmap").no_binary_name(true));
+        let m = cmd
+            .try_get_matches_from(Vec::<String>::new())
+            .unwrap_or_else(|e| unreachable!("the defaults parse: {e}"));
+        RenderOptions::from_arg_matches(&m).unwrap_or_else(|e| unreachable!("{e}"))
+    }
+}
+
+impl RenderOptions {
+    /// The options of a quality preset: `quality` and every preset field set to its value.
+    pub fn preset(quality: Quality) -> RenderOptions {
+        let s = quality.settings();
+        let p = &s.photons;
+        RenderOptions {
+            quality,
+            spp: Some(s.spp),
+            photons: Some(p.global),
+            caustic_photons: Some(p.caustic),
+            volume_photons: Some(p.volume),
+            gather: Some(p.gather),
+            radius: p.max_radius,
+            final_gather_rays: Some(p.final_gather_rays),
+            irradiance_cache: Some(p.irradiance_cache),
+            cache_tolerance: Some(p.cache_tolerance),
+            max_specular_depth: s.max_specular_depth,
+            ..RenderOptions::default()
+        }
+    }
+
+    /// The options that give `s`: every field explicit. A filter is named by its kind (the
+    /// front ends have only the named widths); the term mask has no option.
+    pub fn from_settings(s: &RenderSettings) -> RenderOptions {
+        let p = &s.photons;
+        RenderOptions {
+            quality: Quality::Medium,
+            mode: s.mode,
+            alpha: s.sppm_alpha,
+            initial_photons: s.sppm_initial_photons,
+            spp: Some(s.spp),
+            time_budget: s.time_budget,
+            memory_limit: s.memory_limit.map(Bytes),
+            filter: match s.filter {
+                Filter::Box => FilterName::Box,
+                Filter::Tent { .. } => FilterName::Tent,
+                Filter::Gaussian { .. } => FilterName::Gaussian,
+            },
+            progressive: s.progressive,
+            seed: s.seed,
+            threads: s.threads,
+            photons: Some(p.global),
+            caustic_photons: Some(p.caustic),
+            volume_photons: Some(p.volume),
+            volume_step: p.volume_step,
+            gather: Some(p.gather),
+            radius: p.max_radius,
+            photon_power: if p.f32_power {
+                PhotonPower::F32
+            } else {
+                PhotonPower::Rgbe
+            },
+            final_gather_rays: Some(p.final_gather_rays),
+            irradiance_cache: Some(p.irradiance_cache),
+            cache_tolerance: Some(p.cache_tolerance),
+            gather_rays_per_sample: s.gather_rays_per_sample,
+            max_specular_depth: s.max_specular_depth,
+        }
+    }
+
+    /// Reads options from a JSON object of keywords. A `null` value is the default; an unknown
+    /// keyword or a bad value is an error that names it.
+    pub fn from_json(text: &str) -> Result<RenderOptions> {
+        let bad = |setting: &str, message: String| Error::InvalidSetting {
+            setting: setting.into(),
+            message,
+        };
+        let value: serde_json::Value =
+            serde_json::from_str(text).map_err(|e| bad("settings", e.to_string()))?;
+        let serde_json::Value::Object(map) = value else {
+            return Err(bad("settings", "expected an object of settings".into()));
+        };
+        let names: Vec<&str> = Self::fields().iter().map(|f| f.name).collect();
+        let mut given = serde_json::Map::new();
+        for (k, v) in map {
+            if !names.contains(&k.as_str()) {
+                return Err(Error::UnknownSetting {
+                    setting: k,
+                    known: names.join(", "),
+                });
+            }
+            if v.is_null() {
+                continue;
+            }
+            // One key at a time, so that a bad value's error names its setting.
+            let one = serde_json::Value::Object([(k.clone(), v.clone())].into_iter().collect());
+            serde_json::from_value::<RenderOptions>(one).map_err(|e| bad(&k, strip_serde(e)))?;
+            given.insert(k, v);
+        }
+        let options: RenderOptions = serde_json::from_value(serde_json::Value::Object(given))
+            .map_err(|e| bad("settings", e.to_string()))?;
+        options.validate()?;
+        Ok(options)
+    }
+
+    /// Checks every value against its range in the schema; the error names the setting.
+    pub fn validate(&self) -> Result<()> {
+        let fields = Self::fields();
+        for (name, value) in self.numbers() {
+            let (Some(v), Some(f)) = (value, fields.iter().find(|f| f.name == name)) else {
+                continue;
+            };
+            if let Some(message) = f.spec.out_of_range(v, &f.kind) {
+                return Err(Error::InvalidSetting {
+                    setting: name.into(),
+                    message,
+                });
+            }
+        }
+        if let Some(b) = self.time_budget {
+            check_budget(b).map_err(|message| Error::InvalidSetting {
+                setting: "time_budget".into(),
+                message,
+            })?;
+        }
+        Ok(())
+    }
+
+    /// The settings the renderer uses: the preset, with every given option over it.
+    pub fn settings(&self) -> RenderSettings {
+        let mut s = self.quality.settings();
+        s.spp = self.spp.unwrap_or(s.spp);
+        s.seed = self.seed;
+        s.threads = self.threads;
+        s.max_specular_depth = self.max_specular_depth;
+        s.filter = self.filter.filter();
+        let p = &mut s.photons;
+        p.global = self.photons.unwrap_or(p.global);
+        p.caustic = self.caustic_photons.unwrap_or(p.caustic);
+        p.volume = self.volume_photons.unwrap_or(p.volume);
+        p.volume_step = self.volume_step.or(p.volume_step);
+        p.gather = self.gather.unwrap_or(p.gather);
+        p.max_radius = self.radius.or(p.max_radius);
+        p.final_gather_rays = self.final_gather_rays.unwrap_or(p.final_gather_rays);
+        p.irradiance_cache = self.irradiance_cache.unwrap_or(p.irradiance_cache);
+        p.cache_tolerance = self.cache_tolerance.unwrap_or(p.cache_tolerance);
+        p.f32_power = self.photon_power == PhotonPower::F32;
+        s.memory_limit = self.memory_limit.map(|b| b.0).or_else(available_memory);
+        s.time_budget = self.time_budget.filter(|b| *b > 0.0);
+        s.mode = self.mode;
+        s.sppm_alpha = self.alpha;
+        s.sppm_initial_photons = self.initial_photons;
+        s.progressive = self.progressive;
+        s.gather_rays_per_sample = self.gather_rays_per_sample;
+        s
+    }
+
+    /// The schema as JSON: one object per setting, in field order, with its name, command-line
+    /// flag, label, documentation, type (and choices), default (a preset field's is the
+    /// default preset's value), range, unit, group and the mode or switch it applies under.
+    pub fn schema() -> serde_json::Value {
+        let defaults = RenderOptions::preset(Quality::Medium).to_json();
+        let fields: Vec<serde_json::Value> = Self::fields()
+            .into_iter()
+            .map(|f| {
+                serde_json::json!({
+                    "name": f.name,
+                    "flag": format!("--{}", f.name.replace('_', "-")),
+                    "label": f.spec.label,
+                    "doc": f.doc,
+                    "type": f.kind,
+                    "choices": f.choices,
+                    "optional": f.optional,
+                    "default": defaults[f.name],
+                    "min": f.spec.min,
+                    "min_open": f.spec.min_open,
+                    "max": f.spec.max,
+                    "max_open": f.spec.max_open,
+                    "soft_max": f.spec.soft_max,
+                    "unit": f.spec.unit,
+                    "preset": f.spec.preset,
+                    "group": f.spec.group,
+                    "mode": f.spec.mode,
+                    "requires": f.spec.requires,
+                })
+            })
+            .collect();
+        serde_json::Value::Array(fields)
+    }
+
+    /// The options as JSON, each `f32` written as its shortest decimal (0.1, not the
+    /// 0.100000001 of widening it to `f64`).
+    pub fn to_json(&self) -> serde_json::Value {
+        serde_json::to_string(self)
+            .and_then(|t| serde_json::from_str(&t))
+            .unwrap_or_else(|e| unreachable!("options serialise: {e}"))
+    }
+
+    /// The preset fields of `quality`'s options, by name (Python's `preset()`).
+    pub fn preset_json(quality: Quality) -> serde_json::Value {
+        let all = RenderOptions::preset(quality).to_json();
+        let map = Self::fields()
+            .into_iter()
+            .filter(|f| f.spec.preset)
+            .map(|f| (f.name.to_string(), all[f.name].clone()))
+            .collect();
+        serde_json::Value::Object(map)
+    }
+}
+
+/// serde's message without its position in the one-key document (`at line 1 column 9`).
+fn strip_serde(e: serde_json::Error) -> String {
+    let s = e.to_string();
+    match s.find(" at line ") {
+        Some(i) => s[..i].to_string(),
+        None => s,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::{CommandFactory, Parser};
+
+    /// Every field is a flag of the `render` command named after it, with the field's default.
+    #[test]
+    fn every_field_is_a_flag_of_the_same_name_and_default() {
+        let cmd = crate::cli::Cli::command();
+        let render = cmd.find_subcommand("render").expect("render command");
+        let defaults = serde_json::to_value(RenderOptions::default()).unwrap();
+        for f in RenderOptions::fields() {
+            let arg = render
+                .get_arguments()
+                .find(|a| a.get_id() == f.name)
+                .unwrap_or_else(|| panic!("no flag for {}", f.name));
+            assert_eq!(arg.get_long(), Some(f.name.replace('_', "-").as_str()));
+            let flag_default: Vec<String> = arg
+                .get_default_values()
+                .iter()
+                .map(|v| v.to_string_lossy().into_owned())
+                .collect();
+            let d = &defaults[f.name];
+            if !arg.get_action().takes_values() {
+                assert_eq!(d, false, "{}: a switch is off by default", f.name);
+                continue;
+            }
+            match flag_default.as_slice() {
+                [] => assert!(d.is_null(), "{}: {d}", f.name),
+                [v] => {
+                    let parsed: RenderOptions =
+                        serde_json::from_value(serde_json::json!({ f.name: d })).unwrap();
+                    let cli = crate::cli::Cli::try_parse_from([
+                        "photonmap",
+                        "render",
+                        "-o",
+                        "x.exr",
+                        &format!("--{}={v}", f.name.replace('_', "-")),
+                    ])
+                    .unwrap();
+                    let crate::cli::Command::Render(a) = cli.command;
+                    assert_eq!(a.options, parsed, "{}", f.name);
+                }
+                more => panic!("{}: several defaults {more:?}", f.name),
+            }
+            assert!(!f.doc.is_empty() && !f.spec.label.is_empty(), "{}", f.name);
+        }
+    }
+
+    #[test]
+    fn the_default_options_render_the_medium_preset() {
+        let s = RenderOptions::default().settings();
+        let m = Quality::Medium.settings();
+        assert_eq!(s.spp, m.spp);
+        assert_eq!(s.photons, m.photons);
+        for q in Quality::ALL {
+            let a = RenderOptions::preset(q).settings();
+            let b = RenderOptions {
+                quality: q,
+                ..RenderOptions::default()
+            }
+            .settings();
+            assert_eq!(format!("{a:?}"), format!("{b:?}"), "{q:?}");
+        }
+    }
+
+    /// The options recorded from a render's settings give those settings again.
+    #[test]
+    fn settings_round_trip_through_options() {
+        let o = RenderOptions::from_json(
+            r#"{"quality": "draft", "spp": 3, "radius": 0.25, "filter": "tent", "mode": "sppm",
+                "alpha": 0.5, "photon_power": "f32", "memory_limit": 12345, "threads": 1}"#,
+        )
+        .unwrap();
+        let s = o.settings();
+        let again = RenderOptions::from_settings(&s);
+        assert_eq!(format!("{:?}", again.settings()), format!("{s:?}"));
+        let text = serde_json::to_string(&again).unwrap();
+        let back = RenderOptions::from_json(&text).unwrap();
+        assert_eq!(format!("{:?}", back.settings()), format!("{s:?}"));
+    }
+
+    #[test]
+    fn keywords_are_read_by_name_and_bad_ones_named() {
+        let o = RenderOptions::from_json(
+            r#"{"spp": 4, "quality": "draft", "memory_limit": "8G", "radius": null,
+                "filter": "box", "photon_power": "f32", "irradiance_cache": false}"#,
+        )
+        .unwrap();
+        assert_eq!(o.spp, Some(4));
+        assert_eq!(o.quality, Quality::Draft);
+        assert_eq!(o.memory_limit, Some(Bytes(8 << 30)));
+        assert!(o.settings().photons.f32_power && !o.settings().photons.irradiance_cache);
+        let err = |t: &str| RenderOptions::from_json(t).unwrap_err().to_string();
+        assert!(err(r#"{"spps": 4}"#).contains("`spps`"));
+        assert!(err(r#"{"spp": "many"}"#).contains("`spp`"));
+        assert!(err(r#"{"spp": 0}"#).contains("`spp`: must be at least 1"));
+        assert!(err(r#"{"alpha": 1.0}"#).contains("`alpha`: must be in (0, 1)"));
+        assert!(err(r#"{"radius": -1}"#).contains("`radius`: must be a finite number > 0"));
+        assert!(err(r#"{"quality": "best"}"#).contains("`quality`"));
+        assert!(err(r#"{"memory_limit": "8X"}"#).contains("`memory_limit`"));
+        assert!(err(r#"{"time_budget": -1}"#).contains("`time_budget`"));
+    }
+
+    #[test]
+    fn the_schema_lists_every_field_once_with_its_default() {
+        let schema = RenderOptions::schema();
+        let list = schema.as_array().unwrap();
+        assert_eq!(list.len(), RenderOptions::fields().len());
+        let get = |n: &str| list.iter().find(|f| f["name"] == n).unwrap().clone();
+        assert_eq!(get("spp")["default"], Quality::Medium.spp());
+        assert_eq!(get("quality")["choices"].as_array().unwrap().len(), 4);
+        assert_eq!(get("memory_limit")["type"], "size");
+        assert_eq!(get("alpha")["mode"], "sppm");
+        assert_eq!(get("radius")["unit"], "distance");
+    }
+}
