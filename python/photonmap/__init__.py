@@ -279,8 +279,11 @@ def _settings_json(settings: Mapping[str, Any]) -> str:
         raise TypeError(f"setting value {v!r} of type {type(v).__name__} is not a number, "
                         "string or bool")
 
+    for k, v in settings.items():
+        if isinstance(v, (float, np.floating)) and not np.isfinite(v):
+            raise ValueError(f"invalid render setting `{k}`: must be a finite number, got {v}")
     try:
-        return json.dumps(dict(settings), default=plain, allow_nan=True)
+        return json.dumps(dict(settings), default=plain)
     except TypeError as e:
         raise TypeError(f"render(): {e}") from None
 

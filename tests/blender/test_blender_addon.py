@@ -54,25 +54,44 @@ def test_settings_no_preset_fills_default_to_the_cores(addon):
     assert s.bl_rna.properties["alpha"].default == pytest.approx(d["alpha"])
 
 
-def test_every_render_keyword_reaches_the_addon_and_the_command_line(addon, capfd):
-    """Each setting of ``photonmap.render`` is a property of ``scene.photonmap`` of the same
-    name, goes into the keywords the engine renders with, and is a flag of the command."""
-    import re
-
-    sig = photonmap._core.render.__text_signature__
-    keywords = [k for k in re.findall(r"(\w+)=", sig)
-                if k not in ("progress", "preview", "cancel")]
-    assert len(keywords) > 20, sig
+def test_every_schema_field_is_a_property_with_the_cores_name_and_default(addon, capfd):
+    """Each setting of the core's schema is a property of ``scene.photonmap`` of the same
+    name, label and default, goes into the keywords the engine renders with (an unset
+    optional one as None), and is a flag of the command."""
+    schema = photonmap.settings_schema()
+    assert len(schema) > 20
     s = bpy.context.scene.photonmap
+    s.quality = photonmap.defaults()["quality"]
     sent = addon.properties.render_settings(s)
-    for k in keywords:
-        assert k in s.bl_rna.properties, f"no Blender property {k}"
-        assert k in sent, f"{k} does not reach photonmap.render"
+    assert set(sent) == {f["name"] for f in schema}
     capfd.readouterr()
     assert photonmap._core.run_cli(["render", "--help"]) == 0
     helptext = capfd.readouterr().out
-    for k in keywords:
-        assert f"--{k.replace('_', '-')}" in helptext, f"no command-line flag for {k}"
+    for f in schema:
+        k = f["name"]
+        prop = s.bl_rna.properties[k]
+        assert prop.name == f["label"], k
+        assert prop.description == f["doc"], k
+        d = f["default"]
+        if f["type"] in ("int", "float"):
+            assert prop.default == pytest.approx(d if d is not None else 0), k
+            assert sent[k] == (pytest.approx(d) if d is not None else None), k
+        elif f["type"] == "size":
+            assert prop.default == "" and sent[k] is None, k
+        else:
+            assert prop.default == d and sent[k] == d, k
+        assert f["flag"] in helptext, f"no command-line flag for {k}"
+    # What the engine sends is what the core reads: the render accepts every keyword.
+    scene = photonmap.Scene.from_dict({
+        "camera": {"fov": 0.7, "transform": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 3], [0, 0, 0, 1]]},
+        "film": {"width": 4, "height": 4},
+        "materials": [{"type": "diffuse", "color": [0.5, 0.5, 0.5]}],
+        "meshes": [{"positions": [[-1, -1, 0], [1, -1, 0], [1, 1, 0]], "indices": [[0, 1, 2]]}],
+        "lights": [{"type": "point", "position": [0, 0, 1], "power": 10}],
+    })
+    out = photonmap.render(scene, **{**sent, "spp": 1, "photons": 200, "caustic_photons": 50,
+                                     "final_gather_rays": 4})
+    assert out["stats"]["options"]["gather"] == sent["gather"]
 
 
 def test_presets_are_what_the_core_renders_with(addon):

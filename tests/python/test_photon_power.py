@@ -30,6 +30,6 @@ def test_f32_power_photons_are_28_bytes_and_match_rgbe():
 
 
 def test_unknown_photon_power_is_a_value_error():
-    with pytest.raises(ValueError, match="expected rgbe or f32"):
+    with pytest.raises(ValueError, match="`photon_power`.*`half`.*`rgbe` or `f32`"):
         photonmap.render(photonmap.default_scene(), quality="draft", spp=1,
                          photon_power="half")
