@@ -158,5 +158,5 @@ fn cli_photon_power_flag() {
     assert!(!parse(&["--photon-power", "rgbe"]).unwrap());
     assert!(parse(&["--photon-power", "f32"]).unwrap());
     let e = parse(&["--photon-power", "f16"]).unwrap_err().to_string();
-    assert!(e.contains("expected rgbe or f32"), "{e}");
+    assert!(e.contains("'f16'") && e.contains("rgbe, f32"), "{e}");
 }

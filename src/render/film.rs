@@ -47,19 +47,10 @@ impl Filter {
             }
         }
     }
-
-    pub fn parse(name: &str) -> Option<Filter> {
-        match name {
-            "box" => Some(Filter::Box),
-            "tent" => Some(Filter::Tent { radius: 1.0 }),
-            "gaussian" => Some(Filter::gaussian(0.5)),
-            _ => None,
-        }
-    }
 }
 
-/// A filter is written by the name `Filter::parse` reads (`box`, `tent`, `gaussian`), or, with
-/// another width than the parsed one, as `{"tent": {"radius": r}}` / `{"gaussian": {"sigma": s}}`.
+/// A filter is written by its name (`box`, `tent`, `gaussian`, as `options::FilterName`),
+/// or, with another width than the named one, as `{"tent": {"radius": r}}` / `{"gaussian": {"sigma": s}}`.
 impl serde::Serialize for Filter {
     fn serialize<S: serde::Serializer>(&self, ser: S) -> std::result::Result<S::Ok, S::Error> {
         use serde::ser::SerializeMap;

@@ -137,15 +137,6 @@ impl PhotonSettings {
     }
 }
 
-/// Parses a photon power encoding, `rgbe` or `f32`, into `PhotonSettings::f32_power`.
-pub fn parse_photon_power(s: &str) -> Result<bool, String> {
-    match s.trim().to_ascii_lowercase().as_str() {
-        "rgbe" => Ok(false),
-        "f32" => Ok(true),
-        _ => Err(format!("unknown photon power `{s}` (expected rgbe or f32)")),
-    }
-}
-
 /// The `medium` preset's photon settings: a `Renderer` without settings renders as the CLI,
 /// Python and Blender do at their default quality.
 impl Default for PhotonSettings {
@@ -179,16 +170,6 @@ pub enum RenderMode {
     /// passes, each with a fresh map of `photons` stored photons and a shrinking search radius
     /// per pixel, converging to the exact image as passes grow.
     Sppm,
-}
-
-impl RenderMode {
-    pub fn parse(s: &str) -> Option<RenderMode> {
-        match s {
-            "jensen" => Some(RenderMode::Jensen),
-            "sppm" => Some(RenderMode::Sppm),
-            _ => None,
-        }
-    }
 }
 
 /// Default fraction of the new photons a progressive pass keeps (Hachisuka & Jensen 2009, α).
