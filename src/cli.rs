@@ -473,7 +473,10 @@ pub fn write_outputs_with(
         io::png::write_png(p, &out.film.combined(), 1.0)?;
     }
     if let Some(p) = &args.stats {
-        let mut v = serde_json::to_value(&out.stats).map_err(|e| Error::Internal(e.to_string()))?;
+        // Through text, not `to_value`: that widens each `f32` to `f64` (0.7 -> 0.699999988).
+        let mut v: serde_json::Value = serde_json::to_string(&out.stats)
+            .and_then(|t| serde_json::from_str(&t))
+            .map_err(|e| Error::Internal(e.to_string()))?;
         if let (Some(imp), Some(obj)) = (import_stats, v.as_object_mut()) {
             obj.insert("import".into(), imp.clone());
         }
