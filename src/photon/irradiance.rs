@@ -7,7 +7,7 @@
 //! The points are kept in their own left-balanced kd-tree of 20-byte records.
 
 use super::kdtree::{KnnScratch, PhotonKdTree};
-use super::map::PhotonMap;
+use super::map::{PhotonMap, Select};
 use super::photon::{decode_direction, encode_direction, rgbe_decode, rgbe_encode, KdRecord};
 use crate::math::{Spectrum, PI};
 use glam::Vec3;
@@ -81,14 +81,15 @@ pub struct IrradianceMap {
 }
 
 impl IrradianceMap {
-    /// Irradiance at each of `points` (position, normal on the photons' side) from the `k`
-    /// nearest photons of `global` within `max_r2`; None when cancelled. Deterministic: each
-    /// point's estimate depends on the map alone.
+    /// Irradiance at each of `points` (position, normal on the photons' side) from the
+    /// photons `select` takes among the `k` nearest of `global` within `max_r2`; None when
+    /// cancelled. Deterministic: each point's estimate depends on the map alone.
     pub fn build(
         global: &PhotonMap,
         points: &[(Vec3, Vec3)],
         k: usize,
         max_r2: f32,
+        select: Select,
         cancel: Option<&AtomicBool>,
     ) -> Option<IrradianceMap> {
         let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
@@ -101,7 +102,7 @@ impl IrradianceMap {
                 chunk
                     .iter()
                     .map(|&(p, n)| {
-                        let est = global.irradiance_estimate(p, n, k, max_r2, scratch);
+                        let est = global.irradiance_estimate(p, n, k, max_r2, select, scratch);
                         IrradiancePoint::new(p, n, &est)
                     })
                     .collect()
@@ -146,20 +147,21 @@ pub struct IrradianceEstimate {
 }
 
 impl PhotonMap {
-    /// Irradiance at `p` (normal `n`) from the `k` nearest photons that arrived on the side of
-    /// `n`: E = sum Phi_p / (pi r^2) (the k-th photon on the boundary left out, as in the
-    /// radiance estimate).
+    /// Irradiance at `p` (normal `n`) from those of the `k` nearest photons that arrived on
+    /// the side of `n` and that `select` takes: E = sum Phi_p / (pi r^2) (the k-th photon on
+    /// the boundary left out, as in the radiance estimate).
     pub fn irradiance_estimate(
         &self,
         p: Vec3,
         n: Vec3,
         k: usize,
         max_r2: f32,
+        select: Select,
         scratch: &mut KnnScratch,
     ) -> IrradianceEstimate {
         let mut sum = Spectrum::ZERO;
-        let r2 = self.for_each_nearest(p, k, max_r2, scratch, n, |power, wi, _| {
-            if wi.dot(n) > 0.0 {
+        let r2 = self.for_each_nearest(p, k, max_r2, scratch, n, |power, wi, flags| {
+            if wi.dot(n) > 0.0 && select.takes(flags) {
                 sum += power;
             }
         });

@@ -38,6 +38,43 @@ pub const FLAG_FROM_MEDIUM: u16 = 2;
 /// global map.
 pub const FLAG_CAUSTIC_PATH: u16 = 4;
 
+/// Which photons of a map an estimate takes, by their user flags: those with every `require`
+/// bit and no `exclude` bit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct Select {
+    pub require: u16,
+    pub exclude: u16,
+}
+
+impl Select {
+    /// Every photon.
+    pub const ALL: Select = Select {
+        require: 0,
+        exclude: 0,
+    };
+
+    /// The photons with every bit of `flags`.
+    pub const fn with(flags: u16) -> Select {
+        Select {
+            require: flags,
+            exclude: 0,
+        }
+    }
+
+    /// The photons with no bit of `flags`.
+    pub const fn without(flags: u16) -> Select {
+        Select {
+            require: 0,
+            exclude: flags,
+        }
+    }
+
+    #[inline]
+    pub fn takes(self, flags: u16) -> bool {
+        flags & self.require == self.require && flags & self.exclude == 0
+    }
+}
+
 /// Density-estimation filter (Jensen 2001, §7.2.2).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum EstimateFilter {
@@ -222,7 +259,7 @@ fn radiance_in<P: PhotonRecord>(
     k: usize,
     max_r2: f32,
     filter: EstimateFilter,
-    only: u16,
+    select: Select,
     scratch: &mut KnnScratch,
 ) -> Spectrum {
     let Some((found, r2, skip)) = nearest(tree, p, k, max_r2, scratch) else {
@@ -236,7 +273,7 @@ fn radiance_in<P: PhotonRecord>(
             continue;
         }
         let ph = tree.get(nb.index);
-        if ph.user_flags() & only != only || !on_disc(ph.position(), p, n, r) {
+        if !select.takes(ph.user_flags()) || !on_disc(ph.position(), p, n, r) {
             continue;
         }
         let wi = ph.incoming();
@@ -350,7 +387,7 @@ impl PhotonMap {
     /// Reflected radiance at `p` towards `wo` (Jensen 2001, eq. 7.6):
     /// L = sum_p f(wo, wi_p) Phi_p / (pi r^2), over the `k` nearest photons within `max_r2`,
     /// counting only photons that arrived on the side of `n` (the side `wo` is on) and carry
-    /// every user flag in `only` (0: all photons).
+    /// the user flags `select` takes.
     #[allow(clippy::too_many_arguments)]
     pub fn radiance(
         &self,
@@ -361,10 +398,10 @@ impl PhotonMap {
         k: usize,
         max_r2: f32,
         filter: EstimateFilter,
-        only: u16,
+        select: Select,
         scratch: &mut KnnScratch,
     ) -> Spectrum {
-        with_tree!(&self.tree, t => radiance_in(t, p, n, wo, bsdf, k, max_r2, filter, only, scratch))
+        with_tree!(&self.tree, t => radiance_in(t, p, n, wo, bsdf, k, max_r2, filter, select, scratch))
     }
 
     /// In-scattered radiance at `x` towards `wo` from a volume map (Jensen & Christensen 1998):

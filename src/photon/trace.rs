@@ -8,7 +8,7 @@
 
 use super::irradiance::{self, IrradianceMap};
 use super::map::{
-    MapKind, PhotonMap, PhotonTree, FLAG_CAUSTIC_PATH, FLAG_FIRST_HIT, FLAG_FROM_MEDIUM,
+    MapKind, PhotonMap, PhotonTree, Select, FLAG_CAUSTIC_PATH, FLAG_FIRST_HIT, FLAG_FROM_MEDIUM,
 };
 use super::{decode_direction, encode_direction, Photon, PhotonError, PhotonF32, PhotonKdTree};
 use crate::geometry::Ray;
@@ -57,8 +57,9 @@ pub struct TraceParams<'a> {
     /// ([`Photon`], 20 bytes).
     pub f32_power: bool,
     /// Precompute irradiance at every [`irradiance::STRIDE`]-th photon from its `k` nearest
-    /// photons within the squared radius (global maps, for final gathering).
-    pub irradiance: Option<(usize, f32)>,
+    /// photons within the squared radius, counting those the `Select` takes (global maps, for
+    /// final gathering).
+    pub irradiance: Option<(usize, f32, Select)>,
 }
 
 /// The `FLAG_*` bits of a raw photon: first hit, from a medium, caustic path.
@@ -462,12 +463,13 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
         emitted,
         build_seconds: t.elapsed().as_secs_f64(),
     };
-    if let Some((k, max_r2)) = params.irradiance {
+    if let Some((k, max_r2, select)) = params.irradiance {
         map.irradiance = Some(IrradianceMap::build(
             &map,
             &points,
             k,
             max_r2,
+            select,
             params.cancel,
         )?);
     }

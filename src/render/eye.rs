@@ -12,7 +12,7 @@ use crate::geometry::{Ray, SurfaceInteraction};
 use crate::materials::bsdf::{Bsdf, LobeFlags};
 use crate::math::{is_finite3, Spectrum, PI};
 use crate::media::MediumStack;
-use crate::photon::map::{EstimateFilter, FLAG_FROM_MEDIUM};
+use crate::photon::map::{EstimateFilter, Select, FLAG_FROM_MEDIUM};
 use crate::photon::KnnScratch;
 use crate::sampling::Rng;
 use crate::scene::{Scene, SceneHit};
@@ -100,7 +100,7 @@ fn from_media(
             ctx.maps.gather,
             ctx.maps.global_r2,
             EstimateFilter::Constant,
-            FLAG_FROM_MEDIUM,
+            Select::with(FLAG_FROM_MEDIUM),
             scratch,
         ),
         _ => Spectrum::ZERO,

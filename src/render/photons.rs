@@ -152,7 +152,11 @@ pub fn build(
             targets,
             cancel,
             f32_power: s.f32_power,
-            irradiance: (kind == MapKind::Global).then_some((s.gather, max_r * max_r)),
+            irradiance: (kind == MapKind::Global).then_some((
+                s.gather,
+                max_r * max_r,
+                super::terms::indirect::IRRADIANCE_POINT_PHOTONS,
+            )),
         };
         let map = build_map(scene, &params)?;
         stats.push(MapStats {

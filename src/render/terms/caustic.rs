@@ -4,7 +4,7 @@
 use crate::geometry::SurfaceInteraction;
 use crate::materials::bsdf::Bsdf;
 use crate::math::Spectrum;
-use crate::photon::map::EstimateFilter;
+use crate::photon::map::{EstimateFilter, Select};
 use crate::photon::KnnScratch;
 use crate::render::photons::PhotonMaps;
 
@@ -26,7 +26,7 @@ pub fn estimate(
             maps.gather,
             maps.caustic_r2,
             EstimateFilter::Cone { k: CONE_K },
-            0,
+            Select::ALL,
             scratch,
         ),
         None => Spectrum::ZERO,
