@@ -96,7 +96,7 @@ def lambert(ir):
 #: setting's noise; the turned spot moves its pool by ~15 cm and shows at "ci".
 CASES = {
     "light_2pct_brighter": ("room_empty", brighter, SENSITIVITY),
-    "spot_turned_5deg": ("spot_offaxis", spot_turned, settings("ci")),
+    "spot_turned_5deg": ("spot_blend", spot_turned, settings("ci")),
     "area_two_sided": ("room_empty", two_sided, SENSITIVITY),
     "principled_as_lambert": ("mat_default", lambert, SENSITIVITY),
 }
