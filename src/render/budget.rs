@@ -10,7 +10,7 @@
 //!
 //! **Enforce.** The camera pass is progressive in whole passes over the image, one sample
 //! per pixel per pass. Sample `k` of a pixel takes its film position from the Sobol
-//! (0,2)-sequence of one of the pixel's independently shifted replicates (`render::error`),
+//! (0,2)-sequence of one of the pixel's independently shifted replicates (`render::error_aov`),
 //! so every power-of-two prefix of each replicate is stratified, and the pixel's random
 //! stream continues from pass to pass. The image
 //! after `K` passes therefore depends only on `K` (and the photon counts and seed), never on

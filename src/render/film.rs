@@ -130,7 +130,7 @@ pub struct Film {
     pub height: usize,
     pub terms: Vec<Image>,
     /// The `error` AOV: the estimated standard error of each pixel of the combined image,
-    /// per channel (see `render::error`); not a term, not part of the sum.
+    /// per channel (see `render::error_aov`); not a term, not part of the sum.
     pub error: Image,
 }
 

@@ -2,7 +2,7 @@
 pub mod aov;
 pub mod budget;
 mod cache_fill;
-pub mod error;
+pub mod error_aov;
 pub mod eye;
 pub mod film;
 pub mod irradiance_cache;

@@ -6,7 +6,7 @@
 use super::aov::Term;
 use super::budget::{self, BudgetStats};
 use super::cache_fill;
-use super::error::{replicate_of, Replicates, Shifts, REPLICATES};
+use super::error_aov::{replicate_of, Replicates, Shifts, REPLICATES};
 use super::eye::{self, EyeCtx, EyeSettings};
 use super::film::{Film, TermRadiance};
 use super::memory::MemoryEstimate;
@@ -512,7 +512,7 @@ impl<'a> Renderer<'a> {
     }
 
     /// The camera pass in whole passes over the image, one sample per pixel each: sample `k`
-    /// of a pixel comes from its replicated Sobol (0,2)-sequence (`error::Shifts`), and
+    /// of a pixel comes from its replicated Sobol (0,2)-sequence (`error_aov::Shifts`), and
     /// the pixel's random stream continues across passes, so the image after `k` passes is
     /// the same however many follow. Without a deadline it runs `spp` passes; with one (seconds
     /// since `start`) it adds passes while the next, at the mean time per pass so far, ends

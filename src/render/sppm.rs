@@ -1,7 +1,7 @@
 //! Stochastic progressive photon mapping (Hachisuka & Jensen 2009): the `sppm` render mode.
 //!
 //! **A pass.** Every pixel traces one camera sample (film position from the pixel's
-//! replicated Sobol (0,2)-sequence, `render::error::Shifts`, as in the progressive camera
+//! replicated Sobol (0,2)-sequence, `render::error_aov::Shifts`, as in the progressive camera
 //! pass) through
 //! perfect specular bounces to its *visible points*, the non-specular points the path
 //! reaches. There direct light, emission and the volume term are estimated as in Jensen's
@@ -28,7 +28,7 @@
 //!
 //! **Error estimate.** Each pass also yields its own estimate of the pixel (its eye terms
 //! plus Φ / (π R²) with that pass's radius); the `error` AOV is the standard error of their
-//! mean over independent replicates (`render::error`). Each pass also estimates the bias of
+//! mean over independent replicates (`render::error_aov`). Each pass also estimates the bias of
 //! its disk estimate from the photons within R/√2 (see `gather`); the AOV adds the squared
 //! mean bias, less that estimate's own variance, to the variance.
 //!
@@ -37,7 +37,7 @@
 //! thread count and however many passes follow.
 
 use super::aov::Term;
-use super::error::{Replicates, Shifts};
+use super::error_aov::{Replicates, Shifts};
 use super::eye::{self, EyeCtx, EyeSettings, VisiblePoint};
 use super::film::{Film, TermRadiance};
 use super::photons::{self, MapStats, PhotonMaps};
