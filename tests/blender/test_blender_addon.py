@@ -54,6 +54,17 @@ def test_settings_no_preset_fills_default_to_the_cores(addon):
     assert s.bl_rna.properties["alpha"].default == pytest.approx(d["alpha"])
 
 
+def tiny_scene():
+    """A 4x4 image of one triangle under a point light."""
+    return photonmap.Scene.from_dict({
+        "camera": {"fov": 0.7, "transform": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 3], [0, 0, 0, 1]]},
+        "film": {"width": 4, "height": 4},
+        "materials": [{"type": "diffuse", "color": [0.5, 0.5, 0.5]}],
+        "meshes": [{"positions": [[-1, -1, 0], [1, -1, 0], [1, 1, 0]], "indices": [[0, 1, 2]]}],
+        "lights": [{"type": "point", "position": [0, 0, 1], "power": 10}],
+    })
+
+
 def test_every_schema_field_is_a_property_with_the_cores_name_and_default(addon, capfd):
     """Each setting of the core's schema is a property of ``scene.photonmap`` of the same
     name, label and default, goes into the keywords the engine renders with (an unset
@@ -82,26 +93,14 @@ def test_every_schema_field_is_a_property_with_the_cores_name_and_default(addon,
             assert prop.default == d and sent[k] == d, k
         assert f["flag"] in helptext, f"no command-line flag for {k}"
     # What the engine sends is what the core reads: the render accepts every keyword.
-    scene = photonmap.Scene.from_dict({
-        "camera": {"fov": 0.7, "transform": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 3], [0, 0, 0, 1]]},
-        "film": {"width": 4, "height": 4},
-        "materials": [{"type": "diffuse", "color": [0.5, 0.5, 0.5]}],
-        "meshes": [{"positions": [[-1, -1, 0], [1, -1, 0], [1, 1, 0]], "indices": [[0, 1, 2]]}],
-        "lights": [{"type": "point", "position": [0, 0, 1], "power": 10}],
-    })
+    scene = tiny_scene()
     out = photonmap.render(scene, **{**sent, "spp": 1, "photons": 200, "caustic_photons": 50,
                                      "final_gather_rays": 4})
     assert out["stats"]["options"]["gather"] == sent["gather"]
 
 
 def test_presets_are_what_the_core_renders_with(addon):
-    scene = photonmap.Scene.from_dict({
-        "camera": {"fov": 0.7, "transform": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 3], [0, 0, 0, 1]]},
-        "film": {"width": 4, "height": 4},
-        "materials": [{"type": "diffuse", "color": [0.5, 0.5, 0.5]}],
-        "meshes": [{"positions": [[-1, -1, 0], [1, -1, 0], [1, 1, 0]], "indices": [[0, 1, 2]]}],
-        "lights": [{"type": "point", "position": [0, 0, 1], "power": 10}],
-    })
+    scene = tiny_scene()
     out = photonmap.render(scene, quality="draft")
     p = photonmap.preset("draft")
     assert out["stats"]["spp"] == p["spp"]
