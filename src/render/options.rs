@@ -62,6 +62,8 @@ impl Choice {
 
 /// The type of a setting's field, as the schema names it.
 pub trait OptionValue {
+    /// The setting may be left unset (`None`).
+    const OPTIONAL: bool = false;
     fn kind() -> Kind;
     fn choices() -> Vec<Choice> {
         Vec::new()
@@ -90,6 +92,7 @@ impl OptionValue for bool {
 }
 
 impl<T: OptionValue> OptionValue for Option<T> {
+    const OPTIONAL: bool = true;
     fn kind() -> Kind {
         T::kind()
     }
@@ -314,7 +317,7 @@ macro_rules! render_options {
                         doc: join_doc(&[$($doc),+]),
                         kind: <$ty as OptionValue>::kind(),
                         choices: <$ty as OptionValue>::choices(),
-                        optional: stringify!($ty).starts_with("Option"),
+                        optional: <$ty as OptionValue>::OPTIONAL,
                         spec: Spec { $($key: $value,)* ..Spec::BASE },
                     },
                 )*]
