@@ -123,6 +123,40 @@ pub struct BudgetStats {
     pub note: Option<String>,
 }
 
+impl BudgetStats {
+    /// The stats of a render to `budget_seconds`, before planning.
+    pub fn for_budget(budget_seconds: f64) -> Self {
+        BudgetStats {
+            budget_seconds,
+            ..BudgetStats::default()
+        }
+    }
+
+    /// The stats once the render took `actual_seconds`: a render more than 5% over the
+    /// budget had a budget too small for its smallest form, and the note says so.
+    pub fn finish(mut self, actual_seconds: f64) -> Self {
+        self.actual_seconds = actual_seconds;
+        if actual_seconds > 1.05 * self.budget_seconds {
+            self.too_small = true;
+            self.note = Some(format!(
+                "the budget of {} s is too small for this scene and machine: the smallest \
+                 render ({} stored photons and one camera pass, with the calibration and the \
+                 irradiance cache where the mode uses them) took {:.3} s",
+                self.budget_seconds,
+                self.photons_global + self.photons_caustic + self.photons_volume,
+                actual_seconds
+            ));
+        }
+        self
+    }
+}
+
+/// Seconds since the render's start by which the last camera pass under `budget_seconds`
+/// must end: the budget less the margin for writing the film out.
+pub fn deadline(budget_seconds: f64) -> f64 {
+    budget_seconds - MARGIN_FRACTION * budget_seconds - MARGIN_SECONDS
+}
+
 /// Point `i` of the Sobol (0,2)-sequence in 32-bit fixed point: the first coordinate is the
 /// van der Corput radical inverse, the second uses the Pascal-matrix generator.
 pub fn sobol02(i: u32) -> (u32, u32) {

@@ -2,10 +2,12 @@
 pub mod aov;
 pub mod budget;
 mod cache_fill;
+pub mod driver;
 pub mod error_aov;
 pub mod eye;
 pub mod film;
 pub mod irradiance_cache;
+mod jensen;
 mod memory;
 pub mod options;
 pub mod photons;

@@ -37,23 +37,27 @@
 //! thread count and however many passes follow.
 
 use super::aov::Term;
-use super::error_aov::{Replicates, Shifts};
+use super::budget::{self, BudgetStats};
+use super::driver::{CameraPass, Integrator, Pixel, Schedule};
+use super::error_aov::Replicates;
 use super::eye::{self, EyeCtx, EyeSettings, VisiblePoint};
-use super::film::{Film, TermRadiance};
+use super::film::TermRadiance;
+use super::memory::MemoryEstimate;
 use super::photons::{self, MapStats, PhotonMaps};
-use super::renderer::{preview_due, PreviewFn};
-use super::settings::RenderSettings;
+use super::renderer::{RenderOutput, Renderer};
+use super::settings::{RenderMode, RenderSettings};
+use super::stats::StatsParts;
 use super::terms::specular;
 use super::terms::volume::MarchSettings;
 use crate::error::{Error, Result};
+use crate::geometry::Ray;
 use crate::math::{is_finite3, Spectrum, PI};
 use crate::photon::map::PhotonMap;
 use crate::photon::map::{FLAG_CAUSTIC_PATH, FLAG_FIRST_HIT};
 use crate::photon::KnnScratch;
 use crate::sampling::{mix64, Rng};
-use crate::scene::Scene;
 use serde::Serialize;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::collections::BTreeMap;
 use std::time::Instant;
 
 /// What a progressive render did.
@@ -73,39 +77,10 @@ pub struct SppmStats {
     pub camera_seconds: f64,
 }
 
-/// The outcome of a progressive render.
-pub struct SppmOutput {
-    pub film: Film,
-    /// Per map: the last pass's stored photons and memory, emitted paths and seconds summed
-    /// over the passes; or why the map was not built.
-    pub maps: Vec<MapStats>,
-    pub passes: u32,
-    pub seconds_per_pass: f64,
-    pub stats: SppmStats,
-}
-
-/// What the progressive loop reads from the renderer.
-pub struct SppmJob<'a> {
-    pub scene: &'a Scene,
-    pub settings: &'a RenderSettings,
-    /// Maps the scene needs: global (read by caustic and indirect), volume.
-    pub need_global: bool,
-    pub need_volume: bool,
-    pub cancel: Option<&'a AtomicBool>,
-    pub report: &'a (dyn Fn(f32, &str) + Sync),
-    /// Seconds since `start` by which the last pass must end; `None` runs `spp` passes.
-    pub deadline: Option<f64>,
-    pub start: Instant,
-    pub non_finite: &'a AtomicUsize,
-    pub preview: Option<&'a PreviewFn>,
-    pub work: &'a crate::render::work::WorkCounts,
-}
-
-struct Pixel {
-    rng: Rng,
-    shifts: Shifts,
-    /// Sum over passes of the terms estimated at the eye.
-    eye: TermRadiance,
+/// A pixel's progressive statistics, beside the driver's (whose `acc` sums the terms
+/// estimated at the eye over the passes).
+#[derive(Default)]
+struct Radius {
     /// Accumulated photon flux per term (τ), at the current radius.
     tau: TermRadiance,
     /// Squared search radius; 0 until the pixel first reaches a visible point.
@@ -113,131 +88,87 @@ struct Pixel {
     initial_r2: f32,
     /// Photons kept (N).
     n: f32,
-    /// Batch means of each pass's own estimate of the pixel (the `error` AOV).
-    batches: Replicates,
     /// Batch means of each pass's estimate of the density-estimation bias (see `gather`).
     bias: Replicates,
 }
 
-impl<'a> SppmJob<'a> {
-    fn cancelled(&self) -> bool {
-        self.cancel.is_some_and(|c| c.load(Ordering::Relaxed))
+/// A pass's photons: its own global (and volume) map.
+struct SppmPass {
+    maps: PhotonMaps,
+    march: MarchSettings,
+}
+
+/// The progressive integrator: a fresh photon map per pass, gathered at the visible points.
+struct Sppm<'a> {
+    renderer: &'a Renderer<'a>,
+    need: [bool; 3],
+    stats: SppmStats,
+    /// Per map: the last pass's stored photons and memory, emitted paths and seconds summed
+    /// over the passes; or why the map was not built.
+    maps: Vec<MapStats>,
+}
+
+impl Integrator for Sppm<'_> {
+    type Extra = Radius;
+    type Scratch = (KnnScratch, Vec<VisiblePoint>);
+    type Pass = SppmPass;
+
+    fn scratch(&self) -> Self::Scratch {
+        (KnnScratch::new(), Vec::with_capacity(4))
     }
 
-    pub fn run(&self) -> Result<SppmOutput> {
-        use rayon::prelude::*;
-        let s = self.settings;
-        let scene = self.scene;
-        let (w, h) = (scene.width, scene.height);
-        let alpha = s.sppm_alpha;
-        let mut pixels: Vec<Pixel> = (0..w * h)
-            .into_par_iter()
-            .map(|i| {
-                let mut rng = Rng::new(s.seed, i as u64);
-                let shifts = Shifts::draw(&mut rng);
-                Pixel {
-                    rng,
-                    shifts,
-                    eye: TermRadiance::default(),
-                    tau: TermRadiance::default(),
-                    r2: 0.0,
-                    initial_r2: 0.0,
-                    n: 0.0,
-                    batches: Replicates::default(),
-                    bias: Replicates::default(),
-                }
-            })
-            .collect();
-        let mut stats = SppmStats {
-            alpha,
-            photons_per_pass: s.photons.global as u64,
-            ..SppmStats::default()
-        };
-        let t = Instant::now();
-        let mut passes: u32 = 0;
-        let mut all_maps: Vec<MapStats> = Vec::new();
-        let mut last_preview = Instant::now();
-        loop {
-            match self.deadline {
-                Some(d) if passes > 0 => {
-                    let per_pass = t.elapsed().as_secs_f64() / passes as f64;
-                    if self.start.elapsed().as_secs_f64() + per_pass > d || passes == u32::MAX {
-                        break;
-                    }
-                    let f = (self.start.elapsed().as_secs_f64() / d).min(1.0) as f32;
-                    (self.report)(f, "progressive");
-                }
-                None if passes >= s.spp => break,
-                None => (self.report)(passes as f32 / s.spp as f32, "progressive"),
-                _ => {}
-            }
-            let tp = Instant::now();
-            let pass_seed = mix64(s.seed ^ mix64(0x5350_504D ^ passes as u64));
-            let (maps, map_stats) = photons::build(
-                scene,
-                &s.photons,
-                pass_seed,
-                [self.need_global, false, self.need_volume],
-                self.cancel,
-            );
-            if self.cancelled() {
-                return Err(Error::Cancelled);
-            }
-            stats.photons_emitted += map_stats
-                .iter()
-                .filter(|m| m.built && m.map == "global")
-                .map(|m| m.emitted)
-                .sum::<u64>();
-            if all_maps.is_empty() {
-                all_maps = map_stats;
-            } else {
-                for (acc, m) in all_maps.iter_mut().zip(map_stats) {
-                    acc.emitted += m.emitted;
-                    acc.seconds += m.seconds;
-                    acc.stored = m.stored;
-                    acc.memory_bytes = m.memory_bytes;
-                }
-            }
-            stats.photon_seconds += tp.elapsed().as_secs_f64();
-            let tc = Instant::now();
-            self.pass(&maps, passes, alpha, &mut pixels);
-            stats.camera_seconds += tc.elapsed().as_secs_f64();
-            if self.cancelled() {
-                return Err(Error::Cancelled);
-            }
-            passes += 1;
-            if let Some(p) = self.preview {
-                if preview_due(passes, &mut last_preview) {
-                    p(
-                        &self.resolve(&pixels, passes, &mut SppmStats::default()),
-                        passes,
-                    );
-                }
+    /// Traces pass `k`'s photon map, with its own seed.
+    fn begin_pass(&mut self, k: u32) -> Result<SppmPass> {
+        let r = self.renderer;
+        let s = &r.settings;
+        let tp = Instant::now();
+        let pass_seed = mix64(s.seed ^ mix64(0x5350_504D ^ k as u64));
+        let (maps, map_stats) =
+            photons::build(r.scene, &s.photons, pass_seed, self.need, r.cancel());
+        if r.is_cancelled() {
+            return Err(Error::Cancelled);
+        }
+        self.stats.photons_emitted += map_stats
+            .iter()
+            .filter(|m| m.built && m.map == "global")
+            .map(|m| m.emitted)
+            .sum::<u64>();
+        if self.maps.is_empty() {
+            self.maps = map_stats;
+        } else {
+            for (acc, m) in self.maps.iter_mut().zip(map_stats) {
+                acc.emitted += m.emitted;
+                acc.seconds += m.seconds;
+                acc.stored = m.stored;
+                acc.memory_bytes = m.memory_bytes;
             }
         }
-        (self.report)(1.0, "progressive");
-        stats.passes = passes;
-        let seconds_per_pass = t.elapsed().as_secs_f64() / passes.max(1) as f64;
-        let film = self.resolve(&pixels, passes, &mut stats);
-        Ok(SppmOutput {
-            film,
-            maps: all_maps,
-            passes,
-            seconds_per_pass,
-            stats,
-        })
+        self.stats.photon_seconds += tp.elapsed().as_secs_f64();
+        let march = MarchSettings::for_render(s, r.scene, maps.global_r2);
+        Ok(SppmPass { maps, march })
     }
 
-    /// One pass: a camera sample per pixel, then its visible points gather this pass's photons.
-    fn pass(&self, maps: &PhotonMaps, k: u32, alpha: f32, pixels: &mut [Pixel]) {
-        use rayon::prelude::*;
-        let s = self.settings;
-        let scene = self.scene;
-        let w = scene.width.max(1);
+    fn end_pass(&mut self, _pass: SppmPass, camera_seconds: f64) {
+        self.stats.camera_seconds += camera_seconds;
+    }
+
+    /// A camera sample to its visible points, where its eye terms are estimated; then the
+    /// visible points gather this pass's photons.
+    fn sample(
+        &self,
+        pass: &SppmPass,
+        ray: Ray,
+        rng: &mut Rng,
+        px: &mut Radius,
+        k: u32,
+        (scratch, vps): &mut Self::Scratch,
+    ) -> (TermRadiance, Spectrum) {
+        let r = self.renderer;
+        let s = &r.settings;
         let ctx = EyeCtx {
-            scene,
-            work: self.work,
-            maps,
+            scene: r.scene,
+            work: &r.work,
+            maps: &pass.maps,
             cache: None,
             settings: EyeSettings {
                 terms: s.terms,
@@ -245,71 +176,122 @@ impl<'a> SppmJob<'a> {
                 final_gather_rays: 0,
                 gather_rays_per_sample: 0,
             },
-            march: MarchSettings::for_render(s, scene, maps.global_r2),
+            march: pass.march,
         };
-        pixels.par_chunks_mut(w).enumerate().for_each_init(
-            || (KnnScratch::new(), Vec::<VisiblePoint>::with_capacity(4)),
-            |(scratch, vps), (y, row)| {
-                if self.cancelled() {
-                    return;
-                }
-                for (x, px) in row.iter_mut().enumerate() {
-                    if self.cancelled() {
-                        return;
-                    }
-                    let u = px.shifts.point(k);
-                    let ray = eye::camera_ray(scene, &s.filter, x, y, u, &mut px.rng);
-                    vps.clear();
-                    let mut record = |vp: VisiblePoint| vps.push(vp);
-                    let l = eye::trace_split(&ctx, ray, &mut px.rng, scratch, Some(&mut record));
-                    let mut pass_total = Spectrum::ZERO;
-                    for t in Term::ALL {
-                        let v = l.0[t.index()];
-                        if v.is_finite() {
-                            px.eye.0[t.index()] += v;
-                            pass_total += v;
-                        } else {
-                            self.non_finite.fetch_add(1, Ordering::Relaxed);
-                        }
-                    }
-                    if let Some(global) = &maps.global {
-                        pass_total += gather(k, global, maps, vps, px, alpha, s, scratch);
-                    }
-                    px.batches.add(k, pass_total);
-                }
-            },
-        );
+        vps.clear();
+        let mut record = |vp: VisiblePoint| vps.push(vp);
+        let l = eye::trace_split(&ctx, ray, rng, scratch, Some(&mut record));
+        let photons = match &pass.maps.global {
+            Some(global) => gather(k, global, &pass.maps, vps, px, s, scratch),
+            None => Spectrum::ZERO,
+        };
+        (l, photons)
     }
 
-    /// The image after `passes` passes, with the `error` AOV.
-    fn resolve(&self, pixels: &[Pixel], passes: u32, stats: &mut SppmStats) -> Film {
-        let (w, h) = (self.scene.width, self.scene.height);
-        let mut film = Film::new(w, h);
+    /// The eye terms' mean over the passes plus τ / (π R² K); the `error` with the bias.
+    fn resolve(&self, px: &Pixel<Radius>, passes: u32) -> (TermRadiance, Spectrum) {
         let k = passes.max(1) as f32;
+        let x = &px.extra;
+        let mut v = TermRadiance::default();
+        for t in Term::ALL {
+            let photon = if x.r2 > 0.0 {
+                x.tau.0[t.index()] / (PI * x.r2 * k)
+            } else {
+                Spectrum::ZERO
+            };
+            v.0[t.index()] = px.acc.0[t.index()] / k + photon;
+        }
+        (v, total_error(&px.batches, &x.bias))
+    }
+}
+
+impl Renderer<'_> {
+    /// A progressive photon-mapping render: `spp` passes, or as many as fit in the time
+    /// budget.
+    pub(super) fn render_sppm(
+        &self,
+        threads: usize,
+        estimate: MemoryEstimate,
+        start: Instant,
+    ) -> Result<RenderOutput> {
+        let s = &self.settings;
+        let [need_global, _, need_volume] = self.needed_maps();
+        let budget_seconds = s.time_budget.filter(|b| *b > 0.0);
+        let report = |f: f32, phase: &str| self.report(f, phase);
+        let mut driver = CameraPass::new(self.scene, &s.filter, s.seed, "progressive");
+        driver.report = &report;
+        driver.cancel = self.cancel();
+        driver.preview = self.preview.as_deref();
+        driver.output_time = self.output_time.as_deref();
+        let mut sppm = Sppm {
+            renderer: self,
+            need: [need_global, false, need_volume],
+            stats: SppmStats {
+                alpha: s.sppm_alpha,
+                photons_per_pass: s.photons.global as u64,
+                ..SppmStats::default()
+            },
+            maps: Vec::new(),
+        };
+        let schedule = match budget_seconds {
+            Some(b) => Schedule::Deadline {
+                start,
+                deadline: budget::deadline(b),
+            },
+            None => Schedule::Passes(s.spp),
+        };
+        let out = driver.progressive(&mut sppm, schedule)?;
+        let mut stats = sppm.stats;
+        stats.passes = out.passes;
         let (mut r0, mut r1, mut counted) = (0.0f64, 0.0f64, 0u64);
-        for (i, px) in pixels.iter().enumerate() {
-            let mut v = TermRadiance::default();
-            for t in Term::ALL {
-                let photon = if px.r2 > 0.0 {
-                    px.tau.0[t.index()] / (PI * px.r2 * k)
-                } else {
-                    Spectrum::ZERO
-                };
-                v.0[t.index()] = px.eye.0[t.index()] / k + photon;
-            }
-            film.set_pixel(i % w, i / w, &v);
-            film.error.data[i] = total_error(&px.batches, &px.bias).to_array();
-            if px.r2 > 0.0 {
-                r0 += (px.initial_r2 as f64).sqrt();
-                r1 += (px.r2 as f64).sqrt();
-                counted += 1;
-            }
+        for x in out.pixels.iter().map(|px| &px.extra).filter(|x| x.r2 > 0.0) {
+            r0 += (x.initial_r2 as f64).sqrt();
+            r1 += (x.r2 as f64).sqrt();
+            counted += 1;
         }
         if counted > 0 {
             stats.mean_initial_radius = r0 / counted as f64;
             stats.mean_final_radius = r1 / counted as f64;
         }
-        film
+        let mut seconds = BTreeMap::new();
+        seconds.insert("photons".to_string(), stats.photon_seconds);
+        seconds.insert("render".to_string(), stats.camera_seconds);
+        let mut maps = sppm.maps;
+        for m in maps.iter_mut().filter(|m| m.map == "caustic") {
+            m.skipped_because =
+                Some("progressive mode: each pass's global map holds the caustic photons".into());
+        }
+        let time_budget = budget_seconds.map(|b| {
+            BudgetStats {
+                planned_seconds: out.passes as f64 * out.seconds_per_pass,
+                passes: out.passes,
+                spp: out.passes,
+                seconds_per_pass: out.seconds_per_pass,
+                photons_global: s.photons.global,
+                photons_volume: s.photons.volume,
+                ..BudgetStats::for_budget(b)
+            }
+            .finish(start.elapsed().as_secs_f64())
+        });
+        let stats = self.stats(StatsParts {
+            width: self.scene.width,
+            height: self.scene.height,
+            spp: out.passes,
+            threads,
+            seconds,
+            maps,
+            irradiance_cache_records: 0,
+            skipped: self.skipped_terms(None),
+            non_finite_samples: driver.non_finite_samples(),
+            estimate,
+            time_budget,
+            mode: RenderMode::Sppm,
+            sppm: Some(stats),
+        });
+        Ok(RenderOutput {
+            film: out.film,
+            stats,
+        })
     }
 }
 
@@ -321,8 +303,7 @@ fn gather(
     global: &PhotonMap,
     maps: &PhotonMaps,
     vps: &[VisiblePoint],
-    px: &mut Pixel,
-    alpha: f32,
+    px: &mut Radius,
     s: &RenderSettings,
     scratch: &mut KnnScratch,
 ) -> Spectrum {
@@ -380,7 +361,7 @@ fn gather(
     px.bias.add(k, (pass_estimate - inner_estimate) * 2.0);
     if m > 0 {
         let (n, m) = (px.n, m as f32);
-        let kept = n + alpha * m;
+        let kept = n + s.sppm_alpha * m;
         let ratio = kept / (n + m);
         px.n = kept;
         px.r2 = r2 * ratio;

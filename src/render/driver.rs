@@ -1,0 +1,346 @@
+//! The camera-pass driver: the pixel loop that Jensen's mode (`jensen`) and progressive photon
+//! mapping (`sppm`) share. It owns what is the same in both: each pixel's random stream and
+//! film positions, the replicates of the `error` AOV, the finite-sample firewall, the
+//! schedule of passes (a count or a deadline), previews, progress and cancellation. An
+//! [`Integrator`] supplies what differs: what a pass prepares, what one camera sample adds,
+//! and how a pixel resolves into the film.
+//!
+//! Deterministic: pixel `i` draws from its own stream `Rng::new(seed, i)`, which continues
+//! across passes, and pixels are independent, so the film is bit-identical for any thread
+//! count, and after `k` passes it is the same however many follow.
+
+use super::aov::Term;
+use super::error_aov::{replicate_of, Replicates, Shifts, REPLICATES};
+use super::eye;
+use super::film::{Film, Filter, TermRadiance};
+use super::renderer::{OutputTimeFn, PreviewFn};
+use crate::error::{Error, Result};
+use crate::geometry::Ray;
+use crate::math::Spectrum;
+use crate::sampling::Rng;
+use crate::scene::Scene;
+use glam::Vec2;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::time::Instant;
+
+/// Shortest interval between two previews, in seconds (powers of two aside).
+pub const PREVIEW_SECONDS: f64 = 0.25;
+
+/// Whether a progressive loop that last previewed at `last` should preview after `passes`.
+pub fn preview_due(passes: u32, last: &mut Instant) -> bool {
+    if passes.is_power_of_two() || last.elapsed().as_secs_f64() >= PREVIEW_SECONDS {
+        *last = Instant::now();
+        return true;
+    }
+    false
+}
+
+/// The state the driver keeps per pixel; `extra` is the integrator's own.
+pub struct Pixel<X> {
+    pub rng: Rng,
+    /// Sum over samples of the terms the integrator estimated at the eye (finite ones only).
+    pub acc: TermRadiance,
+    /// Batch means of each sample's value of the combined image (the `error` AOV).
+    pub batches: Replicates,
+    pub extra: X,
+}
+
+impl<X: Default> Pixel<X> {
+    fn new(rng: Rng) -> Self {
+        Pixel {
+            rng,
+            acc: TermRadiance::default(),
+            batches: Replicates::default(),
+            extra: X::default(),
+        }
+    }
+
+    /// The mean of the eye terms over `samples` samples.
+    pub fn mean(&self, samples: u32) -> TermRadiance {
+        let inv = 1.0 / samples.max(1) as f32;
+        let mut v = self.acc;
+        for c in v.0.iter_mut() {
+            *c *= inv;
+        }
+        v
+    }
+}
+
+/// What a render mode supplies to the driver.
+pub trait Integrator: Sync {
+    /// Per-pixel state beyond the driver's.
+    type Extra: Send + Sync + Default;
+    /// Per-worker scratch space.
+    type Scratch: Send;
+    /// What the camera samples of one pass read.
+    type Pass: Sync;
+
+    fn scratch(&self) -> Self::Scratch;
+
+    /// Prepares pass `k`, before its camera samples.
+    fn begin_pass(&mut self, k: u32) -> Result<Self::Pass>;
+
+    /// After pass `k`'s camera samples, which took `camera_seconds`.
+    fn end_pass(&mut self, _pass: Self::Pass, _camera_seconds: f64) {}
+
+    /// Sample `k` of a pixel along `ray`: the terms estimated at the eye, which the driver
+    /// adds to the pixel where finite, and this sample's further share of the combined image
+    /// (which the integrator keeps in `extra`; zero if none).
+    fn sample(
+        &self,
+        pass: &Self::Pass,
+        ray: Ray,
+        rng: &mut Rng,
+        extra: &mut Self::Extra,
+        k: u32,
+        scratch: &mut Self::Scratch,
+    ) -> (TermRadiance, Spectrum);
+
+    /// The pixel's terms and `error` after `samples` samples.
+    fn resolve(&self, px: &Pixel<Self::Extra>, samples: u32) -> (TermRadiance, Spectrum) {
+        (px.mean(samples), px.batches.standard_error())
+    }
+}
+
+/// When a progressive camera pass stops.
+#[derive(Clone, Copy, Debug)]
+pub enum Schedule {
+    /// After this many passes.
+    Passes(u32),
+    /// When the next pass, at the mean time per pass so far, would end after `deadline`
+    /// seconds since `start` (at least one pass).
+    Deadline { start: Instant, deadline: f64 },
+}
+
+/// The outcome of a progressive camera pass.
+pub struct Passes<X> {
+    pub film: Film,
+    pub pixels: Vec<Pixel<X>>,
+    pub passes: u32,
+    pub seconds_per_pass: f64,
+}
+
+/// The driver: what it reads from the render.
+pub struct CameraPass<'a> {
+    pub scene: &'a Scene,
+    pub filter: &'a Filter,
+    pub seed: u64,
+    /// The phase name in progress reports.
+    pub phase: &'static str,
+    pub report: &'a (dyn Fn(f32, &str) + Sync),
+    pub cancel: Option<&'a AtomicBool>,
+    pub preview: Option<&'a PreviewFn>,
+    /// Under a deadline, the time to leave for writing the result (measured after pass 1).
+    pub output_time: Option<&'a OutputTimeFn>,
+    /// Non-finite term estimates dropped by the firewall.
+    pub non_finite: AtomicUsize,
+}
+
+impl<'a> CameraPass<'a> {
+    pub fn new(scene: &'a Scene, filter: &'a Filter, seed: u64, phase: &'static str) -> Self {
+        CameraPass {
+            scene,
+            filter,
+            seed,
+            phase,
+            report: &|_, _| {},
+            cancel: None,
+            preview: None,
+            output_time: None,
+            non_finite: AtomicUsize::new(0),
+        }
+    }
+
+    fn cancelled(&self) -> bool {
+        self.cancel.is_some_and(|c| c.load(Ordering::Relaxed))
+    }
+
+    pub fn non_finite_samples(&self) -> u64 {
+        self.non_finite.load(Ordering::Relaxed) as u64
+    }
+
+    /// One camera sample of pixel (x, y) at film position `u`, through the firewall.
+    #[allow(clippy::too_many_arguments)]
+    fn sample<I: Integrator>(
+        &self,
+        it: &I,
+        pass: &I::Pass,
+        px: &mut Pixel<I::Extra>,
+        x: usize,
+        y: usize,
+        u: Vec2,
+        k: u32,
+        scratch: &mut I::Scratch,
+    ) {
+        let ray = eye::camera_ray(self.scene, self.filter, x, y, u, &mut px.rng);
+        let (l, further) = it.sample(pass, ray, &mut px.rng, &mut px.extra, k, scratch);
+        let mut total = Spectrum::ZERO;
+        for t in Term::ALL {
+            let v = l.0[t.index()];
+            if v.is_finite() {
+                px.acc.0[t.index()] += v;
+                total += v;
+            } else {
+                self.non_finite.fetch_add(1, Ordering::Relaxed);
+            }
+        }
+        px.batches.add(k, total + further);
+    }
+
+    fn film_of<I: Integrator>(&self, it: &I, pixels: &[Pixel<I::Extra>], samples: u32) -> Film {
+        let (w, h) = (self.scene.width, self.scene.height);
+        let mut film = Film::new(w, h);
+        for (i, px) in pixels.iter().enumerate() {
+            let (v, err) = it.resolve(px, samples);
+            film.set_pixel(i % w, i / w, &v);
+            film.error.data[i] = err.to_array();
+        }
+        film
+    }
+
+    /// All `spp` samples of a pixel at once, one pass, rows in parallel. Sample `i` belongs
+    /// to replicate `i mod R` (see `error_aov`); each replicate is stratified over its own
+    /// nx-by-ny grid, and the jittered point is warped by the filter.
+    pub fn stratified<I: Integrator>(&self, it: &mut I, spp: u32) -> Result<Film> {
+        use rayon::prelude::*;
+        let (w, h) = (self.scene.width, self.scene.height);
+        (self.report)(0.0, self.phase);
+        let pass = it.begin_pass(0)?;
+        let grids: Vec<(u32, u32)> = (0..REPLICATES as u32)
+            .map(|r| {
+                let n = spp.saturating_sub(r).div_ceil(REPLICATES as u32).max(1);
+                let nx = (n as f32).sqrt().floor().max(1.0) as u32;
+                (nx, n.div_ceil(nx))
+            })
+            .collect();
+        let rows_done = AtomicUsize::new(0);
+        let it_ref: &I = it;
+        let rows: Vec<Option<Vec<(TermRadiance, Spectrum)>>> = (0..h)
+            .into_par_iter()
+            .map_init(
+                || it_ref.scratch(),
+                |scratch, y| {
+                    let mut row = Vec::with_capacity(w);
+                    for x in 0..w {
+                        if self.cancelled() {
+                            return None;
+                        }
+                        let mut px = Pixel::new(Rng::new(self.seed, (y * w + x) as u64));
+                        for i in 0..spp {
+                            let (r, j) = replicate_of(i);
+                            let (nx, ny) = grids[r];
+                            let (cx, cy) = (j % nx, (j / nx) % ny);
+                            let j = px.rng.vec2();
+                            let u = Vec2::new(
+                                (cx as f32 + j.x) / nx as f32,
+                                (cy as f32 + j.y) / ny as f32,
+                            );
+                            self.sample(it_ref, &pass, &mut px, x, y, u, i, scratch);
+                        }
+                        row.push(it_ref.resolve(&px, spp));
+                    }
+                    let done = rows_done.fetch_add(1, Ordering::Relaxed) + 1;
+                    (self.report)(done as f32 / h as f32, self.phase);
+                    Some(row)
+                },
+            )
+            .collect();
+        if self.cancelled() {
+            return Err(Error::Cancelled);
+        }
+        let mut film = Film::new(w, h);
+        for (y, row) in rows.into_iter().enumerate() {
+            for (x, (v, err)) in row.ok_or(Error::Cancelled)?.iter().enumerate() {
+                film.set_pixel(x, y, v);
+                film.error.data[y * w + x] = err.to_array();
+            }
+        }
+        it.end_pass(pass, 0.0);
+        Ok(film)
+    }
+
+    /// Whole passes over the image, one sample per pixel each: sample `k` of a pixel comes
+    /// from its replicated Sobol (0,2)-sequence (`error_aov::Shifts`). Previews after passes
+    /// 1, 2, 4, ... and at most every [`PREVIEW_SECONDS`] between them.
+    pub fn progressive<I: Integrator>(
+        &self,
+        it: &mut I,
+        schedule: Schedule,
+    ) -> Result<Passes<I::Extra>> {
+        use rayon::prelude::*;
+        let (w, h) = (self.scene.width, self.scene.height);
+        let (shifts, mut pixels): (Vec<Shifts>, Vec<Pixel<I::Extra>>) = (0..w * h)
+            .into_par_iter()
+            .map(|i| {
+                let mut rng = Rng::new(self.seed, i as u64);
+                (Shifts::draw(&mut rng), Pixel::new(rng))
+            })
+            .unzip();
+        let t = Instant::now();
+        let mut last_preview = Instant::now();
+        let mut passes: u32 = 0;
+        let mut schedule = schedule;
+        loop {
+            if passes == 1 {
+                if let (Schedule::Deadline { deadline, .. }, Some(f)) =
+                    (&mut schedule, self.output_time)
+                {
+                    *deadline -= f(&self.film_of(it, &pixels, 1));
+                }
+            }
+            match schedule {
+                Schedule::Deadline { start, deadline } if passes > 0 => {
+                    let per_pass = t.elapsed().as_secs_f64() / passes as f64;
+                    if start.elapsed().as_secs_f64() + per_pass > deadline || passes == u32::MAX {
+                        break;
+                    }
+                    let f = (start.elapsed().as_secs_f64() / deadline).min(1.0) as f32;
+                    (self.report)(f, self.phase);
+                }
+                Schedule::Passes(n) if passes >= n => break,
+                Schedule::Passes(n) => (self.report)(passes as f32 / n as f32, self.phase),
+                Schedule::Deadline { .. } => {}
+            }
+            let k = passes;
+            let pass = it.begin_pass(k)?;
+            if self.cancelled() {
+                return Err(Error::Cancelled);
+            }
+            let tc = Instant::now();
+            let it_ref: &I = it;
+            pixels
+                .par_chunks_mut(w.max(1))
+                .zip(shifts.par_chunks(w.max(1)))
+                .enumerate()
+                .for_each_init(
+                    || it_ref.scratch(),
+                    |scratch, (y, (row, row_shifts))| {
+                        for (x, (px, sh)) in row.iter_mut().zip(row_shifts.iter()).enumerate() {
+                            if self.cancelled() {
+                                return;
+                            }
+                            self.sample(it_ref, &pass, px, x, y, sh.point(k), k, scratch);
+                        }
+                    },
+                );
+            it.end_pass(pass, tc.elapsed().as_secs_f64());
+            if self.cancelled() {
+                return Err(Error::Cancelled);
+            }
+            passes += 1;
+            if let Some(p) = self.preview {
+                if preview_due(passes, &mut last_preview) {
+                    p(&self.film_of(it, &pixels, passes), passes);
+                }
+            }
+        }
+        (self.report)(1.0, self.phase);
+        let seconds_per_pass = t.elapsed().as_secs_f64() / passes.max(1) as f64;
+        Ok(Passes {
+            film: self.film_of(it, &pixels, passes),
+            pixels,
+            passes,
+            seconds_per_pass,
+        })
+    }
+}
