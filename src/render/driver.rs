@@ -120,6 +120,30 @@ pub struct Passes<X> {
     pub seconds_per_pass: f64,
 }
 
+/// The nx-by-ny stratification grid of each replicate's samples when a pixel takes `spp`.
+fn replicate_grids(spp: u32) -> [(u32, u32); REPLICATES] {
+    std::array::from_fn(|r| {
+        let n = spp
+            .saturating_sub(r as u32)
+            .div_ceil(REPLICATES as u32)
+            .max(1);
+        let nx = (n as f32).sqrt().floor().max(1.0) as u32;
+        (nx, n.div_ceil(nx))
+    })
+}
+
+/// Film position of sample `i` in one stratified pass: the `jitter` in its replicate's
+/// grid cell.
+fn stratified_point(grids: &[(u32, u32); REPLICATES], i: u32, jitter: Vec2) -> Vec2 {
+    let (r, j) = replicate_of(i);
+    let (nx, ny) = grids[r];
+    let (cx, cy) = (j % nx, (j / nx) % ny);
+    Vec2::new(
+        (cx as f32 + jitter.x) / nx as f32,
+        (cy as f32 + jitter.y) / ny as f32,
+    )
+}
+
 /// The driver: what it reads from the render.
 pub struct CameraPass<'a> {
     pub scene: &'a Scene,
@@ -206,13 +230,7 @@ impl<'a> CameraPass<'a> {
         let (w, h) = (self.scene.width, self.scene.height);
         (self.report)(0.0, self.phase);
         let pass = it.begin_pass(0)?;
-        let grids: Vec<(u32, u32)> = (0..REPLICATES as u32)
-            .map(|r| {
-                let n = spp.saturating_sub(r).div_ceil(REPLICATES as u32).max(1);
-                let nx = (n as f32).sqrt().floor().max(1.0) as u32;
-                (nx, n.div_ceil(nx))
-            })
-            .collect();
+        let grids = replicate_grids(spp);
         let rows_done = AtomicUsize::new(0);
         let it_ref: &I = it;
         let rows: Vec<Option<Vec<(TermRadiance, Spectrum)>>> = (0..h)
@@ -227,14 +245,7 @@ impl<'a> CameraPass<'a> {
                         }
                         let mut px = Pixel::new(Rng::new(self.seed, (y * w + x) as u64));
                         for i in 0..spp {
-                            let (r, j) = replicate_of(i);
-                            let (nx, ny) = grids[r];
-                            let (cx, cy) = (j % nx, (j / nx) % ny);
-                            let j = px.rng.vec2();
-                            let u = Vec2::new(
-                                (cx as f32 + j.x) / nx as f32,
-                                (cy as f32 + j.y) / ny as f32,
-                            );
+                            let u = stratified_point(&grids, i, px.rng.vec2());
                             self.sample(it_ref, &pass, &mut px, x, y, u, i, scratch);
                         }
                         row.push(it_ref.resolve(&px, spp));
@@ -344,3 +355,7 @@ impl<'a> CameraPass<'a> {
         })
     }
 }
+
+#[cfg(test)]
+#[path = "driver_tests.rs"]
+mod tests;
