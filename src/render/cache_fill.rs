@@ -8,9 +8,9 @@ use super::eye::EyeCtx;
 use super::irradiance_cache::{IrradianceCache, Record};
 use super::settings::RenderSettings;
 use super::terms::indirect::gather_hemisphere;
+use super::terms::specular::{self, Follow};
 use crate::error::{Error, Result};
 use crate::geometry::{Ray, SurfaceInteraction};
-use crate::materials::bsdf::LobeFlags;
 use crate::photon::KnnScratch;
 use crate::sampling::Rng;
 use crate::scene::SceneHit;
@@ -52,10 +52,7 @@ fn first_diffuse(
             let n = si.ng.dot(si.ns).signum() * si.ns;
             return Some((si, n, length));
         }
-        if bsdf.flags() & LobeFlags::SPECULAR == 0 && !passes {
-            return None;
-        }
-        let bs = bsdf.sample(si.wo, rng.f32(), rng.vec2())?;
+        let bs = specular::next_bounce(&bsdf, si.wo, Follow::Specular, rng)?;
         ray = si.spawn_ray(bs.wi);
     }
     None

@@ -6,6 +6,7 @@ use super::aov::{Term, TermMask};
 use super::film::TermRadiance;
 use super::irradiance_cache::IrradianceCache;
 use super::photons::PhotonMaps;
+use super::terms::specular::Follow;
 use super::terms::volume::{self, MarchSettings};
 use super::terms::{caustic, direct, emission, indirect, specular};
 use crate::geometry::{Ray, SurfaceInteraction};
@@ -302,19 +303,13 @@ pub fn trace_split(
                         );
                     }
                 }
-                if (bsdf.flags() & LobeFlags::SPECULAR == 0 && !passes)
-                    || bounces >= s.max_specular_depth
-                {
+                if bounces >= s.max_specular_depth {
                     break;
                 }
-                let u_lobe = rng.f32();
-                let u = rng.vec2();
-                let Some(bs) = bsdf.sample(si.wo, u_lobe, u) else {
+                // The non-delta part was estimated above.
+                let Some(bs) = specular::next_bounce(&bsdf, si.wo, Follow::Specular, rng) else {
                     break;
                 };
-                if !bs.is_delta() && !passes {
-                    break; // the non-delta part was estimated above
-                }
                 // After a rough-glass bounce the emitter it reaches was counted by that
                 // vertex's direct estimate (light and BSDF samples, MIS).
                 skip_emission = !bs.is_delta();

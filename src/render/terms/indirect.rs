@@ -15,6 +15,7 @@ use crate::media::MediumStack;
 use crate::photon::map::{EstimateFilter, Select, FLAG_FIRST_HIT};
 use crate::photon::KnnScratch;
 use crate::render::photons::PhotonMaps;
+use crate::render::terms::specular::{self, Follow};
 use crate::sampling::Rng;
 use crate::scene::{Scene, SceneHit};
 use glam::Vec3;
@@ -63,7 +64,6 @@ pub fn gather_radiance(
         };
         let bsdf = scene.shading_bsdf(mat, &mut si);
         let passes = bsdf.passes_through();
-        let follow = LobeFlags::SPECULAR | LobeFlags::NEAR_SPECULAR;
         if bsdf.has_non_delta() && !passes {
             // The estimate answers for the lobes it can resolve; near-specular ones are
             // followed below, as the photon pass treats them.
@@ -85,18 +85,9 @@ pub fn gather_radiance(
                 acc += beta * hit_radiance(scene, global, &hit, maps, rng, scratch);
             }
         }
-        if bsdf.flags() & follow == 0 && !passes {
-            break;
-        }
-        // The specular and near-specular part of the surface: follow it by sampling it
-        // alone (the rest is covered by the estimate above); rough glass, which no estimate
-        // covers, is followed whole.
-        let sampled = if passes {
-            bsdf.sample(si.wo, rng.f32(), rng.vec2())
-        } else {
-            bsdf.sample_specular_like(si.wo, rng.f32(), rng.vec2())
-        };
-        let Some(bs) = sampled else {
+        // The specular and near-specular part of the surface, sampled alone (the rest is
+        // covered by the estimate above).
+        let Some(bs) = specular::next_bounce(&bsdf, si.wo, Follow::NearSpecular, rng) else {
             break;
         };
         beta *= bs.weight;
