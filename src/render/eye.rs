@@ -9,11 +9,9 @@ use super::photons::PhotonMaps;
 use super::terms::specular::Follow;
 use super::terms::volume::{self, MarchSettings};
 use super::terms::{caustic, direct, emission, indirect, specular};
-use crate::geometry::{Ray, SurfaceInteraction};
+use crate::geometry::Ray;
 use crate::materials::bsdf::{Bsdf, LobeFlags};
-use crate::math::{is_finite3, Spectrum, PI};
-use crate::media::MediumStack;
-use crate::photon::map::{EstimateFilter, Select, FLAG_FROM_MEDIUM};
+use crate::math::{is_finite3, Spectrum};
 use crate::photon::KnnScratch;
 use crate::sampling::Rng;
 use crate::scene::{Scene, SceneHit};
@@ -37,75 +35,6 @@ pub struct EyeCtx<'a> {
     pub cache: Option<&'a IrradianceCache>,
     pub settings: EyeSettings,
     pub march: MarchSettings,
-}
-
-/// Indirect light reflected at a non-specular point: the diffuse part from the irradiance
-/// cache (or a hemisphere gather where no record covers the point) times the diffuse lobes'
-/// response; the glossy part by sampling the glossy lobes.
-pub fn indirect_at(
-    ctx: &EyeCtx,
-    si: &SurfaceInteraction,
-    bsdf: &Bsdf,
-    stack: &MediumStack,
-    rng: &mut Rng,
-    scratch: &mut KnnScratch,
-) -> Spectrum {
-    let rays = ctx.settings.gather_rays_per_sample;
-    if ctx.maps.global.is_none() || rays == 0 {
-        return Spectrum::ZERO;
-    }
-    let mut l = from_media(ctx, si, bsdf, scratch);
-    let response = bsdf.diffuse_response(si.wo);
-    if let Some(response) = response {
-        let n = si.ng.dot(si.ns).signum() * si.ns;
-        let e = match ctx.cache.and_then(|c| c.lookup(si.p, n)) {
-            Some(e) => e,
-            None => {
-                indirect::gather_hemisphere(ctx.scene, ctx.maps, si, n, rays, stack, rng, scratch)
-                    .irradiance
-            }
-        };
-        l += response * e;
-    }
-    if bsdf.has_glossy() {
-        // Gather rays in proportion to the glossy lobes' share of the reflection the gather
-        // has to find (the cache answers for the diffuse part), at least one.
-        let glossy = crate::math::luminance(bsdf.glossy_albedo(si.wo));
-        let diffuse = response.map_or(0.0, |r| crate::math::luminance(r) * PI);
-        let share = if glossy + diffuse > 0.0 {
-            glossy / (glossy + diffuse)
-        } else {
-            1.0
-        };
-        let n = ((rays as f32 * share).ceil() as u32).clamp(1, rays);
-        l += indirect::gather_glossy(ctx.scene, ctx.maps, si, bsdf, n, stack, rng, scratch);
-    }
-    l
-}
-
-/// Light that participating media scatter straight onto the surface: the global map's photons
-/// whose last event was a scattering in a medium. Final-gather rays count only light from
-/// surfaces (attenuated by the media they cross), so the two parts do not overlap.
-fn from_media(
-    ctx: &EyeCtx,
-    si: &SurfaceInteraction,
-    bsdf: &Bsdf,
-    scratch: &mut KnnScratch,
-) -> Spectrum {
-    match &ctx.maps.global {
-        Some(g) if ctx.scene.has_media() => g.radiance(
-            si.p,
-            si.ng,
-            si.wo,
-            bsdf,
-            ctx.maps.gather,
-            ctx.maps.global_r2,
-            EstimateFilter::Constant,
-            Select::with(FLAG_FROM_MEDIUM),
-            scratch,
-        ),
-        _ => Spectrum::ZERO,
-    }
 }
 
 /// The camera ray of pixel (x, y) for the sample `u` in [0,1)^2, which `filter` warps into
@@ -299,7 +228,7 @@ pub fn trace_split(
                             &mut out,
                             Term::Indirect,
                             bounces,
-                            beta * indirect_at(ctx, &si, &bsdf, &stack, rng, scratch),
+                            beta * indirect::estimate(ctx, &si, &bsdf, &stack, rng, scratch),
                         );
                     }
                 }

@@ -1,12 +1,6 @@
-//! `indirect`: diffuse interreflection by final gathering (Jensen 2001, §9.3.4): rays leave
-//! the first non-specular surface, follow perfect specular and near-specular bounces
-//! (`LobeFlags::NEAR_SPECULAR`), and at the first other surface they reach take the light
-//! its remaining lobes reflect: the light straight from emitters by next-event estimation,
-//! the rest from the global photon map's radiance estimate (see [`hit_radiance`]). Light that
-//! reaches the gather point straight from an emitter (direct) or through specular surfaces
-//! only (caustic) belongs to the other terms and is not counted here.
-//!
-//! On Lambertian surfaces the irradiance is cached (`render::irradiance_cache`).
+//! Final-gathering rays of the `indirect` term: a hemisphere gather with its gradients (the
+//! irradiance cache's records and uncached points), a gather of the glossy lobes, and what a
+//! gather ray takes where it lands.
 
 use crate::geometry::{Ray, SurfaceInteraction};
 use crate::materials::bsdf::{Bsdf, LobeFlags};
@@ -132,7 +126,7 @@ fn hit_radiance(
     scratch: &mut KnnScratch,
 ) -> Spectrum {
     let (si, bsdf) = (hit.si, hit.bsdf);
-    let direct = super::direct::estimate(scene, si, bsdf, hit.stack, rng);
+    let direct = crate::render::terms::direct::estimate(scene, si, bsdf, hit.stack, rng);
     let photons = |bsdf: &Bsdf, scratch: &mut KnnScratch| {
         global.radiance(
             si.p,

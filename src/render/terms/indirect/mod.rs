@@ -1,0 +1,95 @@
+//! `indirect`: diffuse interreflection by final gathering (Jensen 2001, §9.3.4): rays leave
+//! the first non-specular surface, follow perfect specular and near-specular bounces
+//! (`LobeFlags::NEAR_SPECULAR`), and at the first other surface they reach take the light
+//! its remaining lobes reflect: the light straight from emitters by next-event estimation,
+//! the rest from the global photon map's radiance estimate (see `gather`). Light that
+//! reaches the gather point straight from an emitter (direct) or through specular surfaces
+//! only (caustic) belongs to the other terms and is not counted here.
+//!
+//! The diffuse part of every surface with a diffuse component reads its irradiance from the
+//! cache (`render::irradiance_cache`) where a record covers the point; glossy lobes gather by
+//! sampling them. In the progressive mode the same light comes from each pass's photon map at
+//! the eye path's visible points instead (`render::sppm`).
+
+mod gather;
+pub use gather::{
+    gather_glossy, gather_hemisphere, gather_radiance, strata, HemisphereGather,
+    IRRADIANCE_POINT_PHOTONS,
+};
+
+use crate::geometry::SurfaceInteraction;
+use crate::materials::bsdf::Bsdf;
+use crate::math::{Spectrum, PI};
+use crate::media::MediumStack;
+use crate::photon::map::{EstimateFilter, Select, FLAG_FROM_MEDIUM};
+use crate::photon::KnnScratch;
+use crate::render::eye::EyeCtx;
+use crate::sampling::Rng;
+
+/// Indirect light reflected at a non-specular point: the diffuse part from the irradiance
+/// cache (or a hemisphere gather where no record covers the point) times the diffuse lobes'
+/// response; the glossy part by sampling the glossy lobes.
+pub fn estimate(
+    ctx: &EyeCtx,
+    si: &SurfaceInteraction,
+    bsdf: &Bsdf,
+    stack: &MediumStack,
+    rng: &mut Rng,
+    scratch: &mut KnnScratch,
+) -> Spectrum {
+    let rays = ctx.settings.gather_rays_per_sample;
+    if ctx.maps.global.is_none() || rays == 0 {
+        return Spectrum::ZERO;
+    }
+    let mut l = from_media(ctx, si, bsdf, scratch);
+    let response = bsdf.diffuse_response(si.wo);
+    if let Some(response) = response {
+        let n = si.ng.dot(si.ns).signum() * si.ns;
+        let e = match ctx.cache.and_then(|c| c.lookup(si.p, n)) {
+            Some(e) => e,
+            None => {
+                gather_hemisphere(ctx.scene, ctx.maps, si, n, rays, stack, rng, scratch).irradiance
+            }
+        };
+        l += response * e;
+    }
+    if bsdf.has_glossy() {
+        // Gather rays in proportion to the glossy lobes' share of the reflection the gather
+        // has to find (the cache answers for the diffuse part), at least one.
+        let glossy = crate::math::luminance(bsdf.glossy_albedo(si.wo));
+        let diffuse = response.map_or(0.0, |r| crate::math::luminance(r) * PI);
+        let share = if glossy + diffuse > 0.0 {
+            glossy / (glossy + diffuse)
+        } else {
+            1.0
+        };
+        let n = ((rays as f32 * share).ceil() as u32).clamp(1, rays);
+        l += gather_glossy(ctx.scene, ctx.maps, si, bsdf, n, stack, rng, scratch);
+    }
+    l
+}
+
+/// Light that participating media scatter straight onto the surface: the global map's photons
+/// whose last event was a scattering in a medium. Final-gather rays count only light from
+/// surfaces (attenuated by the media they cross), so the two parts do not overlap.
+fn from_media(
+    ctx: &EyeCtx,
+    si: &SurfaceInteraction,
+    bsdf: &Bsdf,
+    scratch: &mut KnnScratch,
+) -> Spectrum {
+    match &ctx.maps.global {
+        Some(g) if ctx.scene.has_media() => g.radiance(
+            si.p,
+            si.ng,
+            si.wo,
+            bsdf,
+            ctx.maps.gather,
+            ctx.maps.global_r2,
+            EstimateFilter::Constant,
+            Select::with(FLAG_FROM_MEDIUM),
+            scratch,
+        ),
+        _ => Spectrum::ZERO,
+    }
+}
