@@ -160,3 +160,107 @@ impl Renderer<'_> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::io::scene_json;
+    use crate::render::aov::{Term, TermMask};
+    use crate::render::settings::{RenderMode, RenderSettings};
+    use crate::render::{RenderOptions, RenderStats, Renderer};
+    use crate::scene::{Scene, SceneDesc};
+
+    fn scene(name: &str) -> Scene {
+        let path = format!(
+            "{}/tests/data/scenes/{name}.json",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        let mut desc: SceneDesc = scene_json::load(path).unwrap();
+        desc.film.width = 10;
+        desc.film.height = 8;
+        Scene::build(&desc).unwrap()
+    }
+
+    fn small() -> RenderSettings {
+        let mut s = RenderSettings {
+            spp: 3,
+            seed: 5,
+            ..RenderSettings::default()
+        };
+        s.photons.global = 2_000;
+        s.photons.caustic = 1_000;
+        s.photons.volume = 1_000;
+        s.photons.final_gather_rays = 8;
+        s
+    }
+
+    fn stats(scene: &Scene, s: RenderSettings) -> RenderStats {
+        Renderer::new(scene).settings(s).render().unwrap().stats
+    }
+
+    fn reason(st: &RenderStats, t: Term) -> Option<&str> {
+        st.skipped
+            .iter()
+            .find(|k| k.term == t.name())
+            .map(|k| k.reason.as_str())
+    }
+
+    #[test]
+    fn skipped_terms_name_what_the_scene_and_settings_rule_out() {
+        let diffuse = scene("cornell_diffuse");
+        for mode in [RenderMode::Jensen, RenderMode::Sppm] {
+            let st = stats(&diffuse, RenderSettings { mode, ..small() });
+            let caustic = reason(&st, Term::Caustic).unwrap_or_default();
+            assert!(caustic.contains("no specular"), "{mode:?}: {caustic}");
+            let volume = reason(&st, Term::Volume).unwrap_or_default();
+            assert!(
+                volume.contains("no participating media"),
+                "{mode:?}: {volume}"
+            );
+            assert_eq!(reason(&st, Term::Direct), None);
+            assert_eq!(reason(&st, Term::Indirect), None);
+        }
+        let mut s = small();
+        s.terms = TermMask::ALL.without(Term::Direct);
+        s.photons.final_gather_rays = 0;
+        let st = stats(&diffuse, s);
+        assert_eq!(
+            reason(&st, Term::Direct),
+            Some("disabled in the render settings")
+        );
+        assert_eq!(
+            reason(&st, Term::Indirect),
+            Some("no global photon map (see photon_maps)")
+        );
+        // With glass and fog in the scene, nothing is skipped for want of them.
+        let fog = stats(&scene("fog_glass"), small());
+        assert_eq!(reason(&fog, Term::Caustic), None, "{:?}", fog.skipped);
+        assert_eq!(reason(&fog, Term::Volume), None, "{:?}", fog.skipped);
+    }
+
+    #[test]
+    fn counts_follow_the_render_in_both_modes() {
+        let sc = scene("cornell_spheres");
+        for mode in [RenderMode::Jensen, RenderMode::Sppm] {
+            let st = stats(&sc, RenderSettings { mode, ..small() });
+            assert_eq!((st.width, st.height, st.spp), (10, 8, 3), "{mode:?}");
+            assert_eq!(st.camera_rays, 10 * 8 * 3);
+            assert_eq!(st.mode, mode);
+            for m in st.photon_maps.iter().filter(|m| m.built) {
+                assert_eq!(st.photons_stored.get(m.map), Some(&m.stored), "{}", m.map);
+            }
+            let photon_bytes: u64 = st.photon_maps.iter().map(|m| m.memory_bytes).sum();
+            assert_eq!(
+                st.memory_bytes,
+                (10 * 8 * (Term::COUNT + 1) * 12) as u64 + st.triangles as u64 * 64 + photon_bytes
+            );
+            assert_eq!(
+                st.sppm.as_ref().map(|p| p.passes),
+                (mode == RenderMode::Sppm).then_some(3)
+            );
+            assert_eq!(st.irradiance_cache_records > 0, mode == RenderMode::Jensen);
+            // The recorded options give back the settings.
+            assert_eq!(st.options.settings().spp, 3);
+            assert_eq!(st.options, RenderOptions::from_settings(&st.settings));
+        }
+    }
+}
