@@ -10,10 +10,11 @@
 //! count, and after `k` passes it is the same however many follow.
 
 use super::aov::Term;
+use super::budget;
 use super::error_aov::{replicate_of, Replicates, Shifts, REPLICATES};
 use super::eye;
 use super::film::{Film, Filter, TermRadiance};
-use super::renderer::{OutputTimeFn, PreviewFn};
+use super::renderer::{OutputTimeFn, PreviewFn, ProgressFn};
 use crate::error::{Error, Result};
 use crate::geometry::Ray;
 use crate::math::Spectrum;
@@ -112,6 +113,19 @@ pub enum Schedule {
     Deadline { start: Instant, deadline: f64 },
 }
 
+impl Schedule {
+    /// `spp` passes, or under a time budget (seconds since `start`) as many as fit.
+    pub fn of(time_budget: Option<f64>, spp: u32, start: Instant) -> Schedule {
+        match time_budget {
+            Some(b) => Schedule::Deadline {
+                start,
+                deadline: budget::deadline(b),
+            },
+            None => Schedule::Passes(spp),
+        }
+    }
+}
+
 /// The outcome of a progressive camera pass.
 pub struct Passes<X> {
     pub film: Film,
@@ -151,7 +165,7 @@ pub struct CameraPass<'a> {
     pub seed: u64,
     /// The phase name in progress reports.
     pub phase: &'static str,
-    pub report: &'a (dyn Fn(f32, &str) + Sync),
+    pub progress: Option<&'a ProgressFn>,
     pub cancel: Option<&'a AtomicBool>,
     pub preview: Option<&'a PreviewFn>,
     /// Under a deadline, the time to leave for writing the result (measured after pass 1).
@@ -167,11 +181,17 @@ impl<'a> CameraPass<'a> {
             filter,
             seed,
             phase,
-            report: &|_, _| {},
+            progress: None,
             cancel: None,
             preview: None,
             output_time: None,
             non_finite: AtomicUsize::new(0),
+        }
+    }
+
+    fn report(&self, fraction: f32, phase: &str) {
+        if let Some(p) = self.progress {
+            p(fraction, phase);
         }
     }
 
@@ -228,7 +248,7 @@ impl<'a> CameraPass<'a> {
     pub fn stratified<I: Integrator>(&self, it: &mut I, spp: u32) -> Result<Film> {
         use rayon::prelude::*;
         let (w, h) = (self.scene.width, self.scene.height);
-        (self.report)(0.0, self.phase);
+        self.report(0.0, self.phase);
         let pass = it.begin_pass(0)?;
         let grids = replicate_grids(spp);
         let rows_done = AtomicUsize::new(0);
@@ -251,7 +271,7 @@ impl<'a> CameraPass<'a> {
                         row.push(it_ref.resolve(&px, spp));
                     }
                     let done = rows_done.fetch_add(1, Ordering::Relaxed) + 1;
-                    (self.report)(done as f32 / h as f32, self.phase);
+                    self.report(done as f32 / h as f32, self.phase);
                     Some(row)
                 },
             )
@@ -306,10 +326,10 @@ impl<'a> CameraPass<'a> {
                         break;
                     }
                     let f = (start.elapsed().as_secs_f64() / deadline).min(1.0) as f32;
-                    (self.report)(f, self.phase);
+                    self.report(f, self.phase);
                 }
                 Schedule::Passes(n) if passes >= n => break,
-                Schedule::Passes(n) => (self.report)(passes as f32 / n as f32, self.phase),
+                Schedule::Passes(n) => self.report(passes as f32 / n as f32, self.phase),
                 Schedule::Deadline { .. } => {}
             }
             let k = passes;
@@ -345,7 +365,7 @@ impl<'a> CameraPass<'a> {
                 }
             }
         }
-        (self.report)(1.0, self.phase);
+        self.report(1.0, self.phase);
         let seconds_per_pass = t.elapsed().as_secs_f64() / passes.max(1) as f64;
         Ok(Passes {
             film: self.film_of(it, &pixels, passes),

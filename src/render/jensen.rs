@@ -3,9 +3,9 @@
 //! eye (`eye::trace`) through the camera-pass driver, in one stratified pass or, progressive
 //! or under a time budget, in whole passes.
 
-use super::budget::{self, BudgetStats};
+use super::budget::BudgetStats;
 use super::cache_fill;
-use super::driver::{CameraPass, Integrator, Schedule};
+use super::driver::{Integrator, Schedule};
 use super::eye::{self, EyeCtx, EyeSettings};
 use super::film::TermRadiance;
 use super::memory::MemoryEstimate;
@@ -129,21 +129,10 @@ impl Renderer<'_> {
 
         // Second pass: camera rays.
         let t2 = Instant::now();
-        let report = |f: f32, phase: &str| self.report(f, phase);
-        let mut driver = CameraPass::new(self.scene, &s.filter, s.seed, "render");
-        driver.report = &report;
-        driver.cancel = self.cancel();
-        driver.preview = self.preview.as_deref();
-        driver.output_time = self.output_time.as_deref();
+        let driver = self.camera_pass(s, "render");
         let mut jensen = Jensen { ctx };
         let (film, spp) = if s.progressive || budget_seconds.is_some() {
-            let schedule = match budget_seconds {
-                Some(b) => Schedule::Deadline {
-                    start,
-                    deadline: budget::deadline(b),
-                },
-                None => Schedule::Passes(s.spp),
-            };
+            let schedule = Schedule::of(budget_seconds, s.spp, start);
             let out = driver.progressive(&mut jensen, schedule)?;
             if let Some(bs) = budget_stats.as_mut() {
                 bs.passes = out.passes;

@@ -6,6 +6,7 @@
 
 use super::aov::Term;
 use super::budget;
+use super::driver::CameraPass;
 use super::film::Film;
 use super::memory::MemoryEstimate;
 use super::settings::RenderMode;
@@ -94,6 +95,20 @@ impl<'a> Renderer<'a> {
 
     pub(super) fn cancel(&self) -> Option<&AtomicBool> {
         self.cancel.as_deref()
+    }
+
+    /// The camera-pass driver of this render, reporting `phase`.
+    pub(super) fn camera_pass<'r>(
+        &'r self,
+        s: &'r RenderSettings,
+        phase: &'static str,
+    ) -> CameraPass<'r> {
+        let mut driver = CameraPass::new(self.scene, &s.filter, s.seed, phase);
+        driver.progress = self.progress.as_deref();
+        driver.cancel = self.cancel();
+        driver.preview = self.preview.as_deref();
+        driver.output_time = self.output_time.as_deref();
+        driver
     }
 
     pub(super) fn is_cancelled(&self) -> bool {

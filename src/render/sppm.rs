@@ -37,8 +37,8 @@
 //! thread count and however many passes follow.
 
 use super::aov::Term;
-use super::budget::{self, BudgetStats};
-use super::driver::{CameraPass, Integrator, Pixel, Schedule};
+use super::budget::BudgetStats;
+use super::driver::{Integrator, Pixel, Schedule};
 use super::error_aov::Replicates;
 use super::eye::{self, EyeCtx, EyeSettings, VisiblePoint};
 use super::film::TermRadiance;
@@ -217,12 +217,7 @@ impl Renderer<'_> {
         let s = &self.settings;
         let [need_global, _, need_volume] = self.needed_maps();
         let budget_seconds = s.time_budget.filter(|b| *b > 0.0);
-        let report = |f: f32, phase: &str| self.report(f, phase);
-        let mut driver = CameraPass::new(self.scene, &s.filter, s.seed, "progressive");
-        driver.report = &report;
-        driver.cancel = self.cancel();
-        driver.preview = self.preview.as_deref();
-        driver.output_time = self.output_time.as_deref();
+        let driver = self.camera_pass(s, "progressive");
         let mut sppm = Sppm {
             renderer: self,
             need: [need_global, false, need_volume],
@@ -233,13 +228,7 @@ impl Renderer<'_> {
             },
             maps: Vec::new(),
         };
-        let schedule = match budget_seconds {
-            Some(b) => Schedule::Deadline {
-                start,
-                deadline: budget::deadline(b),
-            },
-            None => Schedule::Passes(s.spp),
-        };
+        let schedule = Schedule::of(budget_seconds, s.spp, start);
         let out = driver.progressive(&mut sppm, schedule)?;
         let mut stats = sppm.stats;
         stats.passes = out.passes;
