@@ -120,3 +120,90 @@ pub fn estimate(
     }
     l
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Ray;
+    use crate::math::PI;
+    use crate::scene::SceneDesc;
+    use glam::Vec3;
+
+    /// A grey floor of albedo `rho` under a point light of intensity `i` at height 1, a wall
+    /// of `wall` half-width standing between the light and x > 0.6 when `wall` is set.
+    fn scene(rho: f32, power: f32, wall: bool) -> Scene {
+        let mut meshes = vec![serde_json::json!({
+            "name": "floor", "material": 0,
+            "positions": [[-10, -10, 0], [10, -10, 0], [10, 10, 0], [-10, 10, 0]],
+            "indices": [[0, 1, 2], [0, 2, 3]],
+        })];
+        if wall {
+            meshes.push(serde_json::json!({
+                "name": "wall", "material": 0,
+                "positions": [[0.45, -5, 0.2], [0.45, 5, 0.2], [0.45, 5, 0.9], [0.45, -5, 0.9]],
+                "indices": [[0, 1, 2], [0, 2, 3]],
+            }));
+        }
+        let desc: SceneDesc = serde_json::from_value(serde_json::json!({
+            "camera": {"transform": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 3], [0, 0, 0, 1]],
+                       "fov": 0.7},
+            "film": {"width": 4, "height": 4},
+            "materials": [{"type": "diffuse", "name": "grey", "color": [rho, rho, rho]}],
+            "meshes": meshes,
+            "lights": [{"type": "point", "name": "bulb", "position": [0, 0, 1],
+                        "power": power}],
+        }))
+        .unwrap();
+        Scene::build(&desc).unwrap()
+    }
+
+    /// The direct term at the floor point (x, 0, 0), seen from above.
+    fn at(scene: &Scene, x: f32) -> Spectrum {
+        let o = Vec3::new(x, 0.0, 2.0);
+        let ray = Ray {
+            o,
+            d: Vec3::new(0.0, 0.0, -1.0),
+            t_max: f32::INFINITY,
+        };
+        let SceneHit::Surface(mut si) = scene.intersect(&ray) else {
+            panic!("the ray hits the floor");
+        };
+        let mat = &scene.materials[si.material as usize];
+        let bsdf = scene.shading_bsdf(mat, &mut si);
+        let stack = scene.camera_stack;
+        let mut rng = Rng::new(1, 0);
+        let n = 64;
+        let mut sum = Spectrum::ZERO;
+        for _ in 0..n {
+            sum += estimate(scene, &si, &bsdf, &stack, &mut rng);
+        }
+        sum / n as f32
+    }
+
+    #[test]
+    fn a_point_light_over_a_lambert_floor_gives_rho_over_pi_i_cos_over_d2() {
+        let (rho, power) = (0.5, 40.0 * PI);
+        let i = power / (4.0 * PI);
+        let sc = scene(rho, power, false);
+        for x in [0.0f32, 0.5, 1.5] {
+            let d2 = 1.0 + x * x;
+            let expected = rho / PI * i * (1.0 / d2.sqrt()) / d2;
+            let got = at(&sc, x);
+            let rel = (got - Spectrum::splat(expected)).abs().max_element() / expected;
+            assert!(rel < 1e-3, "x {x}: {got} against {expected}");
+        }
+        // A light 2% brighter is told apart.
+        let brighter = at(&scene(rho, power * 1.02, false), 0.5);
+        let expected = rho / PI * i / 1.25f32.powf(1.5);
+        assert!((brighter.x - expected) / expected > 0.015, "{brighter}");
+    }
+
+    #[test]
+    fn an_occluder_casts_a_hard_shadow() {
+        let sc = scene(0.5, 40.0 * PI, true);
+        // The wall stands between the light and x = 1.5 (the line from the light crosses
+        // x = 0.45 at height 0.7), not x = 0.2.
+        assert_eq!(at(&sc, 1.5), Spectrum::ZERO);
+        assert!(at(&sc, 0.2).x > 1.0);
+    }
+}
