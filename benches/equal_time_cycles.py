@@ -38,6 +38,7 @@ import argparse
 import json
 import math
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -209,6 +210,20 @@ USD_NOT_COMPARABLE = {"small_light_glass", "spot_fog", "principled_sun"}
 CORPUS_SCENE = {"glass_room": "glass_r0", "spot_fog": "fog_spot_out"}
 
 
+def kept_reference(name: str, args, seed: int, work: str) -> tuple[np.ndarray, float]:
+    """One reference seed: read from ``--ref-dir`` when a former run left it there (its render
+    time then 0), else rendered, and kept there when ``--ref-dir`` is given."""
+    kept = args.ref_dir and os.path.join(args.ref_dir, name,
+                                         f"cycles_{args.ref_spp}_{seed}_0.exr")
+    if kept and os.path.exists(kept):
+        return read_exr(kept), 0.0
+    img, secs = cycles(SCENES[name], args.ref_spp, seed, False, work)
+    if kept:
+        os.makedirs(os.path.dirname(kept), exist_ok=True)
+        shutil.copy(os.path.join(work, f"cycles_{args.ref_spp}_{seed}_0.exr"), kept)
+    return img, secs
+
+
 def reference(name: str, args, work: str):
     """The unbiased reference (mean of two plain Cycles seeds), its noise floor, and a record."""
     corpus = CORPUS_SCENE.get(name)
@@ -219,8 +234,7 @@ def reference(name: str, args, work: str):
         rec = refs.manifest()["scenes"][corpus]
         meta = {"corpus": corpus, "spp": 2 * int(rec["spp"]), "seconds": sum(rec["seconds"])}
     else:
-        (r1, t1), (r2, t2) = (cycles(SCENES[name], args.ref_spp, s, False, work)
-                              for s in (101, 102))
+        (r1, t1), (r2, t2) = (kept_reference(name, args, s, work) for s in (101, 102))
         meta = {"spp": 2 * args.ref_spp, "seconds": t1 + t2}
     return 0.5 * (r1 + r2), (r1 - r2) ** 2 / 4, {"reference": meta, "rows": []}
 
@@ -284,6 +298,9 @@ def main() -> None:
     ap.add_argument("--scenes", nargs="*", default=list(SCENES), choices=list(SCENES))
     ap.add_argument("--presets", nargs="*", default=list(PRESETS), choices=list(PRESETS))
     ap.add_argument("--ref-spp", type=int, default=1024, help="per reference seed")
+    ap.add_argument("--ref-dir", default=None,
+                    help="keep rendered references here (SCENE/cycles_SPP_SEED_0.exr) and reuse "
+                         "them in later runs")
     ap.add_argument("--json", default=None)
     ap.add_argument("--markdown", default=None)
     args = ap.parse_args()
