@@ -47,13 +47,12 @@ use super::photons::{self, MapStats, PhotonMaps};
 use super::renderer::{RenderOutput, Renderer};
 use super::settings::{RenderMode, RenderSettings};
 use super::stats::StatsParts;
-use super::terms::specular;
+use super::terms;
 use super::terms::volume::MarchSettings;
 use crate::error::{Error, Result};
 use crate::geometry::Ray;
 use crate::math::{is_finite3, Spectrum, PI};
 use crate::photon::map::PhotonMap;
-use crate::photon::map::{FLAG_CAUSTIC_PATH, FLAG_FIRST_HIT};
 use crate::photon::KnnScratch;
 use crate::sampling::{mix64, Rng};
 use serde::Serialize;
@@ -315,21 +314,11 @@ fn gather(
     let mut m = 0u32;
     for vp in vps {
         global.tree.for_each_in_radius(vp.p, r2, |ph, d2| {
-            let flags = ph.user_flags();
-            if flags & FLAG_FIRST_HIT != 0 {
+            let Some(t) = terms::of_photon(ph.user_flags(), vp.bounces) else {
                 return;
-            }
-            let wi = ph.incoming();
-            if wi.dot(vp.n) <= 0.0 {
-                return;
-            }
-            let term = if flags & FLAG_CAUSTIC_PATH != 0 {
-                Term::Caustic
-            } else {
-                Term::Indirect
             };
-            let t = specular::route(term, vp.bounces);
-            if !s.terms.contains(t) {
+            let wi = ph.incoming();
+            if wi.dot(vp.n) <= 0.0 || !s.terms.contains(t) {
                 return;
             }
             let c = vp.beta * vp.bsdf.eval(vp.wo, wi) * ph.power();

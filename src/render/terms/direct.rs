@@ -124,19 +124,13 @@ pub fn estimate(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::Ray;
     use crate::math::PI;
-    use crate::scene::SceneDesc;
-    use glam::Vec3;
+    use crate::render::terms::testing;
 
     /// A grey floor of albedo `rho` under a point light of intensity `i` at height 1, a wall
     /// of `wall` half-width standing between the light and x > 0.6 when `wall` is set.
     fn scene(rho: f32, power: f32, wall: bool) -> Scene {
-        let mut meshes = vec![serde_json::json!({
-            "name": "floor", "material": 0,
-            "positions": [[-10, -10, 0], [10, -10, 0], [10, 10, 0], [-10, 10, 0]],
-            "indices": [[0, 1, 2], [0, 2, 3]],
-        })];
+        let mut meshes = vec![testing::floor(0)];
         if wall {
             meshes.push(serde_json::json!({
                 "name": "wall", "material": 0,
@@ -144,32 +138,17 @@ mod tests {
                 "indices": [[0, 1, 2], [0, 2, 3]],
             }));
         }
-        let desc: SceneDesc = serde_json::from_value(serde_json::json!({
-            "camera": {"transform": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 3], [0, 0, 0, 1]],
-                       "fov": 0.7},
-            "film": {"width": 4, "height": 4},
+        testing::scene(serde_json::json!({
             "materials": [{"type": "diffuse", "name": "grey", "color": [rho, rho, rho]}],
             "meshes": meshes,
             "lights": [{"type": "point", "name": "bulb", "position": [0, 0, 1],
                         "power": power}],
         }))
-        .unwrap();
-        Scene::build(&desc).unwrap()
     }
 
     /// The direct term at the floor point (x, 0, 0), seen from above.
     fn at(scene: &Scene, x: f32) -> Spectrum {
-        let o = Vec3::new(x, 0.0, 2.0);
-        let ray = Ray {
-            o,
-            d: Vec3::new(0.0, 0.0, -1.0),
-            t_max: f32::INFINITY,
-        };
-        let SceneHit::Surface(mut si) = scene.intersect(&ray) else {
-            panic!("the ray hits the floor");
-        };
-        let mat = &scene.materials[si.material as usize];
-        let bsdf = scene.shading_bsdf(mat, &mut si);
+        let (si, bsdf) = testing::hit_below(scene, x);
         let stack = scene.camera_stack;
         let mut rng = Rng::new(1, 0);
         let n = 64;

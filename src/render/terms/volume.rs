@@ -252,3 +252,122 @@ fn single_scattering(
     let tr = scene.transmittance(&shadow, stack);
     ls.li * tr * (p / (pmf * ls.pdf))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::PI;
+    use crate::render::terms::testing;
+
+    const SIGMA_S: f32 = 0.2;
+    const SIGMA_A: f32 = 0.05;
+    const G: f32 = 0.3;
+    const LIGHT: Vec3 = Vec3::new(0.0, 0.0, 1.5);
+
+    /// World fog over the floor, lit by a point light of `power` W at `LIGHT`.
+    fn foggy(power: f32) -> Scene {
+        testing::scene(serde_json::json!({
+            "materials": [{"type": "diffuse", "name": "grey", "color": [0.5, 0.5, 0.5]}],
+            "meshes": [testing::floor(0)],
+            "lights": [{"type": "point", "name": "bulb", "position": LIGHT.to_array(),
+                        "power": power}],
+            "media": [{"name": "fog", "sigma_a": [SIGMA_A, SIGMA_A, SIGMA_A],
+                       "sigma_s": [SIGMA_S, SIGMA_S, SIGMA_S],
+                       "g": G}],
+            "world_medium": 0,
+        }))
+    }
+
+    fn no_maps() -> PhotonMaps {
+        PhotonMaps {
+            global: None,
+            caustic: None,
+            volume: None,
+            gather: 50,
+            global_r2: 0.25,
+            caustic_r2: 0.25,
+        }
+    }
+
+    /// The march along x from (-2, 0, 1) over 4 units, averaged over `n` marches.
+    fn along(sc: &Scene, n: u32) -> (f32, f32) {
+        let s = MarchSettings {
+            step: 0.05,
+            gather: 50,
+            max_r2: 0.25,
+        };
+        let (o, dir, dist) = (Vec3::new(-2.0, 0.0, 1.0), Vec3::X, 4.0);
+        let mut rng = Rng::new(3, 0);
+        let mut scratch = KnnScratch::default();
+        let mut l = 0.0;
+        let mut t = 0.0;
+        for _ in 0..n {
+            let m = march(
+                sc,
+                &no_maps(),
+                0,
+                &sc.camera_stack,
+                o,
+                dir,
+                dist,
+                &s,
+                &mut rng,
+                &mut scratch,
+            );
+            l += m.radiance.x;
+            t = m.transmittance.x;
+        }
+        (l / n as f32, t)
+    }
+
+    /// Single scattering along the same ray by quadrature: the integral over t of
+    /// T(t) sigma_s p(theta) I exp(-sigma_t r) / r², with r the distance to the light.
+    fn single_scattering_quadrature(power: f32) -> f32 {
+        let sigma_t = SIGMA_S + SIGMA_A;
+        let i = power / (4.0 * PI);
+        let hg = |c: f32| (1.0 - G * G) / (4.0 * PI * (1.0 + G * G - 2.0 * G * c).powf(1.5));
+        let n = 20_000;
+        let h = 4.0 / n as f32;
+        (0..n)
+            .map(|k| {
+                let t = (k as f32 + 0.5) * h;
+                let x = Vec3::new(-2.0 + t, 0.0, 1.0);
+                let to_x = x - LIGHT;
+                let r = to_x.length();
+                // The light travels along to_x and is scattered towards the origin, along -X.
+                let cos = (to_x / r).dot(-Vec3::X);
+                (-sigma_t * t).exp() * SIGMA_S * hg(cos) * i * (-sigma_t * r).exp() / (r * r) * h
+            })
+            .sum()
+    }
+
+    #[test]
+    fn the_transmittance_of_a_homogeneous_segment_is_beers_law() {
+        let (_, t) = along(&foggy(10.0), 1);
+        let expected = (-(SIGMA_S + SIGMA_A) * 4.0).exp();
+        assert!((t / expected - 1.0).abs() < 1e-5, "{t} against {expected}");
+    }
+
+    #[test]
+    fn single_scattering_from_a_point_light_matches_its_quadrature() {
+        let power = 10.0;
+        let expected = single_scattering_quadrature(power);
+        let (got, _) = along(&foggy(power), 2000);
+        assert!(
+            (got / expected - 1.0).abs() < 0.005,
+            "{got} against {expected}"
+        );
+        // A light 2% brighter is told apart.
+        let (brighter, _) = along(&foggy(power * 1.02), 2000);
+        assert!(
+            brighter / expected - 1.0 > 0.012,
+            "{brighter} against {expected}"
+        );
+    }
+
+    #[test]
+    fn a_medium_without_lights_or_photons_scatters_nothing() {
+        let (l, _) = along(&foggy(0.0), 10);
+        assert_eq!(l, 0.0);
+    }
+}
