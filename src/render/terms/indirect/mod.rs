@@ -13,13 +13,13 @@
 
 mod gather;
 pub use gather::{
-    gather_glossy, gather_hemisphere, gather_radiance, strata, HemisphereGather,
+    gather_glossy, gather_hemisphere, gather_radiance, glossy_share, strata, HemisphereGather,
     IRRADIANCE_POINT_PHOTONS,
 };
 
 use crate::geometry::SurfaceInteraction;
 use crate::materials::bsdf::Bsdf;
-use crate::math::{Spectrum, PI};
+use crate::math::Spectrum;
 use crate::media::MediumStack;
 use crate::photon::map::{EstimateFilter, Select, FLAG_FROM_MEDIUM};
 use crate::photon::KnnScratch;
@@ -56,13 +56,7 @@ pub fn estimate(
     if bsdf.has_glossy() {
         // Gather rays in proportion to the glossy lobes' share of the reflection the gather
         // has to find (the cache answers for the diffuse part), at least one.
-        let glossy = crate::math::luminance(bsdf.glossy_albedo(si.wo));
-        let diffuse = response.map_or(0.0, |r| crate::math::luminance(r) * PI);
-        let share = if glossy + diffuse > 0.0 {
-            glossy / (glossy + diffuse)
-        } else {
-            1.0
-        };
+        let share = glossy_share(bsdf, si.wo, response);
         let n = ((rays as f32 * share).ceil() as u32).clamp(1, rays);
         l += gather_glossy(ctx.scene, ctx.maps, si, bsdf, n, stack, rng, scratch);
     }
