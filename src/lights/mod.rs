@@ -16,7 +16,7 @@ pub use area::{AreaLight, AreaShape};
 pub use distant::DistantLight;
 pub use emit::{LeSample, Target};
 pub use environment::EnvironmentLight;
-pub use light_sampler::LightSampler;
+pub use light_sampler::{LightSampler, EVERY_LIGHT_UP_TO};
 pub use point::{PointLight, SpotShape};
 pub use triangle::TriangleLight;
 

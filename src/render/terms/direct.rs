@@ -1,6 +1,7 @@
 //! `direct`: light from emitters reaching a non-specular surface, by next-event estimation with
-//! multiple importance sampling (Veach 1997, §9.2, power heuristic): one light sample and one
-//! BSDF sample per shading point. A BSDF-sampled ray counts only if it reaches an emitter
+//! multiple importance sampling (Veach 1997, §9.2, power heuristic): a sample of each light
+//! that `LightSampler::next_event` picks (every light, in scenes of a few) and one BSDF sample
+//! per shading point. A BSDF-sampled ray counts only if it reaches an emitter
 //! directly; light arriving through glass or mirrors is the caustic term's.
 
 use crate::geometry::SurfaceInteraction;
@@ -34,37 +35,38 @@ pub fn estimate(
     let ctx = scene.light_ctx();
     let wo = si.wo;
     let u_light = rng.f32();
-    let u_pos = rng.vec2();
     let u_lobe = rng.f32();
     let u_dir = rng.vec2();
 
     // Light sampling.
-    if let Some((li_idx, pmf, _)) = scene.light_sampler.sample(u_light) {
+    scene.light_sampler.next_event(u_light, |li_idx, pmf| {
         let light = &scene.lights[li_idx];
-        if let Some(ls) = light.sample_li(si.p, u_pos, &ctx) {
-            let f = bsdf.eval(wo, ls.wi) * ls.wi.dot(si.ns).abs();
-            if f.max_element() > 0.0 {
-                let shadow = if ls.dist.is_finite() {
-                    si.spawn_ray_to(ls.p)
-                } else {
-                    si.spawn_ray(ls.wi)
-                };
-                let mut shadow_stack = *stack;
-                if ls.wi.dot(si.ng) * wo.dot(si.ng) < 0.0 {
-                    scene.update_stack(&mut shadow_stack, si, ls.wi);
-                }
-                let tr = scene.transmittance(&shadow, &shadow_stack);
-                if tr.max_element() > 0.0 {
-                    let w = if ls.delta {
-                        1.0
-                    } else {
-                        power_heuristic(pmf * ls.pdf, bsdf.pdf(wo, ls.wi))
-                    };
-                    l += f * ls.li * tr * (w / (pmf * ls.pdf));
-                }
-            }
+        let Some(ls) = light.sample_li(si.p, rng.vec2(), &ctx) else {
+            return;
+        };
+        let f = bsdf.eval(wo, ls.wi) * ls.wi.dot(si.ns).abs();
+        if f.max_element() <= 0.0 {
+            return;
         }
-    }
+        let shadow = if ls.dist.is_finite() {
+            si.spawn_ray_to(ls.p)
+        } else {
+            si.spawn_ray(ls.wi)
+        };
+        let mut shadow_stack = *stack;
+        if ls.wi.dot(si.ng) * wo.dot(si.ng) < 0.0 {
+            scene.update_stack(&mut shadow_stack, si, ls.wi);
+        }
+        let tr = scene.transmittance(&shadow, &shadow_stack);
+        if tr.max_element() > 0.0 {
+            let w = if ls.delta {
+                1.0
+            } else {
+                power_heuristic(pmf * ls.pdf, bsdf.pdf(wo, ls.wi))
+            };
+            l += f * ls.li * tr * (w / (pmf * ls.pdf));
+        }
+    });
 
     // BSDF sampling, for the non-delta lobes.
     if let Some(bs) = bsdf.sample(wo, u_lobe, u_dir) {
@@ -82,7 +84,7 @@ pub fn estimate(
                 &mut ray_stack,
                 Some(&mut |lh: LightHit, tr: Spectrum| {
                     let light = &scene.lights[lh.index as usize];
-                    let pdf = scene.light_sampler.pmf(lh.index as usize)
+                    let pdf = scene.light_sampler.next_event_pmf(lh.index as usize)
                         * light.pdf_li(si.p, bs.wi, lh.p, lh.n);
                     let le = scene.light_le(lh.index, bs.wi);
                     from_lights += le * tr * power_heuristic(bs.pdf, pdf);
@@ -93,7 +95,7 @@ pub fn estimate(
                 SceneHit::Surface(hit) => match scene.emissive.get(&(hit.instance, hit.prim)) {
                     Some(&index) => {
                         let light = &scene.lights[index as usize];
-                        let pdf = scene.light_sampler.pmf(index as usize)
+                        let pdf = scene.light_sampler.next_event_pmf(index as usize)
                             * light.pdf_li(si.p, bs.wi, hit.p, hit.ng);
                         (super::emission::surface_emission(scene, &hit), pdf)
                     }
@@ -104,7 +106,7 @@ pub fn estimate(
                     let mut pdf = 0.0;
                     for &i in &scene.infinite_lights {
                         let light = &scene.lights[i as usize];
-                        pdf += scene.light_sampler.pmf(i as usize)
+                        pdf += scene.light_sampler.next_event_pmf(i as usize)
                             * light.pdf_li(si.p, bs.wi, glam::Vec3::ZERO, glam::Vec3::ZERO);
                     }
                     if !scene.infinite_lights.is_empty() {
@@ -184,5 +186,71 @@ mod tests {
         // x = 0.45 at height 0.7), not x = 0.2.
         assert_eq!(at(&sc, 1.5), Spectrum::ZERO);
         assert!(at(&sc, 0.2).x > 1.0);
+    }
+
+    /// Point lights of `power` at height 1 over the floor, at x = 0, 1, 2, ...
+    fn bulbs(n: usize, power: f32) -> Scene {
+        let lights: Vec<_> = (0..n)
+            .map(|k| {
+                serde_json::json!({"type": "point", "name": format!("bulb{k}"),
+                                   "position": [k as f32, 0.0, 1.0], "power": power})
+            })
+            .collect();
+        testing::scene(serde_json::json!({
+            "materials": [{"type": "diffuse", "name": "grey", "color": [0.5, 0.5, 0.5]}],
+            "meshes": [testing::floor(0)],
+            "lights": lights,
+        }))
+    }
+
+    /// rho/pi I cos/d² summed over the bulbs, at the floor point (x, 0, 0).
+    fn bulbs_closed_form(n: usize, power: f32, x: f32) -> f32 {
+        (0..n)
+            .map(|k| {
+                let d2 = 1.0 + (x - k as f32).powi(2);
+                0.5 / PI * power / (4.0 * PI) / d2.powf(1.5)
+            })
+            .sum()
+    }
+
+    #[test]
+    fn a_few_lights_are_each_sampled_at_every_point() {
+        // Two bulbs: every estimate is exact, none is one bulb's light doubled.
+        let sc = bulbs(2, 40.0);
+        let (si, bsdf) = testing::hit_below(&sc, 0.3);
+        let expected = bulbs_closed_form(2, 40.0, 0.3);
+        let mut rng = Rng::new(4, 0);
+        for _ in 0..16 {
+            let got = estimate(&sc, &si, &bsdf, &sc.camera_stack, &mut rng).x;
+            assert!(
+                (got / expected - 1.0).abs() < 1e-4,
+                "{got} against {expected}"
+            );
+        }
+    }
+
+    #[test]
+    fn many_lights_are_sampled_one_at_a_time_in_proportion_to_power() {
+        let n = crate::lights::EVERY_LIGHT_UP_TO + 1;
+        let sc = bulbs(n, 40.0);
+        let (si, bsdf) = testing::hit_below(&sc, 0.3);
+        let expected = bulbs_closed_form(n, 40.0, 0.3);
+        let mut rng = Rng::new(4, 0);
+        let samples: Vec<f32> = (0..20_000)
+            .map(|_| estimate(&sc, &si, &bsdf, &sc.camera_stack, &mut rng).x)
+            .collect();
+        let mean = samples.iter().sum::<f32>() / samples.len() as f32;
+        let distinct = samples
+            .iter()
+            .filter(|&&v| (v - samples[0]).abs() > 1e-6)
+            .count();
+        assert!(
+            distinct > 0,
+            "one light at a time gives different estimates"
+        );
+        assert!(
+            (mean / expected - 1.0).abs() < 0.01,
+            "{mean} against {expected}"
+        );
     }
 }

@@ -215,7 +215,8 @@ pub fn reachable_fraction(scene: &Scene, x: Vec3, r: f32, rng: &mut Rng) -> f32 
 }
 
 /// Radiance from the lights arriving at `x` in a medium and scattered towards `wo`, per unit
-/// scattering coefficient: light sampling with transmittance along the shadow ray.
+/// scattering coefficient: light sampling (`LightSampler::next_event`) with transmittance along
+/// the shadow ray.
 fn single_scattering(
     scene: &Scene,
     stack: &MediumStack,
@@ -225,32 +226,32 @@ fn single_scattering(
     rng: &mut Rng,
 ) -> Spectrum {
     let ctx = scene.light_ctx();
-    let (u_light, u_pos) = (rng.f32(), rng.vec2());
-    let Some((li, pmf, _)) = scene.light_sampler.sample(u_light) else {
-        return Spectrum::ZERO;
-    };
-    let Some(ls) = scene.lights[li].sample_li(x, u_pos, &ctx) else {
-        return Spectrum::ZERO;
-    };
-    let p = phase.eval(wo, ls.wi);
-    if !(p > 0.0) {
-        return Spectrum::ZERO;
-    }
-    let shadow = if ls.dist.is_finite() {
-        Ray {
-            o: x,
-            d: ls.p - x,
-            t_max: 1.0 - crate::geometry::SHADOW_EPSILON,
+    let mut l = Spectrum::ZERO;
+    scene.light_sampler.next_event(rng.f32(), |li, pmf| {
+        let Some(ls) = scene.lights[li].sample_li(x, rng.vec2(), &ctx) else {
+            return;
+        };
+        let p = phase.eval(wo, ls.wi);
+        if !(p > 0.0) {
+            return;
         }
-    } else {
-        Ray {
-            o: x,
-            d: ls.wi,
-            t_max: f32::INFINITY,
-        }
-    };
-    let tr = scene.transmittance(&shadow, stack);
-    ls.li * tr * (p / (pmf * ls.pdf))
+        let shadow = if ls.dist.is_finite() {
+            Ray {
+                o: x,
+                d: ls.p - x,
+                t_max: 1.0 - crate::geometry::SHADOW_EPSILON,
+            }
+        } else {
+            Ray {
+                o: x,
+                d: ls.wi,
+                t_max: f32::INFINITY,
+            }
+        };
+        let tr = scene.transmittance(&shadow, stack);
+        l += ls.li * tr * (p / (pmf * ls.pdf));
+    });
+    l
 }
 
 #[cfg(test)]
