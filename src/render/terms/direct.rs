@@ -34,14 +34,18 @@ pub fn estimate(
     let mut l = Spectrum::ZERO;
     let ctx = scene.light_ctx();
     let wo = si.wo;
+    // The first light sample's numbers come before the BSDF sample's, the others' after, so
+    // that a scene of one light draws the same stream whichever way lights are chosen.
     let u_light = rng.f32();
+    let mut u_first = Some(rng.vec2());
     let u_lobe = rng.f32();
     let u_dir = rng.vec2();
 
     // Light sampling.
     scene.light_sampler.next_event(u_light, |li_idx, pmf| {
         let light = &scene.lights[li_idx];
-        let Some(ls) = light.sample_li(si.p, rng.vec2(), &ctx) else {
+        let u_pos = u_first.take().unwrap_or_else(|| rng.vec2());
+        let Some(ls) = light.sample_li(si.p, u_pos, &ctx) else {
             return;
         };
         let f = bsdf.eval(wo, ls.wi) * ls.wi.dot(si.ns).abs();
