@@ -84,7 +84,7 @@ fn eye_irradiance(light: &Light, ctx: &LightCtx, per_cell: usize, seed: u64) -> 
         for _ in 0..per_cell {
             let u = rng.vec2();
             let p = Vec3::new(-H + (cx + u.x) * side, -H + (cy + u.y) * side, 0.0);
-            let e = match light.sample_li(p, rng.vec2(), ctx) {
+            let e = match light.sample_li(p, Vec3::ZERO, rng.vec2(), ctx) {
                 Some(ls) if ls.wi.z > 0.0 => (luminance(ls.li) * ls.wi.z / ls.pdf) as f64,
                 _ => 0.0,
             };
@@ -319,7 +319,7 @@ fn spot_with_radius_keeps_its_cone() {
             let (mut s1, mut s2) = (0.0f64, 0.0f64);
             for _ in 0..n {
                 let e = l
-                    .sample_li(p, rng.vec2(), &ctx)
+                    .sample_li(p, Vec3::ZERO, rng.vec2(), &ctx)
                     .filter(|ls| ls.wi.z > 0.0)
                     .map_or(0.0, |ls| (luminance(ls.li) * ls.wi.z / ls.pdf) as f64);
                 s1 += e;
@@ -328,7 +328,7 @@ fn spot_with_radius_keeps_its_cone() {
             let mean = s1 / n as f64;
             let se = ((s2 / n as f64 - mean * mean).max(0.0) / n as f64).sqrt();
             let exact = point
-                .sample_li(p, Vec2::ZERO, &ctx)
+                .sample_li(p, Vec3::ZERO, Vec2::ZERO, &ctx)
                 .map_or(0.0, |ls| (luminance(ls.li) * ls.wi.z) as f64);
             eprintln!(
                 "soft {soft} receiver x={x}: E {mean:.6} +- {se:.2e}, point light {exact:.6}"

@@ -205,7 +205,19 @@ fn light_sampling_matches_its_pdf() {
     let textures: Vec<Texture> = vec![];
     let c = ctx(&materials, &textures);
     let p = Vec3::new(0.05, 0.0, 0.02);
-    let all = lights_under_test();
+    // Every light from a point in a medium (no reference normal), and the lights at infinity
+    // also from a surface facing `up` (a constant world is cosine-weighted about it).
+    let up = Vec3::new(0.3, -0.2, 0.9).normalize();
+    let all: Vec<(String, Light, Vec3)> = lights_under_test()
+        .into_iter()
+        .flat_map(|(name, light)| {
+            let mut v = vec![(name.to_string(), light.clone(), Vec3::ZERO)];
+            if light.is_infinite() {
+                v.push((format!("{name}_about_a_normal"), light, up));
+            }
+            v
+        })
+        .collect();
     let cfg = Chi2Config {
         samples: 400_000,
         theta_bins: 20,
@@ -214,16 +226,16 @@ fn light_sampling_matches_its_pdf() {
         fine_step: 0.005,
         ..Default::default()
     };
-    for (name, light) in &all {
+    for (name, light, n) in &all {
         let r = assert_chi2(
             name,
             &cfg,
             |u| {
-                let s = light.sample_li(p, Vec2::new(u.x, u.y), &c)?;
+                let s = light.sample_li(p, *n, Vec2::new(u.x, u.y), &c)?;
                 Some((s.wi, s.pdf))
             },
             |d| match hit_light(light, p, d, &c) {
-                Some((pl, nl)) => light.pdf_li(p, d, pl, nl),
+                Some((pl, nl)) => light.pdf_li(p, *n, d, pl, nl),
                 None => 0.0,
             },
         );
@@ -290,7 +302,7 @@ fn light_power_matches_monte_carlo_flux() {
         let (mut sum, mut sum2) = (0.0f64, 0.0f64);
         for _ in 0..n {
             let x = warp::square_to_uniform_sphere(rng.vec2()) * radius;
-            let e = match light.sample_li(x, rng.vec2(), &c) {
+            let e = match light.sample_li(x, Vec3::ZERO, rng.vec2(), &c) {
                 Some(s) => {
                     let cos = s.wi.dot(-x.normalize()).max(0.0);
                     photonmap::math::luminance(s.li) as f64 * cos as f64 / s.pdf as f64

@@ -9,7 +9,7 @@
 
 use super::LightSample;
 use crate::materials::texture::Texture;
-use crate::math::{luminance, Spectrum, Transform, INV_4PI, PI};
+use crate::math::{luminance, Frame, Spectrum, Transform, INV_4PI, INV_PI, PI};
 use crate::sampling::{warp, Distribution2D};
 use glam::{Vec2, Vec3};
 
@@ -76,8 +76,27 @@ impl EnvironmentLight {
         }
     }
 
+    /// A direction towards the environment: uniform over the sphere for photon emission and
+    /// points in a medium, see [`sample_li_about`](Self::sample_li_about) for surfaces.
     pub fn sample_li(&self, u: Vec2) -> Option<LightSample> {
+        self.sample_li_about(Vec3::ZERO, u)
+    }
+
+    /// A direction towards the environment seen from a surface whose reflection faces `n`
+    /// (zero for a point in a medium or a surface that transmits): a constant world is
+    /// sampled by cos(wi, n) / pi over that hemisphere, as the diffuse part weighs it, instead
+    /// of uniformly over the sphere, half of which lies behind the surface; an image by its
+    /// luminance.
+    pub fn sample_li_about(&self, n: Vec3, u: Vec2) -> Option<LightSample> {
         let (wi, pdf) = match &self.image {
+            None if n != Vec3::ZERO => {
+                let local = warp::square_to_cosine_hemisphere(u);
+                let pdf = warp::cosine_hemisphere_pdf(local);
+                if pdf <= 0.0 {
+                    return None;
+                }
+                (Frame::from_normal(n).to_world(local).normalize(), pdf)
+            }
             None => (warp::square_to_uniform_sphere(u), INV_4PI),
             Some((_, dist)) => {
                 let (uv, pdf_uv) = dist.sample(u);
@@ -101,8 +120,10 @@ impl EnvironmentLight {
         })
     }
 
-    pub fn pdf_li(&self, wi: Vec3) -> f32 {
+    /// The density of [`sample_li_about`](Self::sample_li_about) about `n` in direction `wi`.
+    pub fn pdf_li_about(&self, n: Vec3, wi: Vec3) -> f32 {
         match &self.image {
+            None if n != Vec3::ZERO => wi.dot(n).max(0.0) * INV_PI,
             None => INV_4PI,
             Some((_, dist)) => {
                 let local = self.to_world.inv_vector(wi).normalize_or_zero();

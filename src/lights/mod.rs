@@ -60,26 +60,29 @@ pub enum Light {
 }
 
 impl Light {
-    /// Samples incident light at `p` (with the reference normal used only for area-light culling).
-    pub fn sample_li(&self, p: Vec3, u: Vec2, ctx: &LightCtx) -> Option<LightSample> {
+    /// Samples incident light at `p`. `n` is the side a reflecting surface at `p` faces, or
+    /// zero for a point in a medium or a surface that transmits; only the constant
+    /// environment uses it (cosine-weighted about `n`, see `EnvironmentLight::sample_li_about`).
+    pub fn sample_li(&self, p: Vec3, n: Vec3, u: Vec2, ctx: &LightCtx) -> Option<LightSample> {
         let s = match self {
             Light::Point(l) => l.sample_li(p, u),
             Light::Area(l) => l.sample_li(p, u),
             Light::Distant(l) => l.sample_li(u),
-            Light::Environment(l) => l.sample_li(u),
+            Light::Environment(l) => l.sample_li_about(n, u),
             Light::Triangle(l) => l.sample_li(p, u, ctx),
         }?;
         (s.pdf > 0.0 && s.pdf.is_finite() && s.li.max_element() > 0.0).then_some(s)
     }
 
-    /// Solid-angle density with which `sample_li` at `p` would pick direction `wi`, reaching
-    /// the light at point `p_light` with normal `n_light` (ignored for lights at infinity).
-    pub fn pdf_li(&self, p: Vec3, wi: Vec3, p_light: Vec3, n_light: Vec3) -> f32 {
+    /// Solid-angle density with which `sample_li` at `p` about `n` would pick direction `wi`,
+    /// reaching the light at point `p_light` with normal `n_light` (ignored for lights at
+    /// infinity).
+    pub fn pdf_li(&self, p: Vec3, n: Vec3, wi: Vec3, p_light: Vec3, n_light: Vec3) -> f32 {
         match self {
             Light::Point(l) => l.pdf_li(p, p_light),
             Light::Area(l) => l.pdf_li(p, p_light, n_light),
             Light::Distant(l) => l.pdf_li(wi),
-            Light::Environment(l) => l.pdf_li(wi),
+            Light::Environment(l) => l.pdf_li_about(n, wi),
             Light::Triangle(l) => l.pdf_li(p, p_light, n_light),
         }
     }

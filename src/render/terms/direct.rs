@@ -34,6 +34,15 @@ pub fn estimate(
     let mut l = Spectrum::ZERO;
     let ctx = scene.light_ctx();
     let wo = si.wo;
+    // The side light is reflected from: a constant world is sampled over that hemisphere
+    // only (a surface that transmits takes it from the whole sphere).
+    let n_ref = if bsdf.flags() & LobeFlags::TRANSMISSION != 0 {
+        glam::Vec3::ZERO
+    } else if si.ns.dot(wo) < 0.0 {
+        -si.ns
+    } else {
+        si.ns
+    };
     // The first light sample's numbers come before the BSDF sample's, the others' after, so
     // that a scene of one light draws the same stream whichever way lights are chosen.
     let u_light = rng.f32();
@@ -45,7 +54,7 @@ pub fn estimate(
     scene.light_sampler.next_event(u_light, |li_idx, pmf| {
         let light = &scene.lights[li_idx];
         let u_pos = u_first.take().unwrap_or_else(|| rng.vec2());
-        let Some(ls) = light.sample_li(si.p, u_pos, &ctx) else {
+        let Some(ls) = light.sample_li(si.p, n_ref, u_pos, &ctx) else {
             return;
         };
         let f = bsdf.eval(wo, ls.wi) * ls.wi.dot(si.ns).abs();
@@ -89,7 +98,7 @@ pub fn estimate(
                 Some(&mut |lh: LightHit, tr: Spectrum| {
                     let light = &scene.lights[lh.index as usize];
                     let pdf = scene.light_sampler.next_event_pmf(lh.index as usize)
-                        * light.pdf_li(si.p, bs.wi, lh.p, lh.n);
+                        * light.pdf_li(si.p, n_ref, bs.wi, lh.p, lh.n);
                     let le = scene.light_le(lh.index, bs.wi);
                     from_lights += le * tr * power_heuristic(bs.pdf, pdf);
                 }),
@@ -100,7 +109,7 @@ pub fn estimate(
                     Some(&index) => {
                         let light = &scene.lights[index as usize];
                         let pdf = scene.light_sampler.next_event_pmf(index as usize)
-                            * light.pdf_li(si.p, bs.wi, hit.p, hit.ng);
+                            * light.pdf_li(si.p, n_ref, bs.wi, hit.p, hit.ng);
                         (super::emission::surface_emission(scene, &hit), pdf)
                     }
                     None => (Spectrum::ZERO, 0.0),
@@ -111,7 +120,7 @@ pub fn estimate(
                     for &i in &scene.infinite_lights {
                         let light = &scene.lights[i as usize];
                         pdf += scene.light_sampler.next_event_pmf(i as usize)
-                            * light.pdf_li(si.p, bs.wi, glam::Vec3::ZERO, glam::Vec3::ZERO);
+                            * light.pdf_li(si.p, n_ref, bs.wi, glam::Vec3::ZERO, glam::Vec3::ZERO);
                     }
                     if !scene.infinite_lights.is_empty() {
                         le = scene.background(bs.wi);
@@ -255,6 +264,59 @@ mod tests {
         assert!(
             (mean / expected - 1.0).abs() < 0.01,
             "{mean} against {expected}"
+        );
+    }
+
+    /// A Lambert floor of albedo 0.5 under a constant world of radiance `l`, with a wall
+    /// standing on it at x = 0.45 when `wall` is set.
+    fn under_a_grey_world(l: f32, wall: bool) -> Scene {
+        let mut meshes = vec![testing::floor(0)];
+        if wall {
+            meshes.push(serde_json::json!({
+                "name": "wall", "material": 0,
+                "positions": [[0.45, -50, 0], [0.45, 50, 0], [0.45, 50, 50], [0.45, -50, 50]],
+                "indices": [[0, 1, 2], [0, 2, 3]],
+            }));
+        }
+        testing::scene(serde_json::json!({
+            "materials": [{"type": "diffuse", "name": "grey", "color": [0.5, 0.5, 0.5]}],
+            "meshes": meshes,
+            "environment": {"color": [l, l, l], "strength": 1.0},
+        }))
+    }
+
+    #[test]
+    fn a_grey_world_over_a_lambert_floor_is_exact_at_every_sample() {
+        // Light and BSDF samples are both cosine-weighted over the floor's hemisphere, so
+        // each estimate is rho L (uniform sampling of the sphere would scatter them).
+        let sc = under_a_grey_world(2.0, false);
+        let (si, bsdf) = testing::hit_below(&sc, 0.3);
+        let mut rng = Rng::new(5, 0);
+        for _ in 0..64 {
+            let got = estimate(&sc, &si, &bsdf, &sc.camera_stack, &mut rng).x;
+            assert!((got - 1.0).abs() < 1e-4, "{got} against 1");
+        }
+        // Beside a wall as high as the sky is wide, half of the hemisphere's cosine-weighted
+        // sky is hidden: the mean is rho L / 2 (each sample 0, rho L / 2 or rho L).
+        let beside_the_wall = |l: f32| {
+            let sc = under_a_grey_world(l, true);
+            let (si, bsdf) = testing::hit_below(&sc, 0.45 - 1e-3);
+            let mut rng = Rng::new(6, 0);
+            let n = 100_000;
+            let v: Vec<f64> = (0..n)
+                .map(|_| estimate(&sc, &si, &bsdf, &sc.camera_stack, &mut rng).x as f64)
+                .collect();
+            let mean = v.iter().sum::<f64>() / n as f64;
+            let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1) as f64;
+            (mean, (var / n as f64).sqrt())
+        };
+        let (mean, se) = beside_the_wall(2.0);
+        assert!((mean - 0.5).abs() < 4.0 * se, "{mean} +- {se} against 0.5");
+        // A world 2% brighter is told apart.
+        let (brighter, se) = beside_the_wall(2.04);
+        assert!(
+            (brighter - 0.5).abs() > 4.0 * se,
+            "{brighter} +- {se} passes for 0.5"
         );
     }
 }

@@ -228,7 +228,7 @@ fn single_scattering(
     let ctx = scene.light_ctx();
     let mut l = Spectrum::ZERO;
     scene.light_sampler.next_event(rng.f32(), |li, pmf| {
-        let Some(ls) = scene.lights[li].sample_li(x, rng.vec2(), &ctx) else {
+        let Some(ls) = scene.lights[li].sample_li(x, Vec3::ZERO, rng.vec2(), &ctx) else {
             return;
         };
         let p = phase.eval(wo, ls.wi);
