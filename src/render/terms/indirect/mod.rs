@@ -58,10 +58,26 @@ pub fn estimate(
         // has to find (the cache answers for the diffuse part), at least one.
         let share = glossy_share(bsdf, si.wo, response);
         let n = ((rays as f32 * share).ceil() as u32).clamp(1, rays);
-        l += gather_glossy(ctx.scene, ctx.maps, si, bsdf, n, stack, rng, scratch);
+        // Where that is under one ray, the one ray is gathered by Russian roulette, with
+        // probability a multiple of the share, and weighted by its inverse.
+        let q = (share * rays as f32 * GLOSSY_GATHER_ROULETTE).clamp(MIN_GLOSSY_GATHER, 1.0);
+        if q >= 1.0 || rng.f32() < q {
+            l += gather_glossy(ctx.scene, ctx.maps, si, bsdf, n, stack, rng, scratch) / q;
+        }
     }
     l
 }
+
+/// The glossy gather's probability at a camera sample over the glossy lobes' expected rays
+/// (their share of the reflection times the gather rays per sample), where that is below
+/// one. The default Principled BSDF's specular layer reflects 4-10% of the light; gathered at
+/// every camera sample it took 39% of a sunlit courtyard's render at `medium`. Gathered with
+/// twice its expected rays' probability: 0.86 of the time, pixel noise 0.0239 -> 0.0241
+/// (once: 0.84 of the time, noise 0.0257).
+const GLOSSY_GATHER_ROULETTE: f32 = 2.0;
+
+/// The least probability of a camera sample's glossy gather: its weight stays at most 16.
+const MIN_GLOSSY_GATHER: f32 = 1.0 / 16.0;
 
 /// Light that participating media scatter straight onto the surface: the global map's photons
 /// whose last event was a scattering in a medium. Final-gather rays count only light from
