@@ -16,6 +16,10 @@ use crate::photon::KnnScratch;
 use crate::sampling::Rng;
 use crate::scene::{Scene, SceneHit};
 
+/// Samples of the environment at the surfaces a camera path reaches (one at final-gather
+/// hits, which are many more and each weighs less): see `direct::estimate_with`.
+pub const EYE_LIGHT_SAMPLES: u32 = 4;
+
 #[derive(Clone, Copy, Debug)]
 pub struct EyeSettings {
     pub terms: TermMask,
@@ -197,7 +201,14 @@ pub fn trace_split(
                             &mut out,
                             Term::Direct,
                             bounces,
-                            beta * direct::estimate(scene, &si, &bsdf, &stack, rng),
+                            beta * direct::estimate_with(
+                                scene,
+                                &si,
+                                &bsdf,
+                                &stack,
+                                EYE_LIGHT_SAMPLES,
+                                rng,
+                            ),
                         );
                     }
                     if passes {
