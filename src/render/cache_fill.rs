@@ -4,7 +4,7 @@
 //! record, computed in parallel and inserted in pixel order. The camera pass then only reads
 //! the cache, so the image is the same for any thread count.
 
-use super::eye::{EyeCtx, MAX_CROSSINGS};
+use super::eye::EyeCtx;
 use super::irradiance_cache::{IrradianceCache, Record};
 use super::settings::RenderSettings;
 use super::terms::indirect::gather_hemisphere;
@@ -22,8 +22,7 @@ use rayon::prelude::*;
 const R_MIN_PIXELS: f32 = 1.5;
 const R_MAX_PIXELS: f32 = 30.0;
 
-/// First point with a diffuse component seen through pixel (x, y), through medium boundaries
-/// and perfect specular bounces, with its normal and the path length.
+/// First point with a diffuse component seen through pixel (x, y), with its normal and the path length.
 fn first_diffuse(
     ctx: &EyeCtx,
     x: usize,
@@ -40,23 +39,12 @@ fn first_diffuse(
         t_max: cr.t_max,
     };
     let mut length = 0.0;
-    let (mut bounces, mut crossings) = (0u32, 0u32);
-    while bounces <= ctx.settings.max_specular_depth {
+    for _ in 0..=ctx.settings.max_specular_depth {
         let SceneHit::Surface(mut si) = scene.intersect(&ray) else {
             return None;
         };
         length += si.t * ray.d.length();
         let mat = scene.materials.get(si.material as usize)?;
-        if mat.is_null() {
-            // A medium's invisible boundary: the camera pass crosses it, and so does this.
-            crossings += 1;
-            if crossings > MAX_CROSSINGS {
-                return None;
-            }
-            ray = si.spawn_ray(ray.d);
-            continue;
-        }
-        bounces += 1;
         let bsdf = scene.shading_bsdf(mat, &mut si);
         let passes = bsdf.passes_through();
         if bsdf.has_non_delta() && !passes {

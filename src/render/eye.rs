@@ -16,9 +16,6 @@ use crate::photon::KnnScratch;
 use crate::sampling::Rng;
 use crate::scene::{Scene, SceneHit};
 
-/// Invisible medium boundaries a camera path crosses at most.
-pub const MAX_CROSSINGS: u32 = 64;
-
 /// Samples of the environment at the surfaces a camera path reaches (one at final-gather
 /// hits, which are many more and each weighs less): see `direct::estimate_with`.
 pub const EYE_LIGHT_SAMPLES: u32 = 4;
@@ -181,7 +178,7 @@ pub fn trace_split(
                 if mat.is_null() {
                     // An invisible medium boundary: cross it and go on.
                     crossings += 1;
-                    if crossings > MAX_CROSSINGS {
+                    if crossings > 64 {
                         break;
                     }
                     scene.update_stack(&mut stack, &si, ray.d);

@@ -2,8 +2,7 @@
 //! jittered step (Jensen 2001, §10.4; Jensen & Christensen 1998). At each step the in-scattered
 //! radiance is single scattering from the lights by next-event estimation, with transmittance
 //! along the shadow ray, plus multiple scattering (and volume caustics) from the volume photon
-//! map: sum_p p(wo, wi_p) Phi_p / (4/3 pi r^3), read at one step in `VOLUME_LOOKUP_STRIDE`
-//! (the same random one of each group, weighted by the stride).
+//! map: sum_p p(wo, wi_p) Phi_p / (4/3 pi r^3).
 //!
 //! Each step of length D starting at distance t0 contributes
 //! T(t0) * integral_0^D exp(-sigma_t s) L_s(t0 + s) ds, estimated with one point drawn from the
@@ -19,15 +18,6 @@ use crate::render::photons::PhotonMaps;
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use glam::Vec3;
-
-/// March steps per read of the volume photon map (multiple scattering, smooth along a ray);
-/// single scattering is estimated at every step. On a spot over a fog cube at `draft` the
-/// reads (a k-nearest search and the boundary rays of `reachable_fraction`) were 60% of the
-/// camera pass: strides 1, 2, 4, 8, 16 took 10.7, 6.2, 4.0, 2.7, 2.2 s for pixel noise
-/// 0.0059, 0.0059, 0.0059, 0.0061, 0.0065. The image mean of a glass sphere's volume caustic
-/// in fog against Mitsuba (`tests/media_reference.rs`, limit 1.5%) is -1.4% at stride 1 and
-/// -1.3% at 4, -1.7% at 8: that scene sits at its limit, and 4 is kept.
-pub const VOLUME_LOOKUP_STRIDE: u32 = 4;
 
 /// Steps at most per medium segment.
 pub const MAX_STEPS: u32 = 256;
@@ -150,14 +140,6 @@ pub fn march(
     let mut l = Spectrum::ZERO;
     let mut t_start = Spectrum::ONE;
     let (mut steps, mut lookups) = (0u64, 0u64);
-    // The volume map is read at one step in every `stride`, the same random one of each group,
-    // weighted by the stride: every step is read with probability 1 / stride.
-    let stride = VOLUME_LOOKUP_STRIDE;
-    let read_at = if maps.volume.is_some() && stride > 1 {
-        ((rng.f32() * stride as f32) as u32).min(stride - 1)
-    } else {
-        0
-    };
     for i in 0..n {
         if t_start.max_element() < T_CUTOFF {
             break;
@@ -182,11 +164,11 @@ pub fn march(
         if sigma_s.max_element() > 0.0 {
             inscatter += sigma_s * single_scattering(scene, stack, x, wo, &phase, rng);
         }
-        if let Some(vm) = maps.volume.as_ref().filter(|_| i % stride == read_at) {
+        if let Some(vm) = &maps.volume {
             if let Some((l_vol, r2)) =
                 vm.volume_radiance(x, wo, &phase, s.gather, s.max_r2, scratch)
             {
-                inscatter += l_vol * (stride as f32 / reachable_fraction(scene, x, r2.sqrt(), rng));
+                inscatter += l_vol / reachable_fraction(scene, x, r2.sqrt(), rng);
             }
             lookups += 1;
         }
