@@ -50,10 +50,10 @@ pub fn estimate_with(
 ) -> Spectrum {
     let samples = samples.max(1);
     let samples_of = |i: usize| {
-        if !matches!(scene.lights[i], crate::lights::Light::Environment(_)) {
-            1.0
-        } else {
+        if matches!(scene.lights[i], crate::lights::Light::Environment(_)) {
             samples as f32
+        } else {
+            1.0
         }
     };
     let mut l = Spectrum::ZERO;
@@ -174,16 +174,23 @@ mod tests {
     use crate::math::PI;
     use crate::render::terms::testing;
 
+    /// A wall of material 0 in the plane x = 0.45, `half_width` either side of y = 0, from
+    /// height `z0` to `z1`.
+    fn wall_mesh(half_width: f32, z0: f32, z1: f32) -> serde_json::Value {
+        let w = half_width;
+        serde_json::json!({
+            "name": "wall", "material": 0,
+            "positions": [[0.45, -w, z0], [0.45, w, z0], [0.45, w, z1], [0.45, -w, z1]],
+            "indices": [[0, 1, 2], [0, 2, 3]],
+        })
+    }
+
     /// A grey floor of albedo `rho` under a point light of intensity `i` at height 1, a wall
     /// of `wall` half-width standing between the light and x > 0.6 when `wall` is set.
     fn scene(rho: f32, power: f32, wall: bool) -> Scene {
         let mut meshes = vec![testing::floor(0)];
         if wall {
-            meshes.push(serde_json::json!({
-                "name": "wall", "material": 0,
-                "positions": [[0.45, -5, 0.2], [0.45, 5, 0.2], [0.45, 5, 0.9], [0.45, -5, 0.9]],
-                "indices": [[0, 1, 2], [0, 2, 3]],
-            }));
+            meshes.push(wall_mesh(5.0, 0.2, 0.9));
         }
         testing::scene(serde_json::json!({
             "materials": [{"type": "diffuse", "name": "grey", "color": [rho, rho, rho]}],
@@ -304,11 +311,7 @@ mod tests {
     fn under_a_grey_world(l: f32, wall: bool) -> Scene {
         let mut meshes = vec![testing::floor(0)];
         if wall {
-            meshes.push(serde_json::json!({
-                "name": "wall", "material": 0,
-                "positions": [[0.45, -50, 0], [0.45, 50, 0], [0.45, 50, 50], [0.45, -50, 50]],
-                "indices": [[0, 1, 2], [0, 2, 3]],
-            }));
+            meshes.push(wall_mesh(50.0, 0.0, 50.0));
         }
         testing::scene(serde_json::json!({
             "materials": [{"type": "diffuse", "name": "grey", "color": [0.5, 0.5, 0.5]}],
