@@ -106,11 +106,11 @@ fn chi2_ggx_reflection() {
 
 #[test]
 fn chi2_rough_dielectric() {
-    for ior in [1.5f32, 2.4] {
+    for (ior, multiscatter) in [(1.5f32, false), (2.4, true)] {
         for roughness in [0.3f32, 0.7] {
             let bsdf = Bsdf::new(local()).with(
                 1.0,
-                dielectric_lobe(ior, roughness, Vec3::new(1.0, 0.8, 0.6)),
+                dielectric_lobe(ior, roughness, Vec3::new(1.0, 0.8, 0.6), multiscatter),
             );
             assert!(matches!(
                 bsdf.lobes().next(),
@@ -134,7 +134,8 @@ fn nearly_index_matched_dielectric_is_a_clean_pass_through() {
     // IOR 1.0001: a rough interface refracts into a lobe ~ alpha |eta - 1| wide, so the
     // material treats it as smooth: a delta straight through, reflection ~ 1e-9.
     for roughness in [0.0f32, 0.3, 1.0] {
-        let bsdf = Bsdf::new(local()).with(1.0, dielectric_lobe(1.0001, roughness, Vec3::ONE));
+        let bsdf =
+            Bsdf::new(local()).with(1.0, dielectric_lobe(1.0001, roughness, Vec3::ONE, true));
         let mut rng = Rng::new(3, 0);
         for deg in [0.0f32, 40.0, 85.0, 130.0] {
             let wo = wo_at(deg);
@@ -159,7 +160,7 @@ fn nearly_index_matched_dielectric_is_a_clean_pass_through() {
 fn smooth_dielectric_choice_follows_fresnel_and_tir() {
     let n = 200_000;
     for ior in [1.0001f32, 1.5, 2.4] {
-        let bsdf = Bsdf::new(local()).with(1.0, dielectric_lobe(ior, 0.0, Vec3::ONE));
+        let bsdf = Bsdf::new(local()).with(1.0, dielectric_lobe(ior, 0.0, Vec3::ONE, true));
         for deg in [0.0f32, 30.0, 60.0, 80.0, 89.0, 150.0, 120.0, 100.0] {
             let wo = wo_at(deg);
             let (r, cos_t, _, _) = fresnel_dielectric(wo.z, ior);

@@ -77,15 +77,18 @@ fn white_materials() -> Vec<(String, MaterialDesc)> {
             ));
         }
         for ior in [1.0001f32, 1.5, 2.4] {
-            v.push((
-                format!("dielectric ior={ior} r={r}"),
-                MaterialDesc::Dielectric {
-                    name: String::new(),
-                    ior,
-                    roughness: r,
-                    color: [1.0; 3],
-                },
-            ));
+            for multiscatter in [true, false] {
+                v.push((
+                    format!("dielectric ior={ior} multiscatter={multiscatter} r={r}"),
+                    MaterialDesc::Dielectric {
+                        name: String::new(),
+                        ior,
+                        roughness: r,
+                        color: [1.0; 3],
+                        multiscatter,
+                    },
+                ));
+            }
         }
         v.push((
             format!("principled plastic r={r}"),
@@ -320,6 +323,7 @@ fn smooth_dielectric_r_plus_t_is_one() {
             ior,
             roughness: 0.0,
             color: [1.0; 3],
+            multiscatter: true,
         });
         let bsdf = m.bsdf(local(), Vec2::ZERO, &[]);
         let mut rng = Rng::new(2, 0);
@@ -354,6 +358,11 @@ fn reciprocal(desc: &MaterialDesc) -> bool {
     match desc {
         MaterialDesc::Principled(_) => false,
         MaterialDesc::Glossy { multiscatter, .. } => !multiscatter,
+        MaterialDesc::Dielectric {
+            multiscatter,
+            roughness,
+            ..
+        } => !multiscatter || *roughness == 0.0,
         _ => true,
     }
 }
@@ -532,6 +541,48 @@ fn multiscatter_ggx_white_furnace_is_one() {
                     (a - expect).abs() < 4.0 * sa + 4e-3,
                     "r {r} multiscatter {multiscatter} at {deg} deg: {a} +- {sa}, expected {expect}"
                 );
+            }
+        }
+    }
+}
+
+/// Rough glass: with Cycles' Multiscatter GGX compensation it reflects and refracts all the
+/// energy arriving from either side; without it, the single-scattering albedo of its table,
+/// which the sampled lobe must reproduce (a table or a factor that is off fails).
+#[test]
+fn multiscatter_glass_white_furnace_is_one() {
+    use photonmap::materials::glass_albedo;
+    let n = 200_000;
+    for (r, ior) in [(0.3f32, 1.5f32), (0.6, 1.33), (0.9, 2.4)] {
+        for multiscatter in [true, false] {
+            let m = Material::from_desc(&MaterialDesc::Dielectric {
+                name: String::new(),
+                ior,
+                roughness: r,
+                color: [1.0; 3],
+                multiscatter,
+            });
+            let bsdf = m.bsdf(local(), Vec2::ZERO, &[]);
+            for (k, deg) in [0.0f32, 45.0, 80.0, 120.0, 170.0].iter().enumerate() {
+                let wo = wo_at(*deg);
+                let (a, sa) = albedo_by_sampling(&bsdf, wo, n, 20 + k as u64);
+                let eta = if wo.z > 0.0 { ior } else { 1.0 / ior };
+                let expect = if multiscatter {
+                    1.0
+                } else {
+                    glass_albedo::albedo(wo.z.abs(), r, eta) as f64
+                };
+                assert!(
+                    (a - expect).abs() < 4.0 * sa + 4e-3,
+                    "r {r} ior {ior} multiscatter {multiscatter} at {deg} deg: {a} +- {sa}, \
+                     expected {expect}"
+                );
+                if !multiscatter && *deg >= 80.0 {
+                    assert!(
+                        expect < 0.999,
+                        "r {r} ior {ior} at {deg} deg loses energy: {expect}"
+                    );
+                }
             }
         }
     }

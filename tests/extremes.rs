@@ -697,6 +697,7 @@ fn every_field_scene() -> SceneDesc {
         ior: 1.5,
         roughness: 0.0,
         color: [1.0; 3],
+        multiscatter: true,
     });
     desc.media.push(MediumDesc {
         name: "fog".into(),

@@ -7,7 +7,7 @@ Glass and Emission BSDF nodes), and MaterialX documents built by hand often do t
 |---|---|
 | ``bsdf``: ``ND_oren_nayar_diffuse_bsdf`` (color x weight) | `diffuse` (roughness > 0 read as Lambert, warned) |
 | ``bsdf``: ``ND_conductor_bsdf`` (ior/extinction, or from ``ND_artistic_ior``'s reflectivity) | `glossy` with its normal-incidence reflectance, multiscatter GGX |
-| ``bsdf``: ``ND_dielectric_bsdf`` (ior, roughness, tint; scatter_mode RT) | `dielectric` |
+| ``bsdf``: ``ND_dielectric_bsdf`` (ior, roughness, tint; scatter_mode RT) | `dielectric`, multiscatter GGX |
 | ``edf``: ``ND_uniform_edf`` (color), no ``bsdf`` | `emission` |
 
 Anisotropic roughness (a float2 with different components) is read as its mean, warned.
@@ -104,6 +104,6 @@ def read_surface(table, material, surface) -> dict:
             tint = [1.0, 1.0, 1.0]
         return {"type": "dielectric", "name": name,
                 "ior": max(1.0, float(_value(table, s, "ior", 1.5))),
-                "roughness": _roughness(table, s, diag), "color": tint}
+                "roughness": _roughness(table, s, diag), "color": tint, "multiscatter": True}
     diag.warn(s.GetPrim(), f"BSDF `{sid}` is not supported; grey diffuse used")
     return grey

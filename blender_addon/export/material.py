@@ -7,7 +7,7 @@ Follows the node tree from the active Material Output's Surface socket:
 | Principled BSDF | `principled`: Base Color, Metallic, Roughness, IOR, Transmission Weight, Specular IOR Level (x 2 = `specular`), Emission Color and Strength, Coat (Weight, Roughness, IOR, Tint); Multiscatter GGX or GGX (`multiscatter`) |
 | Diffuse BSDF | `diffuse` (roughness ignored) |
 | Glossy / Anisotropic BSDF | `glossy`: Color as a tint (no Fresnel, as Cycles), Roughness, Multiscatter GGX or GGX (anisotropy ignored) |
-| Glass BSDF | `dielectric` |
+| Glass BSDF | `dielectric`; Multiscatter GGX or GGX (`multiscatter`) |
 | Transparent BSDF | `dielectric` of IOR 1 (a pass-through; shadows of it are not exact) |
 | Emission | `emission` |
 
@@ -141,7 +141,8 @@ class MaterialExporter:
                         "roughness": self._const(self._float(surf, "Roughness", name, 0.0), name,
                                                  "Roughness"),
                         "color": self._const_color(self._color(surf, "Color", name, (1, 1, 1)),
-                                                   name, "Color")}
+                                                   name, "Color"),
+                        "multiscatter": self._multiscatter(surf, name)}
             if kind == "ShaderNodeBsdfTransparent":
                 return {"type": "dielectric", "name": name, "ior": 1.0, "roughness": 0.0,
                         "color": self._const_color(self._color(surf, "Color", name, (1, 1, 1)),

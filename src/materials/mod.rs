@@ -12,6 +12,7 @@ pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
 pub mod fresnel;
+pub mod glass_albedo;
 pub mod glossy;
 pub mod layer;
 pub mod lobe;
@@ -80,8 +81,9 @@ pub fn coat_lobe(
 }
 
 /// Dielectric interface of relative IOR `eta` (inside / outside), perceptual `roughness`
-/// (0 = smooth) and transmission `tint`.
-pub fn dielectric_lobe(eta: f32, roughness: f32, tint: Spectrum) -> Lobe {
+/// (0 = smooth) and transmission `tint`; with `multiscatter`, a rough one compensated for
+/// multiple scattering between microfacets as Cycles' Multiscatter GGX glass is.
+pub fn dielectric_lobe(eta: f32, roughness: f32, tint: Spectrum, multiscatter: bool) -> Lobe {
     let eta = if eta.is_finite() && eta > 0.0 {
         eta
     } else {
@@ -92,6 +94,7 @@ pub fn dielectric_lobe(eta: f32, roughness: f32, tint: Spectrum) -> Lobe {
             ggx: Ggx::new(alpha_from_roughness(roughness)),
             eta,
             tint,
+            multiscatter,
         })
     } else {
         Lobe::SmoothDielectric(SmoothDielectric { eta, tint })
@@ -135,11 +138,13 @@ pub enum Material {
     /// | `ior` | index of refraction inside (outside is 1) |
     /// | `roughness` | perceptual roughness, 0 = smooth |
     /// | `color` | transmission tint |
+    /// | `multiscatter` | Cycles' multiple-scattering compensation (Multiscatter GGX) |
     Dielectric {
         name: String,
         ior: f32,
         roughness: f32,
         color: Spectrum,
+        multiscatter: bool,
     },
     /// GGX reflection tinted by a colour, without Fresnel (Blender's Glossy BSDF).
     ///
@@ -214,6 +219,7 @@ impl Material {
                 ior,
                 roughness,
                 color,
+                multiscatter,
             } => Material::Dielectric {
                 name: name.clone(),
                 ior: if ior.is_finite() && *ior > 0.0 {
@@ -223,6 +229,7 @@ impl Material {
                 },
                 roughness: unit(*roughness),
                 color: rgb(color),
+                multiscatter: *multiscatter,
             },
             MaterialDesc::Glossy {
                 name,
@@ -298,8 +305,12 @@ impl Material {
                 ior,
                 roughness,
                 color,
+                multiscatter,
                 ..
-            } => b.with(1.0, dielectric_lobe(*ior, *roughness, *color)),
+            } => b.with(
+                1.0,
+                dielectric_lobe(*ior, *roughness, *color, *multiscatter),
+            ),
             Material::Glossy {
                 color,
                 roughness,

@@ -115,7 +115,7 @@ impl Principled {
         let mut bsdf = Bsdf::new(frame);
         let ms = self.multiscatter;
         bsdf.add(m, reflection_lobe(r, Fresnel::Schlick { f0: base }, ms));
-        bsdf.add((1.0 - m) * t, dielectric_lobe(self.ior, r, base));
+        bsdf.add((1.0 - m) * t, dielectric_lobe(self.ior, r, base, ms));
         let w_base = (1.0 - m) * (1.0 - t);
         if self.coat_f0() > 0.0 {
             bsdf.add(w_base, coat_lobe(r, self.coat_table, ms));

@@ -2,6 +2,7 @@
 
 use super::bsdf::{BsdfSample, LobeFlags};
 use super::fresnel::fresnel_dielectric;
+use super::glass_albedo;
 use super::microfacet::{reflect, refract, Ggx};
 use crate::math::Spectrum;
 use glam::{Vec2, Vec3};
@@ -22,11 +23,13 @@ use glam::{Vec2, Vec3};
 /// | `ggx` | distribution; alpha = roughness^2 |
 /// | `eta` | relative IOR, inside / outside (the normal points outside) |
 /// | `tint` | transmittance multiplier |
+/// | `multiscatter` | Cycles' Multiscatter GGX: f / E(mu_o) ([`glass_albedo`](super::glass_albedo)) |
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RoughDielectric {
     pub ggx: Ggx,
     pub eta: f32,
     pub tint: Spectrum,
+    pub multiscatter: bool,
 }
 
 /// Half vector of (wo, wi) oriented to the upper hemisphere, the relative IOR eta of wi's
@@ -40,6 +43,19 @@ struct Geometry {
 impl RoughDielectric {
     pub fn flags(&self) -> u8 {
         LobeFlags::REFLECTION | LobeFlags::TRANSMISSION | LobeFlags::GLOSSY
+    }
+
+    /// The multiple-scattering compensation for the view direction `wo` (1 without it).
+    fn ms_factor(&self, wo: Vec3) -> f32 {
+        if !self.multiscatter {
+            return 1.0;
+        }
+        let eta = if wo.z >= 0.0 {
+            self.eta
+        } else {
+            1.0 / self.eta
+        };
+        glass_albedo::compensation(wo.z.abs(), self.ggx.alpha.sqrt(), eta)
     }
 
     fn geometry(&self, wo: Vec3, wi: Vec3) -> Option<Geometry> {
@@ -95,8 +111,9 @@ impl RoughDielectric {
         let g2 = self.ggx.g2(wo, wi, g.m);
         let f = fresnel_dielectric(wo.dot(g.m), self.eta).0;
         let cos = (wo.z * wi.z).abs();
+        let ms = self.ms_factor(wo);
         if g.reflect {
-            Vec3::splat(f * d * g2 / (4.0 * cos))
+            Vec3::splat(ms * f * d * g2 / (4.0 * cos))
         } else {
             let om = wo.dot(g.m);
             let im = wi.dot(g.m);
@@ -104,7 +121,7 @@ impl RoughDielectric {
             if denom == 0.0 {
                 return Vec3::ZERO;
             }
-            self.tint * ((1.0 - f) * d * g2 * (om * im).abs() / (cos * denom * denom))
+            self.tint * (ms * (1.0 - f) * d * g2 * (om * im).abs() / (cos * denom * denom))
         }
     }
 
@@ -171,7 +188,7 @@ impl RoughDielectric {
         // f cos / pdf = (F or 1 - F) / (choice probability) x G2 / G1(wo) (Heitz 2018 eq. 19).
         let lo = self.ggx.lambda(wo);
         let li = self.ggx.lambda(wi);
-        let weight = factor * ((1.0 + lo) / (1.0 + lo + li));
+        let weight = factor * (self.ms_factor(wo) * (1.0 + lo) / (1.0 + lo + li));
         Some(BsdfSample {
             wi,
             weight,
@@ -184,7 +201,7 @@ impl RoughDielectric {
     /// Estimate: the smooth interface's R and (1 - R) x tint at the macro normal, with R kept
     /// inside [0.02, 0.98]: rough facets reflect and refract beyond the macro-surface's total
     /// internal reflection, and a component chosen by these estimates must never have zero
-    /// probability where it scatters.
+    /// probability where it scatters. (With the compensation the lobe's energy is all of it.)
     pub fn albedo(&self, wo: Vec3, mask: u8) -> Spectrum {
         let r = fresnel_dielectric(wo.z, self.eta).0.clamp(0.02, 0.98);
         let mut a = Vec3::ZERO;

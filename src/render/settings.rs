@@ -188,6 +188,7 @@ pub struct RenderSettings {
     pub seed: u64,
     /// 0 = all cores.
     pub threads: usize,
+    /// Specular and rough-glass bounces an eye path follows at most.
     pub max_specular_depth: u32,
     pub filter: Filter,
     pub terms: TermMask,
@@ -222,7 +223,7 @@ impl Default for RenderSettings {
             spp: Quality::Medium.spp(),
             seed: 0,
             threads: 0,
-            max_specular_depth: 8,
+            max_specular_depth: 64,
             filter: Filter::gaussian(0.5),
             terms: TermMask::ALL,
             photons: PhotonSettings::default(),

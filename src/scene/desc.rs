@@ -388,6 +388,10 @@ pub enum MaterialDesc {
         roughness: f32,
         #[serde(default = "white")]
         color: Rgb,
+        /// A rough interface compensated for multiple scattering between microfacets
+        /// (Blender's Multiscatter GGX, the default); false is plain GGX.
+        #[serde(default = "yes")]
+        multiscatter: bool,
     },
     Glossy {
         #[serde(default)]

@@ -190,10 +190,11 @@ render_options! {
     #[arg(long)]
     #[schema(label: "Gather Rays per Sample", group: Group::Gathering, min: Some(1.0))]
     pub gather_rays_per_sample: Option<u32>,
-    /// Perfectly specular bounces followed from the eye.
-    #[arg(long, default_value_t = 8)]
+    /// Specular and rough-glass bounces followed from the eye at most (Russian roulette ends
+    /// most chains earlier; light trapped in rough glass needs dozens).
+    #[arg(long, default_value_t = 64)]
     #[schema(label: "Max Specular Depth", group: Group::Gathering, min: Some(0.0),
-             soft_max: Some(64.0), preset: true)]
+             soft_max: Some(128.0), preset: true)]
     pub max_specular_depth: u32,
 }
 

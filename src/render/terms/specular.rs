@@ -145,6 +145,7 @@ mod tests {
             ggx: Ggx::new(0.3),
             eta: 1.5,
             tint: Spectrum::ONE,
+            multiscatter: true,
         });
         let b = bsdf(&[(1.0, rough)]);
         assert!(b.passes_through());
