@@ -9,8 +9,6 @@ from __future__ import annotations
 
 # Differences in the core, by scene, with what the "ci" comparison measured (both paths unless
 # named). Each is a real difference from Cycles, left for a fix in the core.
-ROUGH_GLASS = ("core: rough glass has no multiple-scattering compensation: pooled -2.3%, "
-               "blocks behind and under it to -24%")
 EMISSIVE_SPHERE = ("core: one floor block near the glowing sphere, (12,14), is high through the "
                    "add-on (+27%, +7.1 sigma); pooled within 0.4%; the USD path passes")
 METAL_ROUGH_USD = ("core: one block at the right wall's foot (19,11) -4.3% (-7.1 sigma, tolerance "
@@ -53,7 +51,6 @@ ADDON: dict[str, str] = {
     "area_disk": CEILING_EDGE.format("(17,0) -6.2% (-7.3 sigma)", "-2.3%"),
     "area_spread60": CEILING_EDGE.format("(11,0) +13.4% (+5.9 sigma)", "+12.0%"),
     "emission_principled": EMISSIVE_SPHERE,
-    "glass_r03": ROUGH_GLASS,
     "point_r01_hard": POINT_WALL_BLOCK,
     "spot_offaxis": SPOT_DARK_FLOOR.format("block (8,14) -13.3% (-5.3 sigma), -12.5% before"),
 }
@@ -63,7 +60,6 @@ USD: dict[str, str] = {
     "area_ellipse": ELLIPSE,
     "area_hidden": HIDDEN,
     "area_spread60": SPREAD,
-    "glass_r03": ROUGH_GLASS,
     "light_exposure": CUBE_FOOT_EXPOSURE,
     "mat_default": CUBE_FOOT,
     "metal_rough": METAL_ROUGH_USD,
