@@ -341,6 +341,37 @@ def _unsupported_material_scene():
     return sc
 
 
+def _glass_nodes_scene():
+    sc = scenes.empty_scene()
+    scenes.cornell_walls()
+    scenes.light("AREA", (0, 0, 1.98), size=0.5, energy=60.0)
+    for obj, dist in (("floor", None), ("back", "GGX")):
+        m = bpy.data.materials.new(f"glass {dist or 'default'}")
+        m.use_nodes = True
+        nt = m.node_tree
+        nt.nodes.clear()
+        out = nt.nodes.new("ShaderNodeOutputMaterial")
+        glass = nt.nodes.new("ShaderNodeBsdfGlass")
+        glass.inputs["Roughness"].default_value = 0.3
+        if dist:
+            glass.distribution = dist
+        nt.links.new(glass.outputs[0], out.inputs["Surface"])
+        bpy.data.objects[obj].data.materials[0] = m
+    return sc
+
+
+def test_glass_node_keeps_its_distribution(photonmap_scene, addon):
+    """The Glass BSDF's Multiscatter GGX (Blender's default) is the core's compensated rough
+    dielectric; GGX is the plain one."""
+    photonmap_scene(_glass_nodes_scene)
+    ir = addon.export.export_scene(bpy.context.evaluated_depsgraph_get()).ir
+    glass = {m["name"]: m for m in ir["materials"] if m["type"] == "dielectric"}
+    assert glass["glass default"]["multiscatter"] is True
+    assert glass["glass GGX"]["multiscatter"] is False
+    assert glass["glass GGX"]["roughness"] == pytest.approx(0.3)
+    photonmap.Scene.from_dict(ir)
+
+
 def test_unsupported_material_renders_grey_with_a_warning(photonmap_scene, reports, tmp_path):
     sc = photonmap_scene(_unsupported_material_scene)
     path = tmp_path / "unsupported.exr"
