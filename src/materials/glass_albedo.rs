@@ -5,14 +5,14 @@
 //! inverse for rays inside, after Kulla & Conty 2017; glass is taken as white).
 
 use super::fresnel::fresnel_dielectric;
-use super::microfacet::{alpha_from_roughness, reflect, refract, Ggx};
+use super::layer::{cell, decode_f32, visible_normal_integral};
+use super::microfacet::{reflect, refract};
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
 const N_MU: usize = 32;
 const N_ROUGH: usize = 32;
 const N_Z: usize = 16;
-const STRATA: usize = 32;
 /// The largest tabulated z = F0^(1/4) = sqrt((eta - 1) / (eta + 1)); eta ~ 19.5.
 const Z_MAX: f32 = 0.95;
 const CELLS: usize = N_MU * N_ROUGH * N_Z;
@@ -25,12 +25,7 @@ static EMBEDDED: &[u8] = include_bytes!("ggx_glass_albedo.bin");
 
 fn embedded() -> &'static [f32] {
     static DATA: std::sync::OnceLock<Vec<f32>> = std::sync::OnceLock::new();
-    DATA.get_or_init(|| {
-        EMBEDDED
-            .chunks_exact(4)
-            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-            .collect()
-    })
+    DATA.get_or_init(|| decode_f32(EMBEDDED))
 }
 
 /// The relative IOR (> 1) of the tabulated z.
@@ -46,46 +41,33 @@ fn z_of_eta(eta: f32) -> f32 {
 
 /// E(mu) of a rough dielectric interface of relative IOR `eta` (the far side's over the
 /// view's) for a view cosine `mu` > 0: the integral over the visible normals of F G2/G1 for
-/// the reflected direction plus (1 - F) G2/G1 for the refracted one, by the midpoint rule of
-/// `layer::ggx_albedo` (energy, not radiance: no 1/eta^2).
+/// the reflected direction plus (1 - F) G2/G1 for the refracted one, by
+/// `layer::visible_normal_integral` (energy, not radiance: no 1/eta^2).
 pub fn glass_albedo(mu: f32, roughness: f32, eta: f32) -> f32 {
     if roughness <= 0.0 || (eta - 1.0).abs() < 1e-6 {
         return 1.0;
     }
-    let mu = mu.clamp(1e-3, 1.0);
-    let ggx = Ggx::new(alpha_from_roughness(roughness));
-    let wo = Vec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu);
-    let lo = ggx.lambda(wo);
-    let mut sum = 0.0f64;
-    let h = std::f64::consts::FRAC_PI_2 / STRATA as f64;
-    for i in 0..STRATA {
-        let t = (i as f64 + 0.5) * h;
-        let w = (2.0 * t).sin() * h;
-        let st = t.sin();
-        for j in 0..STRATA {
-            let u = Vec2::new((st * st) as f32, (j as f32 + 0.5) / STRATA as f32);
-            let m = ggx.sample_visible(wo, u);
-            let c = wo.dot(m);
-            if c <= 0.0 {
-                continue;
-            }
-            let (f, cos_t, _, eta_ti) = fresnel_dielectric(c, eta);
-            let g = |wi: Vec3| (1.0 + lo) / (1.0 + lo + ggx.lambda(wi));
-            let wr = reflect(wo, m);
-            let mut e = 0.0;
-            if wr.z > 0.0 {
-                e += f * g(wr);
-            }
-            if f < 1.0 {
-                let wt = refract(wo, m, cos_t, eta_ti).normalize_or_zero();
-                if wt.z < 0.0 {
-                    e += (1.0 - f) * g(wt);
-                }
-            }
-            sum += w * e as f64;
+    visible_normal_integral(mu, roughness, |ggx, wo, m, lo| {
+        let c = wo.dot(m);
+        if c <= 0.0 {
+            return Vec2::ZERO;
         }
-    }
-    (sum / STRATA as f64) as f32
+        let (f, cos_t, _, eta_ti) = fresnel_dielectric(c, eta);
+        let g = |wi: Vec3| (1.0 + lo) / (1.0 + lo + ggx.lambda(wi));
+        let wr = reflect(wo, m);
+        let mut e = 0.0;
+        if wr.z > 0.0 {
+            e += f * g(wr);
+        }
+        if f < 1.0 {
+            let wt = refract(wo, m, cos_t, eta_ti).normalize_or_zero();
+            if wt.z < 0.0 {
+                e += (1.0 - f) * g(wt);
+            }
+        }
+        Vec2::new(e, 0.0)
+    })
+    .x
 }
 
 /// The tables of `ggx_glass_albedo.bin` (a few seconds on two cores).
@@ -110,16 +92,6 @@ fn table(inside: bool) -> Vec<f32> {
             glass_albedo(s * s, r, if inside { 1.0 / eta } else { eta })
         })
         .collect()
-}
-
-fn cell(x: f32, n: usize) -> (usize, f32) {
-    let x = if x.is_finite() {
-        x.clamp(0.0, 1.0)
-    } else {
-        0.0
-    } * (n - 1) as f32;
-    let i = (x as usize).min(n - 2);
-    (i, x - i as f32)
 }
 
 /// E(mu_o) of a rough interface of perceptual `roughness` and relative IOR `eta` (the far
@@ -147,6 +119,7 @@ pub fn compensation(mu: f32, roughness: f32, eta: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::materials::microfacet::{alpha_from_roughness, Ggx};
     use crate::materials::rough_dielectric::RoughDielectric;
     use crate::sampling::Rng;
 

@@ -34,16 +34,32 @@ fn coat_albedo(mu: f32, roughness: f32, eta: f32) -> f32 {
 }
 
 /// Directional albedo of GGX reflection with the microfacet reflectance `fresnel(wo . m)`,
-/// integral of F(wo.m) G2/G1 over the visible normals: a midpoint rule over the
-/// visible-normal warp in t, where sin t = sqrt(u1) is the radius on the projected disk (the
-/// integrand is smooth in t; it has a square-root edge in u1 at the rim and at the centre),
-/// and du1 = sin 2t dt.
+/// integral of F(wo.m) G2/G1 over the visible normals ([`visible_normal_integral`]).
 fn ggx_albedo(mu: f32, roughness: f32, fresnel: impl Fn(f32) -> f32) -> f32 {
     ggx_albedo2(mu, roughness, |c| Vec2::new(fresnel(c), 0.0)).x
 }
 
 /// [`ggx_albedo`] for two reflectance functions at once (one set of GGX samples).
 fn ggx_albedo2(mu: f32, roughness: f32, fresnel: impl Fn(f32) -> Vec2) -> Vec2 {
+    visible_normal_integral(mu, roughness, |ggx, wo, m, lo| {
+        let wi = reflect(wo, m);
+        if wi.z > 0.0 {
+            fresnel(wo.dot(m)) * ((1.0 + lo) / (1.0 + lo + ggx.lambda(wi)))
+        } else {
+            Vec2::ZERO
+        }
+    })
+}
+
+/// The integral over GGX's visible normals m of `f(ggx, wo, m, Lambda(wo))` for the view
+/// cosine `mu` (clamped to [1e-3, 1]): a midpoint rule over the visible-normal warp in t, where
+/// sin t = sqrt(u1) is the radius on the projected disk (the integrands are smooth in t; they
+/// have a square-root edge in u1 at the rim and at the centre), and du1 = sin 2t dt.
+pub(super) fn visible_normal_integral(
+    mu: f32,
+    roughness: f32,
+    f: impl Fn(&Ggx, Vec3, Vec3, f32) -> Vec2,
+) -> Vec2 {
     let mu = mu.clamp(1e-3, 1.0);
     let ggx = Ggx::new(alpha_from_roughness(roughness));
     let wo = Vec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu);
@@ -56,13 +72,9 @@ fn ggx_albedo2(mu: f32, roughness: f32, fresnel: impl Fn(f32) -> Vec2) -> Vec2 {
         let st = t.sin();
         for j in 0..STRATA {
             let u = Vec2::new((st * st) as f32, (j as f32 + 0.5) / STRATA as f32);
-            let m = ggx.sample_visible(wo, u);
-            let wi = reflect(wo, m);
-            if wi.z > 0.0 {
-                let f = fresnel(wo.dot(m)) * ((1.0 + lo) / (1.0 + lo + ggx.lambda(wi)));
-                sx += w * f.x as f64;
-                sy += w * f.y as f64;
-            }
+            let v = f(&ggx, wo, ggx.sample_visible(wo, u), lo);
+            sx += w * v.x as f64;
+            sy += w * v.y as f64;
         }
     }
     Vec2::new((sx / STRATA as f64) as f32, (sy / STRATA as f64) as f32)
@@ -83,12 +95,15 @@ static EMBEDDED: &[u8] = include_bytes!("ggx_albedo.bin");
 
 fn embedded() -> &'static [f32] {
     static DATA: std::sync::OnceLock<Vec<f32>> = std::sync::OnceLock::new();
-    DATA.get_or_init(|| {
-        EMBEDDED
-            .chunks_exact(4)
-            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-            .collect()
-    })
+    DATA.get_or_init(|| decode_f32(EMBEDDED))
+}
+
+/// A table embedded as little-endian f32.
+pub(super) fn decode_f32(bytes: &[u8]) -> Vec<f32> {
+    bytes
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect()
 }
 
 /// Computes the tables of `ggx_albedo.bin` (a few seconds on two cores).
@@ -244,6 +259,18 @@ impl MultiScatter {
     }
 }
 
+/// The cell of `x` in [0, 1] (clamped; NaN reads as 0) on a grid of `n` points, and the
+/// position inside it, for linear interpolation.
+pub(super) fn cell(x: f32, n: usize) -> (usize, f32) {
+    let x = if x.is_finite() {
+        x.clamp(0.0, 1.0)
+    } else {
+        0.0
+    } * (n - 1) as f32;
+    let i = (x as usize).min(n - 2);
+    (i, x - i as f32)
+}
+
 /// 3-point Gauss-Legendre on [0, 1] (exact to degree 5).
 const GL3: [(f64, f64); 3] = [
     (0.112_701_665_379_258_3, 5.0 / 18.0),
@@ -306,13 +333,7 @@ impl CoatAlbedoTable {
     }
 
     fn cell(x: f32, n: usize) -> (usize, f32) {
-        let x = if x.is_finite() {
-            x.clamp(0.0, 1.0)
-        } else {
-            0.0
-        } * (n - 1) as f32;
-        let i = (x as usize).min(n - 2);
-        (i, x - i as f32)
+        cell(x, n)
     }
 
     /// E(mu) by bilinear interpolation in (sqrt(mu), roughness).
