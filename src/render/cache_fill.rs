@@ -5,7 +5,7 @@
 //! the cache, so the image is the same for any thread count.
 
 use super::eye::EyeCtx;
-use super::irradiance_cache::{IrradianceCache, Record, MIN_PROBE_RAYS, PROBE_RAY_SHARE};
+use super::irradiance_cache::{IrradianceCache, Record};
 use super::settings::RenderSettings;
 use super::terms::indirect::gather_hemisphere;
 use super::terms::specular::{self, Follow};
@@ -71,7 +71,6 @@ pub fn fill(
     let r_cap = 0.25 * scene.radius / a;
     let pixel_angle = scene.camera.pixel_angle();
     let rays = s.photons.final_gather_rays.max(1);
-    let probe_rays = (rays / PROBE_RAY_SHARE).max(MIN_PROBE_RAYS);
     let strides: Vec<usize> = [32usize, 16, 8, 4, 2, 1].into_iter().collect();
     progress(0.0);
     for (round, &stride) in strides.iter().enumerate() {
@@ -107,21 +106,10 @@ pub fn fill(
                 let mut rng = Rng::derive(s.seed, 0x1D, *idx as u64);
                 let stack = scene.medium_stack_at(si.p + *n * (1e-4 * scene.radius));
                 let g = gather_hemisphere(scene, ctx.maps, si, *n, rays, &stack, &mut rng, scratch);
-                let mut probe_rng = Rng::derive(s.seed, 0x1E, *idx as u64);
-                let probe = gather_hemisphere(
-                    scene,
-                    ctx.maps,
-                    si,
-                    *n,
-                    probe_rays,
-                    &stack,
-                    &mut probe_rng,
-                    scratch,
-                );
                 let fp = (len * pixel_angle).max(1e-6);
                 let r_min = (R_MIN_PIXELS * fp / a).min(r_cap);
                 let r_max = (R_MAX_PIXELS * fp / a).min(r_cap).max(r_min);
-                Some(Record::new(si.p, *n, &g, &probe, r_min, r_max))
+                Some(Record::new(si.p, *n, &g, r_min, r_max))
             })
             .collect();
         for r in records.ok_or(Error::Cancelled)? {
