@@ -12,6 +12,7 @@ import photonmap
 import pytest
 import scenes
 from conftest import enable, exr_parts, set_multilayer_exr
+from corpus.scenes import shader_material
 
 QUALITY_FOR_BRIGHTNESS = "high"
 TOLERANCE = 0.03
@@ -346,16 +347,9 @@ def _glass_nodes_scene():
     scenes.cornell_walls()
     scenes.light("AREA", (0, 0, 1.98), size=0.5, energy=60.0)
     for obj, dist in (("floor", None), ("back", "GGX")):
-        m = bpy.data.materials.new(f"glass {dist or 'default'}")
-        m.use_nodes = True
-        nt = m.node_tree
-        nt.nodes.clear()
-        out = nt.nodes.new("ShaderNodeOutputMaterial")
-        glass = nt.nodes.new("ShaderNodeBsdfGlass")
-        glass.inputs["Roughness"].default_value = 0.3
+        m = shader_material(f"glass {dist or 'default'}", "ShaderNodeBsdfGlass", Roughness=0.3)
         if dist:
-            glass.distribution = dist
-        nt.links.new(glass.outputs[0], out.inputs["Surface"])
+            m.node_tree.nodes["Glass BSDF"].distribution = dist
         bpy.data.objects[obj].data.materials[0] = m
     return sc
 
