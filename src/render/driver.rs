@@ -134,15 +134,23 @@ pub struct Passes<X> {
     pub seconds_per_pass: f64,
 }
 
-/// The nx-by-ny stratification grid of each replicate's samples when a pixel takes `spp`.
+/// The nx-by-ny stratification grid of each replicate's samples when a pixel takes `spp`:
+/// exactly one cell per sample (nx the largest divisor of the replicate's count n with
+/// nx <= sqrt(n)), so that the samples cover the pixel uniformly. A grid with more cells than
+/// samples would leave its last row empty and pull every pixel's samples towards its top
+/// edge (with 128 samples, 32 per replicate on 5 x 7 cells, edges moved 0.06 px).
 fn replicate_grids(spp: u32) -> [(u32, u32); REPLICATES] {
     std::array::from_fn(|r| {
         let n = spp
             .saturating_sub(r as u32)
             .div_ceil(REPLICATES as u32)
             .max(1);
-        let nx = (n as f32).sqrt().floor().max(1.0) as u32;
-        (nx, n.div_ceil(nx))
+        let nx = (1..=n)
+            .take_while(|d| d * d <= n)
+            .filter(|d| n % d == 0)
+            .last()
+            .unwrap_or(1);
+        (nx, n / nx)
     })
 }
 

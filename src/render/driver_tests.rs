@@ -192,7 +192,10 @@ fn stratified_samples_fall_one_per_cell_of_their_replicates_grid() {
     assert_eq!(replicate_grids(64), [(4, 4); 4]);
     assert_eq!(replicate_grids(6), [(1, 2), (1, 2), (1, 1), (1, 1)]);
     assert_eq!(replicate_grids(1), [(1, 1); 4]);
-    for spp in [16u32, 64, 100] {
+    assert_eq!(replicate_grids(128), [(4, 8); 4]);
+    assert_eq!(replicate_grids(384), [(8, 12); 4]);
+    assert_eq!(replicate_grids(28), [(1, 7); 4]);
+    for spp in [1u32, 6, 16, 28, 64, 100, 128, 130, 384] {
         let grids = replicate_grids(spp);
         let mut rng = Rng::new(5, 0);
         for r in 0..REPLICATES {
@@ -204,9 +207,34 @@ fn stratified_samples_fall_one_per_cell_of_their_replicates_grid() {
                 let (cx, cy) = ((u.x * nx as f32) as u32, (u.y * ny as f32) as u32);
                 cells[(cy * nx + cx) as usize] += 1;
             }
+            // Every cell exactly once (a replicate with no sample has no grid to fill): an
+            // empty cell would bias the pixel's samples.
             assert!(
-                cells.iter().all(|c| *c <= 1),
+                spp <= r as u32 || cells.iter().all(|c| *c == 1),
                 "spp {spp} replicate {r}: {cells:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn stratified_samples_are_centred_on_the_pixel_for_every_count() {
+    // With the jitter at its mean (0.5), each replicate's samples average to the pixel's
+    // centre: the film position is unbiased whatever the sample count.
+    for spp in 1u32..=520 {
+        let grids = replicate_grids(spp);
+        for r in 0..REPLICATES {
+            let mine: Vec<Vec2> = (0..spp)
+                .filter(|i| replicate_of(*i).0 == r)
+                .map(|i| stratified_point(&grids, i, Vec2::splat(0.5)))
+                .collect();
+            if mine.is_empty() {
+                continue;
+            }
+            let mean = mine.iter().copied().sum::<Vec2>() / mine.len() as f32;
+            assert!(
+                (mean - Vec2::splat(0.5)).abs().max_element() < 1e-4,
+                "spp {spp} replicate {r}: mean film offset {mean}"
             );
         }
     }
