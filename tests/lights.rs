@@ -441,3 +441,45 @@ fn photon_emission_directions_and_flux() {
         assert!((est / phi - 1.0).abs() < 0.01, "{name}: {est} vs {phi}");
     }
 }
+
+/// A spot with a radius seen by a ray (a camera ray, or a BSDF sample of next-event
+/// estimation, which MIS weighs against the light sample) shows the radiance that its light
+/// sample sends to the ray's origin from the same point: the cone is taken along the light's
+/// travel, from the emitter to the origin. Receivers inside the cone see the emitter lit,
+/// receivers behind the spot (its back, or a ceiling it pierces) dark.
+#[test]
+fn spot_emitter_seen_by_a_ray_matches_its_light_sample() {
+    let spot = SpotShape::new(Vec3::new(0.0, -1.0, 0.3).normalize(), 0.7, 0.05);
+    let mut rng = Rng::new(3, 0);
+    for soft in [false, true] {
+        let light = PointLight::new(Vec3::ZERO, 50.0, Spectrum::ONE, 0.2, Some(spot), soft);
+        let (mut lit, mut dark) = (0, 0);
+        for _ in 0..4000 {
+            // Receivers from 0.25 to 2 from the centre, all around it.
+            let p = warp::square_to_uniform_sphere(rng.vec2()) * (0.25 + 1.75 * rng.f32());
+            let Some(ls) = light.sample_li(p, rng.vec2()) else {
+                continue;
+            };
+            let Some((t, _)) = light.intersect(p, ls.wi, f32::INFINITY) else {
+                continue;
+            };
+            let seen = light.le(ls.wi);
+            let want = ls.li;
+            assert!(
+                (seen - want).abs().max_element() <= 1e-3 * want.max_element().max(1.0),
+                "soft {soft}: receiver {p}, towards {} at t {t}: a ray sees {seen:?}, the light \
+                 sample sends {want:?}",
+                ls.wi
+            );
+            if want.max_element() > 0.0 {
+                lit += 1;
+            } else {
+                dark += 1;
+            }
+        }
+        assert!(
+            lit > 100 && dark > 1000,
+            "soft {soft}: {lit} lit, {dark} dark"
+        );
+    }
+}

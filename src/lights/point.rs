@@ -202,9 +202,10 @@ impl PointLight {
         warp::uniform_cone_pdf(cos_max)
     }
 
-    /// Radiance leaving the emitter along the ray direction `d` (unit or not).
+    /// Radiance leaving the emitter towards the origin of a ray of direction `d` (unit or
+    /// not) that reached it: the light travels along -d, and the spot cone is taken along it.
     pub fn le(&self, d: Vec3) -> Spectrum {
-        self.radiance() * self.spot_att(d.normalize_or_zero())
+        self.radiance() * self.spot_att(-d.normalize_or_zero())
     }
 
     /// Ray distance to the emitter as the ray's origin sees it (the sphere from outside, or
