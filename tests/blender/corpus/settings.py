@@ -26,8 +26,6 @@ SETTINGS: dict[str, dict] = {
     "draft": {"quality": "draft"},
     "medium": {"quality": "medium"},
     "high": {"quality": "high"},
-    "high1m": {"quality": "high", "photons": 1_000_000},
-    "high3m": {"quality": "high", "photons": 3_000_000},
     "final": {"quality": "final"},
 }
 
