@@ -193,7 +193,8 @@ def test_fog_scene_renders_a_volume_pass(photonmap_scene, reports, tmp_path):
 
 
 def test_fog_brightness_matches_cycles(photonmap_scene, tmp_path, record_property):
-    """Image mean against Cycles' within FOG_TOLERANCE; measured 1.044 at 'high' (10^6 global photons)."""
+    """Image mean against Cycles' within FOG_TOLERANCE; measured 1.044 at 'high' (10^6 global
+    photons)."""
     import OpenImageIO as oiio
 
     ref = scenes_dir() / "cycles_fog.exr"

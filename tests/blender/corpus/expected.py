@@ -28,9 +28,9 @@ POINT_WALL_BLOCK = ("core: the right wall's block (17,4) by the ceiling is 7-8% 
                     "7.90%) here, +7.03% (tolerance 7.88%) with soft falloff")
 SPOT_DARK_FLOOR = ("core: the floor the spot's pool lights only indirectly is dark at the image's "
                    "bottom edge: {}; at medium with 300,000 photons still -7.8% (-6.0 sigma)")
-# A spot whose sphere (radius 0.2) pierces the ceiling. The cache's records by the left wall's
-# foot at the image's edge are dark (the dark bias of records in a concave corner); the rest of
-# the image is within its noise.
+# A spot whose sphere (radius 0.2) pierces the ceiling. The left wall's foot at the image's edge
+# is dark, a concave corner lit only indirectly (not yet told apart: the cache's dark bias or
+# the global map's density there); the rest of the image is within its noise.
 SPOT_RADIUS_CORNER = ("core: the left wall's foot at the image's edge, blocks (0,11) -24.3% "
                       "(-11.9 sigma) and (0,12) -15.2% (-7.0 sigma); pixel relMSE within the "
                       "noise (0.97 of it)")
