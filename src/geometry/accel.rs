@@ -267,6 +267,45 @@ impl Accel {
         best
     }
 
+    /// Whether a triangle may lie within distance `r` of `p`: `false` means none does. The
+    /// test is conservative (bounding boxes against the sphere's box, carried into object
+    /// space by each instance's inverse), so `true` may also be said of a triangle a little
+    /// farther away.
+    pub fn any_surface_near(&self, p: Vec3, r: f32) -> bool {
+        let q = Bounds3 {
+            min: p - Vec3::splat(r),
+            max: p + Vec3::splat(r),
+        };
+        self.top.any_overlapping(&q, |first, count| {
+            (first..first + count).any(|k| {
+                let Some(&ii) = self.top.prims.get(k) else {
+                    return false;
+                };
+                let (Some(id), Some(inst)) =
+                    (self.inst.get(ii as usize), self.instances.get(ii as usize))
+                else {
+                    return false;
+                };
+                let Some(blas) = self.blas.get(inst.mesh as usize) else {
+                    return false;
+                };
+                let qo = if id.identity {
+                    q
+                } else {
+                    transform_bounds(&inst.transform.inv, &q)
+                };
+                blas.bvh.any_overlapping(&qo, |first, count| {
+                    blas.tris.get(first..first + count).unwrap_or(&[]).iter().any(|t| {
+                        let mut b = Bounds3::from_point(t[0]);
+                        b.extend(t[1]);
+                        b.extend(t[2]);
+                        b.overlaps(&qo)
+                    })
+                })
+            })
+        })
+    }
+
     /// Whether anything is hit with `0 < t < ray.t_max` (stops at the first hit found).
     pub fn occluded(&self, ray: &Ray) -> bool {
         let world = RayCtx::new(ray.o, ray.d);

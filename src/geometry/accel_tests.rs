@@ -372,3 +372,71 @@ fn million_triangles_with_one_centroid() {
         assert_eq!(acc.occluded(&ray), b.is_some());
     }
 }
+
+/// Distance from `p` to the triangle `t` (closest point after Ericson, "Real-Time Collision
+/// Detection", §5.1.5).
+fn point_triangle_distance(p: Vec3, t: [Vec3; 3]) -> f32 {
+    let [a, b, c] = t;
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return p.distance(a);
+    }
+    let bp = p - b;
+    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return p.distance(b);
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return p.distance(a + ab * (d1 / (d1 - d3)));
+    }
+    let cp = p - c;
+    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return p.distance(c);
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return p.distance(a + ac * (d2 / (d2 - d6)));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 {
+        return p.distance(b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))));
+    }
+    let denom = 1.0 / (va + vb + vc);
+    p.distance(a + ab * (vb * denom) + ac * (vc * denom))
+}
+
+#[test]
+fn any_surface_near_never_misses_a_triangle_within_the_radius() {
+    let mut rng = Rng::new(7, 0);
+    let mesh = soup(300, &mut rng, 0.3);
+    let n = mesh.indices.len() as u32;
+    let instances: Vec<Instance> = transforms()
+        .into_iter()
+        .map(|transform| Instance { mesh: 0, transform })
+        .collect();
+    let count = instances.len() as u32;
+    let accel = Accel::build(vec![mesh], instances);
+    let (mut near, mut far, mut far_said_no) = (0, 0, 0);
+    for _ in 0..3000 {
+        let p = rng.vec3() * 12.0 - 6.0;
+        let r = 0.02 + 0.5 * rng.f32();
+        let d = (0..count)
+            .flat_map(|i| (0..n).map(move |t| (i, t)))
+            .map(|(i, t)| point_triangle_distance(p, accel.triangle_world(i, t)))
+            .fold(f32::INFINITY, f32::min);
+        let said = accel.any_surface_near(p, r);
+        if d <= r {
+            near += 1;
+            assert!(said, "a triangle at {d} from {p} within r = {r} was missed");
+        } else if d > 3.0 * r {
+            far += 1;
+            far_said_no += usize::from(!said);
+        }
+    }
+    assert!(near > 50 && far > 500, "near {near}, far {far}");
+    // Conservative, but not everywhere true: most points far from every triangle are told so.
+    assert!(far_said_no * 10 > far * 8, "{far_said_no} of {far} far points told apart");
+}

@@ -233,6 +233,52 @@ impl Bvh {
     }
 }
 
+impl Bvh {
+    /// Walks the leaves whose bounds overlap the box `q`, calling `leaf(first, count)` with
+    /// the range of [`Bvh::prims`] each holds until it returns `true`. Returns whether it did.
+    pub fn any_overlapping<F>(&self, q: &Bounds3, mut leaf: F) -> bool
+    where
+        F: FnMut(usize, usize) -> bool,
+    {
+        match self.node(0) {
+            Some(root) if root.bounds().overlaps(q) => {}
+            _ => return false,
+        }
+        let mut stack = [0u32; STACK_DEPTH];
+        let mut sp = 0usize;
+        let mut current = 0usize;
+        loop {
+            let Some(node) = self.node(current) else {
+                return false;
+            };
+            if node.count > 0 {
+                if leaf(node.offset as usize, node.count as usize) {
+                    return true;
+                }
+            } else if let Some(NodePair([na, nb])) = self.pairs.get(node.offset as usize) {
+                let (a, b) = (2 * node.offset as usize, 2 * node.offset as usize + 1);
+                let (ha, hb) = (na.bounds().overlaps(q), nb.bounds().overlaps(q));
+                if ha {
+                    if hb && sp < STACK_DEPTH {
+                        stack[sp] = b as u32;
+                        sp += 1;
+                    }
+                    current = a;
+                    continue;
+                } else if hb {
+                    current = b;
+                    continue;
+                }
+            }
+            if sp == 0 {
+                return false;
+            }
+            sp -= 1;
+            current = stack[sp] as usize;
+        }
+    }
+}
+
 /// Conservative world bounds of `b` under the affine map `m` (the eight corners, padded by
 /// the rounding error of transforming them).
 pub fn transform_bounds(m: &glam::Mat4, b: &Bounds3) -> Bounds3 {

@@ -29,6 +29,16 @@ impl Bounds3 {
         self.min = self.min.min(p);
         self.max = self.max.max(p);
     }
+    /// Whether the two boxes share a point (closed boxes; an empty box overlaps nothing).
+    #[inline]
+    pub fn overlaps(&self, o: &Bounds3) -> bool {
+        self.min.x <= o.max.x
+            && o.min.x <= self.max.x
+            && self.min.y <= o.max.y
+            && o.min.y <= self.max.y
+            && self.min.z <= o.max.z
+            && o.min.z <= self.max.z
+    }
     pub fn union(&self, o: &Bounds3) -> Bounds3 {
         Bounds3 {
             min: self.min.min(o.min),

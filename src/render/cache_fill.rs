@@ -1,6 +1,6 @@
 //! Fills the irradiance cache before the camera pass, in deterministic rounds: pixel centres
 //! on a grid of stride 32, 16, ..., 1; in each round, the first surface with a diffuse component seen through
-//! each pixel (following perfect specular bounces) that the cache does not yet cover gets a
+//! each pixel (following perfect specular bounces, and through invisible medium boundaries) that the cache does not yet cover gets a
 //! record, computed in parallel and inserted in pixel order. The camera pass then only reads
 //! the cache, so the image is the same for any thread count.
 
@@ -22,6 +22,9 @@ use rayon::prelude::*;
 const R_MIN_PIXELS: f32 = 1.5;
 const R_MAX_PIXELS: f32 = 30.0;
 
+/// Invisible medium boundaries a first-surface search crosses at most (as the camera pass).
+const MAX_CROSSINGS: u32 = 64;
+
 /// First point with a diffuse component seen through pixel (x, y), with its normal and the path length.
 fn first_diffuse(
     ctx: &EyeCtx,
@@ -39,12 +42,23 @@ fn first_diffuse(
         t_max: cr.t_max,
     };
     let mut length = 0.0;
-    for _ in 0..=ctx.settings.max_specular_depth {
+    let (mut bounces, mut crossings) = (0, 0);
+    while bounces <= ctx.settings.max_specular_depth {
         let SceneHit::Surface(mut si) = scene.intersect(&ray) else {
             return None;
         };
         length += si.t * ray.d.length();
         let mat = scene.materials.get(si.material as usize)?;
+        if mat.is_null() {
+            // An invisible medium boundary: the camera pass crosses it, and so does the fill.
+            crossings += 1;
+            if crossings > MAX_CROSSINGS {
+                return None;
+            }
+            ray = si.spawn_ray(ray.d);
+            continue;
+        }
+        bounces += 1;
         let bsdf = scene.shading_bsdf(mat, &mut si);
         let passes = bsdf.passes_through();
         if bsdf.has_non_delta() && !passes {

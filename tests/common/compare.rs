@@ -142,10 +142,10 @@ pub fn single_scattering_batches(desc: &SceneDesc, scale: Scale) -> Vec<Image> {
 
 /// (largest 8x8-block relMSE, largest |mean ratio - 1|) of a full media scene against its
 /// `<scene>_full` reference, about twice the measured figures. Measured (seed 7, 2x10^5
-/// photons per map): fog_spot block relMSE 1.2e-4, mean ratio 1.019; thick_sphere 4.8e-4,
-/// 1.001; fog_glass 2.0e-3, 1.000 (its reference's own block noise floor is 1.45e-4, and its
+/// photons per map): fog_spot block relMSE 5.7e-5, mean ratio 1.012; thick_sphere 2.6e-4,
+/// 1.002; fog_glass 2.0e-3, 0.994 (its reference's own block noise floor is 1.45e-4, and its
 /// glass is clear inside while ours lets the fog continue into glass that has no interior
-/// medium, as Cycles does). fog_spot's mean sits 1.9% above Mitsuba's with any number of
+/// medium, as Cycles does). fog_spot's mean sits 1-2% above Mitsuba's with any number of
 /// volume photons (1.011 at 2x10^5 and at 2x10^6 in a gaussian-filtered render), a spot-in-fog
 /// difference not found yet, so its mean tolerance stays at 2% and the volume-term check of
 /// the sensitivity suite runs on fog_glass.
@@ -156,6 +156,28 @@ pub fn media_limits(scene: &str) -> (f64, f64) {
         "fog_glass" => (4e-3, 0.015),
         _ => panic!("no limits for {scene}"),
     }
+}
+
+/// Reference pixels brighter than this (in any channel) are left out of a media scene's mean
+/// ratio: there the reference shows a light's image through glass, smaller than a pixel,
+/// which 8 camera samples hit only by chance. fog_glass's lamp seen through its sphere covers
+/// 3 pixels at 1.0-2.3 (its other pixels are below 0.8 but for 5 of the floor caustic's
+/// focus, at 1.0-1.5); a render at seed 7 that misses it has its mean 1.2% lower, one that
+/// hits it once (18.7 in one pixel) 3% higher, while the mean of the other pixels stays
+/// within 0.8% of Mitsuba's at seeds 7-12. The 8x8 blocks still judge these pixels.
+const SPOT_PIXEL: f32 = 1.0;
+
+/// Red-channel mean of `ours` over that of `refm`, over the pixels where `refm` is at most
+/// `limit` in every channel.
+fn mean_ratio_below(ours: &Image, refm: &Image, limit: f32) -> f64 {
+    let (mut a, mut b) = (0.0f64, 0.0f64);
+    for (o, r) in ours.data.iter().zip(&refm.data) {
+        if r.iter().all(|&c| c <= limit) {
+            a += o[0] as f64;
+            b += r[0] as f64;
+        }
+    }
+    a / b
 }
 
 /// The outcome of a full media comparison.
@@ -197,7 +219,7 @@ pub fn media_full_each(
         .map(|scale| {
             let ours = scaled_sum(&out, &Term::ALL, scale);
             let block = block_rel_mse(&ours, &refm, 8);
-            let mean_ratio = (ours.mean().x / refm.mean().x) as f64;
+            let mean_ratio = mean_ratio_below(&ours, &refm, SPOT_PIXEL);
             eprintln!(
                 "{label} {scale:?} vs {scene}_full: 8x8-block relMSE {block:.3e}, mean ratio \
                  {mean_ratio:.4}"

@@ -194,7 +194,8 @@ const MIN_SUPPORT: f32 = 0.125;
 /// the darkening within one radius of a medium's walls, floor and objects. Deep inside, every
 /// ray runs its full length and the fraction is exactly 1.
 pub fn reachable_fraction(scene: &Scene, x: Vec3, r: f32, rng: &mut Rng) -> f32 {
-    if !(r > 0.0) {
+    // With no surface within r every ray below runs its full length: the fraction is 1.
+    if !(r > 0.0) || !scene.accel.any_surface_near(x, r) {
         return 1.0;
     }
     let (nu, nv) = (2u32, SUPPORT_RAYS / 2);
