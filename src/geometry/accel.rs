@@ -295,12 +295,16 @@ impl Accel {
                     transform_bounds(&inst.transform.inv, &q)
                 };
                 blas.bvh.any_overlapping(&qo, |first, count| {
-                    blas.tris.get(first..first + count).unwrap_or(&[]).iter().any(|t| {
-                        let mut b = Bounds3::from_point(t[0]);
-                        b.extend(t[1]);
-                        b.extend(t[2]);
-                        b.overlaps(&qo)
-                    })
+                    blas.tris
+                        .get(first..first + count)
+                        .unwrap_or(&[])
+                        .iter()
+                        .any(|t| {
+                            let mut b = Bounds3::from_point(t[0]);
+                            b.extend(t[1]);
+                            b.extend(t[2]);
+                            b.overlaps(&qo)
+                        })
                 })
             })
         })

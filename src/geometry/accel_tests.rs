@@ -438,5 +438,8 @@ fn any_surface_near_never_misses_a_triangle_within_the_radius() {
     }
     assert!(near > 50 && far > 500, "near {near}, far {far}");
     // Conservative, but not everywhere true: most points far from every triangle are told so.
-    assert!(far_said_no * 10 > far * 8, "{far_said_no} of {far} far points told apart");
+    assert!(
+        far_said_no * 10 > far * 8,
+        "{far_said_no} of {far} far points told apart"
+    );
 }
