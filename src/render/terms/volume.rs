@@ -21,11 +21,6 @@ use glam::Vec3;
 
 /// Steps at most per medium segment.
 pub const MAX_STEPS: u32 = 256;
-/// The volume photon map is read at one march step in this many. Its estimate varies
-/// slowly along a ray (it averages photons over a radius of many steps), so reading it at
-/// every step buys almost no noise: on the corpus' spot over a fog cube at `draft`, one read
-/// in 4 took 0.6 of the camera pass's time at the same pixel noise (BENCHMARKS.md).
-const READ_STRIDE: u32 = 4;
 /// Transmittance below which a march stops.
 const T_CUTOFF: f32 = 1e-4;
 
@@ -145,13 +140,6 @@ pub fn march(
     let mut l = Spectrum::ZERO;
     let mut t_start = Spectrum::ONE;
     let (mut steps, mut lookups) = (0u64, 0u64);
-    // The volume map is read at one step in READ_STRIDE, from a random first step, and
-    // weighted by the stride: every step's estimate is counted with probability 1 / stride.
-    let first_read = if maps.volume.is_some() {
-        rng.below(READ_STRIDE)
-    } else {
-        0
-    };
     for i in 0..n {
         if t_start.max_element() < T_CUTOFF {
             break;
@@ -176,17 +164,13 @@ pub fn march(
         if sigma_s.max_element() > 0.0 {
             inscatter += sigma_s * single_scattering(scene, stack, x, wo, &phase, rng);
         }
-        match &maps.volume {
-            Some(vm) if i % READ_STRIDE == first_read => {
-                if let Some((l_vol, r2)) =
-                    vm.volume_radiance(x, wo, &phase, s.gather, s.max_r2, scratch)
-                {
-                    inscatter +=
-                        l_vol * (READ_STRIDE as f32 / reachable_fraction(scene, x, r2.sqrt(), rng));
-                }
-                lookups += 1;
+        if let Some(vm) = &maps.volume {
+            if let Some((l_vol, r2)) =
+                vm.volume_radiance(x, wo, &phase, s.gather, s.max_r2, scratch)
+            {
+                inscatter += l_vol / reachable_fraction(scene, x, r2.sqrt(), rng);
             }
-            _ => {}
+            lookups += 1;
         }
         steps += 1;
         l += weight * inscatter;
