@@ -9,6 +9,7 @@
 //! across passes, and pixels are independent, so the film is bit-identical for any thread
 //! count, and after `k` passes it is the same however many follow.
 
+use super::adaptive::{self, Adaptive, AdaptiveStats};
 use super::aov::Term;
 use super::budget;
 use super::error_aov::{replicate_of, Replicates, Shifts, REPLICATES};
@@ -253,15 +254,25 @@ impl<'a> CameraPass<'a> {
     /// All `spp` samples of a pixel at once, one pass, rows in parallel. Sample `i` belongs
     /// to replicate `i mod R` (see `error_aov`); each replicate is stratified over its own
     /// nx-by-ny grid, and the jittered point is warped by the filter.
-    pub fn stratified<I: Integrator>(&self, it: &mut I, spp: u32) -> Result<Film> {
+    ///
+    /// With `adaptive`, pixels in noisy regions then take further rounds of `spp` samples,
+    /// each round stratified as the first, as many as their neighbours' noise after the
+    /// first round asks for (`adaptive`).
+    pub fn stratified<I: Integrator>(
+        &self,
+        it: &mut I,
+        spp: u32,
+        adaptive: Option<Adaptive>,
+    ) -> Result<(Film, Option<AdaptiveStats>)> {
         use rayon::prelude::*;
         let (w, h) = (self.scene.width, self.scene.height);
         self.report(0.0, self.phase);
         let pass = it.begin_pass(0)?;
         let grids = replicate_grids(spp);
+        let first_share = if adaptive.is_some() { 0.8 } else { 1.0 };
         let rows_done = AtomicUsize::new(0);
         let it_ref: &I = it;
-        let rows: Vec<Option<Vec<(TermRadiance, Spectrum)>>> = (0..h)
+        let rows: Vec<Option<Vec<Pixel<I::Extra>>>> = (0..h)
             .into_par_iter()
             .map_init(
                 || it_ref.scratch(),
@@ -276,10 +287,10 @@ impl<'a> CameraPass<'a> {
                             let u = stratified_point(&grids, i, px.rng.vec2());
                             self.sample(it_ref, &pass, &mut px, x, y, u, i, scratch);
                         }
-                        row.push(it_ref.resolve(&px, spp));
+                        row.push(px);
                     }
                     let done = rows_done.fetch_add(1, Ordering::Relaxed) + 1;
-                    self.report(done as f32 / h as f32, self.phase);
+                    self.report(first_share * done as f32 / h as f32, self.phase);
                     Some(row)
                 },
             )
@@ -287,15 +298,69 @@ impl<'a> CameraPass<'a> {
         if self.cancelled() {
             return Err(Error::Cancelled);
         }
-        let mut film = Film::new(w, h);
-        for (y, row) in rows.into_iter().enumerate() {
-            for (x, (v, err)) in row.ok_or(Error::Cancelled)?.iter().enumerate() {
-                film.set_pixel(x, y, v);
-                film.error.data[y * w + x] = err.to_array();
+        let mut pixels = Vec::with_capacity(w * h);
+        for row in rows {
+            pixels.extend(row.ok_or(Error::Cancelled)?);
+        }
+
+        // Further rounds, decided once from the first round's noise.
+        let rounds: Vec<u32> = match adaptive {
+            Some(a) => {
+                let noise: Vec<f32> = pixels
+                    .iter()
+                    .map(|px| adaptive::noise(px.batches.mean(), px.batches.standard_error()))
+                    .collect();
+                a.rounds(&noise, w, h)
+            }
+            None => vec![1; w * h],
+        };
+        let extra_total: u64 = rounds.iter().map(|&r| (r - 1) as u64 * spp as u64).sum();
+        if extra_total > 0 {
+            let extra_done = AtomicUsize::new(0);
+            pixels
+                .par_chunks_mut(w.max(1))
+                .zip(rounds.par_chunks(w.max(1)))
+                .enumerate()
+                .for_each_init(
+                    || it_ref.scratch(),
+                    |scratch, (y, (row, row_rounds))| {
+                        let mut n = 0usize;
+                        for (x, (px, &r)) in row.iter_mut().zip(row_rounds).enumerate() {
+                            if self.cancelled() {
+                                return;
+                            }
+                            for i in spp..r * spp {
+                                let u = stratified_point(&grids, i % spp, px.rng.vec2());
+                                self.sample(it_ref, &pass, px, x, y, u, i, scratch);
+                            }
+                            n += ((r - 1) * spp) as usize;
+                        }
+                        let done = extra_done.fetch_add(n, Ordering::Relaxed) + n;
+                        let f = done as f32 / extra_total as f32;
+                        self.report(first_share + (1.0 - first_share) * f, self.phase);
+                    },
+                );
+            if self.cancelled() {
+                return Err(Error::Cancelled);
             }
         }
+
+        self.report(1.0, self.phase);
+        let mut film = Film::new(w, h);
+        for (i, (px, &r)) in pixels.iter().zip(&rounds).enumerate() {
+            let (v, err) = it_ref.resolve(px, r * spp);
+            film.set_pixel(i % w, i / w, &v);
+            film.error.data[i] = err.to_array();
+        }
         it.end_pass(pass, 0.0);
-        Ok(film)
+        let stats = adaptive.map(|a| AdaptiveStats {
+            threshold: a.threshold,
+            max_factor: a.max_factor,
+            pixels_refined: rounds.iter().filter(|&&r| r > 1).count() as u64,
+            extra_samples: extra_total,
+            mean_spp: rounds.iter().map(|&r| (r * spp) as f64).sum::<f64>() / (w * h).max(1) as f64,
+        });
+        Ok((film, stats))
     }
 
     /// Whole passes over the image, one sample per pixel each: sample `k` of a pixel comes

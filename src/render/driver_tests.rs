@@ -81,8 +81,8 @@ fn films_are_bit_identical_for_any_thread_count() {
     let scene = scene();
     let filter = Filter::gaussian(0.5);
     let driver = CameraPass::new(&scene, &filter, 3, "render");
-    let one = in_pool(1, || driver.stratified(&mut Toy::new(), 7).unwrap());
-    let two = in_pool(2, || driver.stratified(&mut Toy::new(), 7).unwrap());
+    let one = in_pool(1, || driver.stratified(&mut Toy::new(), 7, None).unwrap().0);
+    let two = in_pool(2, || driver.stratified(&mut Toy::new(), 7, None).unwrap().0);
     assert_eq!(bits(&one), bits(&two));
     let p1 = in_pool(1, || {
         driver.progressive(&mut Toy::new(), Schedule::Passes(5))
@@ -95,7 +95,7 @@ fn films_are_bit_identical_for_any_thread_count() {
     let other = CameraPass::new(&scene, &filter, 4, "render");
     assert_ne!(
         bits(&one),
-        bits(&other.stratified(&mut Toy::new(), 7).unwrap())
+        bits(&other.stratified(&mut Toy::new(), 7, None).unwrap().0)
     );
 }
 
@@ -137,7 +137,7 @@ fn the_firewall_drops_non_finite_terms_and_counts_them() {
     let driver = CameraPass::new(&scene, &filter, 1, "render");
     let mut toy = Toy::new();
     toy.nan_every = 2;
-    let film = driver.stratified(&mut toy, 4).unwrap();
+    let film = driver.stratified(&mut toy, 4, None).unwrap().0;
     // Samples 0 and 2 of each pixel carry a NaN caustic term.
     assert_eq!(driver.non_finite_samples(), (12 * 9 * 2) as u64);
     assert!(film
@@ -248,7 +248,7 @@ fn cancelling_ends_either_loop_with_cancelled() {
     let mut driver = CameraPass::new(&scene, &filter, 1, "render");
     driver.cancel = Some(&flag);
     assert!(matches!(
-        driver.stratified(&mut Toy::new(), 4),
+        driver.stratified(&mut Toy::new(), 4, None).map(|r| r.0),
         Err(Error::Cancelled)
     ));
     assert!(matches!(
@@ -275,4 +275,132 @@ fn a_deadline_runs_at_least_one_pass_and_stops() {
     let out = driver.progressive(&mut Toy::new(), soon).unwrap();
     assert!(out.passes > 1, "{}", out.passes);
     assert!(start.elapsed().as_secs_f64() < 5.0);
+}
+
+/// A rare bright path: each sample's direct term is `value` with probability `p`, else 0
+/// (a small light seen through glass); `extra` counts the pixel's samples.
+struct Rare {
+    p: f32,
+    value: f32,
+}
+
+impl Integrator for Rare {
+    type Extra = u32;
+    type Scratch = ();
+    type Pass = ();
+    fn scratch(&self) {}
+    fn begin_pass(&mut self, _k: u32) -> Result<()> {
+        Ok(())
+    }
+    fn sample(
+        &self,
+        _: &(),
+        _: Ray,
+        rng: &mut Rng,
+        extra: &mut u32,
+        _: u32,
+        _: &mut (),
+    ) -> (TermRadiance, Spectrum) {
+        *extra += 1;
+        let mut l = TermRadiance::default();
+        if rng.f32() < self.p {
+            l.add(Term::Direct, Spectrum::splat(self.value));
+        }
+        (l, Spectrum::ZERO)
+    }
+}
+
+fn wide_scene(w: usize, h: usize) -> Scene {
+    let mut desc = default_scene();
+    desc.film.width = w as u32;
+    desc.film.height = h as u32;
+    Scene::build(&desc).unwrap()
+}
+
+/// Adaptive sampling adds whole rounds where the neighbours are noisy, takes the same film for
+/// any thread count, and its rounds show in the stats.
+#[test]
+fn adaptive_rounds_are_deterministic_and_counted() {
+    let scene = wide_scene(24, 16);
+    let filter = Filter::Box;
+    let driver = CameraPass::new(&scene, &filter, 5, "render");
+    let a = Some(Adaptive {
+        threshold: 0.5,
+        max_factor: 4,
+    });
+    let run = |threads| {
+        in_pool(threads, || {
+            driver
+                .stratified(&mut Rare { p: 0.05, value: 20.0 }, 8, a)
+                .unwrap()
+        })
+    };
+    let (one, s1) = run(1);
+    let (two, s2) = run(2);
+    assert_eq!(bits(&one), bits(&two));
+    assert_eq!(s1, s2);
+    let s = s1.unwrap();
+    assert!(s.pixels_refined > 0 && s.pixels_refined < 24 * 16, "{s:?}");
+    assert_eq!(
+        s.mean_spp * (24 * 16) as f64,
+        (24 * 16 * 8) as f64 + s.extra_samples as f64
+    );
+    assert_eq!(s.extra_samples % 8, 0, "whole rounds of spp");
+}
+
+/// A pixel's rounds come from its neighbours' noise, never its own, so each pixel's mean stays
+/// unbiased: over 64 x 64 pixels of a rare bright path (p = 0.02, value 50, mean 1), the image
+/// mean is within 4.5 standard errors of 1. The same test rejects the rule that refines a
+/// pixel by its own noise (simulated below), which keeps pixels that missed the path dark and
+/// dilutes those that caught it: its mean is near a quarter of the truth.
+#[test]
+fn adaptive_sampling_is_unbiased_on_a_rare_bright_path() {
+    let (w, h, spp) = (64usize, 64usize, 8u32);
+    let (p, value) = (0.02f32, 50.0f32);
+    let a = Adaptive {
+        threshold: 0.3,
+        max_factor: 8,
+    };
+    let truth = (p * value) as f64;
+    // Standard error of an image mean of pixels of at least spp samples each.
+    let sigma = ((p * (1.0 - p)) as f64 * (value as f64).powi(2) / (spp as f64 * (w * h) as f64))
+        .sqrt();
+    let z = |m: f64| (m - truth) / sigma;
+
+    let scene = wide_scene(w, h);
+    let filter = Filter::Box;
+    let driver = CameraPass::new(&scene, &filter, 11, "render");
+    let (film, stats) = driver
+        .stratified(&mut Rare { p, value }, spp, Some(a))
+        .unwrap();
+    let stats = stats.unwrap();
+    assert!(stats.pixels_refined > 100, "{stats:?}");
+    let mean = film.term(Term::Direct).data.iter().map(|v| v[1] as f64).sum::<f64>()
+        / (w * h) as f64;
+    assert!(z(mean).abs() < 4.5, "adaptive mean {mean} (z {:.1})", z(mean));
+
+    // The rule that reads a pixel's own noise, on the same kind of samples.
+    let mut rng = Rng::new(11, 0);
+    let mut own = 0.0f64;
+    for _ in 0..w * h {
+        let mut reps = Replicates::default();
+        let mut sum = 0.0f64;
+        let mut draw = |k: u32, reps: &mut Replicates, sum: &mut f64| {
+            let v = if rng.f32() < p { value } else { 0.0 };
+            reps.add(k, Spectrum::splat(v));
+            *sum += v as f64;
+        };
+        for k in 0..spp {
+            draw(k, &mut reps, &mut sum);
+        }
+        let n = adaptive::noise(reps.mean(), reps.standard_error());
+        let rounds = ((n / a.threshold).powi(2).ceil() as u32).clamp(1, a.max_factor);
+        for k in spp..rounds * spp {
+            draw(k, &mut reps, &mut sum);
+        }
+        own += sum / (rounds * spp) as f64;
+    }
+    own /= (w * h) as f64;
+    eprintln!("image mean: adaptive {mean:.4} (z {:.2}), own-noise rule {own:.4} (z {:.1})", z(mean), z(own));
+    assert!(z(own) < -4.5, "the own-noise rule's mean {own} (z {:.1})", z(own));
 }

@@ -3,6 +3,7 @@
 //! eye (`eye::trace`) through the camera-pass driver, in one stratified pass or, progressive
 //! or under a time budget, in whole passes.
 
+use super::adaptive::Adaptive;
 use super::budget::BudgetStats;
 use super::cache_fill;
 use super::driver::{Integrator, Schedule};
@@ -131,6 +132,7 @@ impl Renderer<'_> {
         let t2 = Instant::now();
         let driver = self.camera_pass(s, "render");
         let mut jensen = Jensen { ctx };
+        let mut adaptive_stats = None;
         let (film, spp) = if s.progressive || budget_seconds.is_some() {
             let schedule = Schedule::of(budget_seconds, s.spp, start);
             let out = driver.progressive(&mut jensen, schedule)?;
@@ -145,7 +147,9 @@ impl Renderer<'_> {
             }
             (out.film, out.passes)
         } else {
-            (driver.stratified(&mut jensen, s.spp)?, s.spp)
+            let (film, a) = driver.stratified(&mut jensen, s.spp, Adaptive::of(s))?;
+            adaptive_stats = a;
+            (film, s.spp)
         };
         seconds.insert("render".to_string(), t2.elapsed().as_secs_f64());
         let mut stats = self.stats(StatsParts {
@@ -162,6 +166,7 @@ impl Renderer<'_> {
             time_budget: None,
             mode: RenderMode::Jensen,
             sppm: None,
+            adaptive: adaptive_stats,
         });
         stats.time_budget = budget_stats.map(|bs| bs.finish(start.elapsed().as_secs_f64()));
         Ok(RenderOutput { film, stats })

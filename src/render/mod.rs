@@ -1,4 +1,5 @@
 //! The second pass: camera rays, the terms, and the film.
+pub mod adaptive;
 pub mod aov;
 pub mod budget;
 mod cache_fill;

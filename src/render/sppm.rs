@@ -275,6 +275,7 @@ impl Renderer<'_> {
             time_budget,
             mode: RenderMode::Sppm,
             sppm: Some(stats),
+            adaptive: None,
         });
         Ok(RenderOutput {
             film: out.film,

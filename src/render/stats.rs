@@ -1,6 +1,7 @@
 //! The stats of a render: what it did, what it skipped and why, with the settings it was
 //! given. Written as the stats JSON.
 
+use super::adaptive::AdaptiveStats;
 use super::aov::Term;
 use super::budget::BudgetStats;
 use super::memory::MemoryEstimate;
@@ -54,6 +55,10 @@ pub struct RenderStats {
     /// What a progressive render did; absent in Jensen's mode.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sppm: Option<SppmStats>,
+    /// What adaptive sampling did (pixels refined, samples added); absent where it was off
+    /// or the camera pass ran in whole passes.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub adaptive: Option<AdaptiveStats>,
     /// Work done per kind (march steps, volume and caustic map lookups).
     pub work: crate::render::work::WorkStats,
     /// The settings the render was given (a budgeted render's plan is under `time_budget`).
@@ -79,6 +84,7 @@ pub(super) struct StatsParts {
     pub(super) time_budget: Option<BudgetStats>,
     pub(super) mode: RenderMode,
     pub(super) sppm: Option<SppmStats>,
+    pub(super) adaptive: Option<AdaptiveStats>,
 }
 
 impl Renderer<'_> {
@@ -136,7 +142,8 @@ impl Renderer<'_> {
             triangles: self.scene.triangle_count,
             lights: self.scene.lights.len(),
             seconds: p.seconds,
-            camera_rays: (p.width * p.height) as u64 * p.spp as u64,
+            camera_rays: (p.width * p.height) as u64 * p.spp as u64
+                + p.adaptive.map_or(0, |a| a.extra_samples),
             photons_stored: p
                 .maps
                 .iter()
@@ -157,6 +164,7 @@ impl Renderer<'_> {
             time_budget: p.time_budget,
             mode: p.mode,
             sppm: p.sppm,
+            adaptive: p.adaptive,
         }
     }
 }
@@ -243,7 +251,10 @@ mod tests {
         for mode in [RenderMode::Jensen, RenderMode::Sppm] {
             let st = stats(&sc, RenderSettings { mode, ..small() });
             assert_eq!((st.width, st.height, st.spp), (10, 8, 3), "{mode:?}");
-            assert_eq!(st.camera_rays, 10 * 8 * 3);
+            // Jensen's camera pass adds adaptive sampling's rounds; the progressive one has none.
+            let extra = st.adaptive.map_or(0, |a| a.extra_samples);
+            assert_eq!(st.adaptive.is_some(), mode == RenderMode::Jensen, "{mode:?}");
+            assert_eq!(st.camera_rays, 10 * 8 * 3 + extra);
             assert_eq!(st.mode, mode);
             for m in st.photon_maps.iter().filter(|m| m.built) {
                 assert_eq!(st.photons_stored.get(m.map), Some(&m.stored), "{}", m.map);

@@ -108,6 +108,17 @@ render_options! {
     #[arg(long)]
     #[schema(label: "Samples", min: Some(1.0), soft_max: Some(4096.0), preset: true)]
     pub spp: Option<u32>,
+    /// Adaptive sampling: pixels whose neighbours are noisier than this (standard error over
+    /// the square root of the mean) after `spp` samples take more, in rounds of `spp`, up to
+    /// `max_spp`. Smaller is less noisy and slower; 0 = off (default: the preset's).
+    #[arg(long)]
+    #[schema(label: "Noise Threshold", min: Some(0.0), soft_max: Some(1.0), preset: true)]
+    pub noise_threshold: Option<f32>,
+    /// Adaptive sampling: the most camera samples a pixel takes (a multiple of `spp`; at
+    /// most `spp` turns adaptive sampling off; default: the preset's).
+    #[arg(long)]
+    #[schema(label: "Max Samples", min: Some(1.0), soft_max: Some(16384.0), preset: true)]
+    pub max_spp: Option<u32>,
     /// Seconds the whole render should take (photon pass, irradiance cache, camera pass);
     /// photon counts and camera passes are planned to fill it, and the plan is written to the
     /// stats (`time_budget`). 0 = off.
@@ -217,6 +228,8 @@ impl RenderOptions {
         RenderOptions {
             quality,
             spp: Some(s.spp),
+            noise_threshold: Some(s.noise_threshold),
+            max_spp: Some(s.max_spp),
             photons: Some(p.global),
             caustic_photons: Some(p.caustic),
             volume_photons: Some(p.volume),
@@ -240,6 +253,8 @@ impl RenderOptions {
             alpha: s.sppm_alpha,
             initial_photons: s.sppm_initial_photons,
             spp: Some(s.spp),
+            noise_threshold: Some(s.noise_threshold),
+            max_spp: Some(s.max_spp),
             time_budget: s.time_budget,
             memory_limit: s.memory_limit.map(Bytes),
             filter: match s.filter {
@@ -331,6 +346,8 @@ impl RenderOptions {
     pub fn settings(&self) -> RenderSettings {
         let mut s = self.quality.settings();
         s.spp = self.spp.unwrap_or(s.spp);
+        s.noise_threshold = self.noise_threshold.unwrap_or(s.noise_threshold);
+        s.max_spp = self.max_spp.unwrap_or(s.max_spp);
         s.seed = self.seed;
         s.threads = self.threads;
         s.max_specular_depth = self.max_specular_depth;
