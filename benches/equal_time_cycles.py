@@ -22,12 +22,16 @@ Per scene (built by this script with the corpus' building blocks, tests/blender/
    photon pass, cache, camera pass) and through USD (Blender's USD exporter, then the
    ``photonmap render`` command, timed as a whole process). The USD render is divided by the
    exporter's known light factor (tests/blender/corpus/usd_export.py).
-3. **Cycles at equal time**: ``bpy.ops.render.render()`` at 16 and 64 spp gives its fixed cost
-   and cost per sample; the spp that matches each add-on time is rendered and timed, plain and
-   with shadow caustics. For the USD time Cycles' error is scaled from the matched run by
-   MSE ~ 1/spp.
+3. **Cycles at equal time**, three peers: plain (no adaptive sampling), with shadow caustics
+   (MNEE), and with adaptive sampling as Blender starts it (noise threshold 0.01). For each,
+   ``bpy.ops.render.render()`` at 16 and 64 spp gives its fixed cost and cost per sample; the
+   spp that matches each add-on time is rendered and timed, and its error brought to exactly
+   our time by MSE ~ 1/t from the time the run took (for the USD path, to the USD time).
 4. **Error**: RMSE over pixels and channels, and relMSE = mean (x - r)^2 / (r^2 + 0.01), both
-   minus the reference's noise floor; the ratio ours / the better Cycles.
+   minus the reference's noise floor; the ratio ours / the best Cycles peer by each measure.
+5. **Plot** (``--plot``): error against seconds per scene, every run of ours and the peers'
+   (the 16- and 64-spp runs of the cost models included), drawn by
+   ``benches/plot_equal_time.py``.
 
 The figures go to BENCHMARKS.md ("Equal time against Cycles"). Nothing here is a test.
 """
@@ -137,12 +141,25 @@ def read_exr(path: str) -> np.ndarray:
     return oiio.ImageBuf(path).get_pixels(oiio.FLOAT)[..., :3].astype(np.float64)
 
 
-def cycles(build, spp: int, seed: int, mnee: bool, work: str) -> tuple[np.ndarray, float]:
+#: The peers: plain Cycles (no adaptive sampling), Cycles with shadow caustics (MNEE), and
+#: Cycles with adaptive sampling as Blender starts it (noise threshold 0.01, minimum samples
+#: automatic).
+PEERS = {"cycles": {"mnee": False, "adaptive": False},
+         "cycles_mnee": {"mnee": True, "adaptive": False},
+         "cycles_adaptive": {"mnee": False, "adaptive": True}}
+
+
+def cycles(build, spp: int, seed: int, mnee: bool, work: str,
+           adaptive: bool = False) -> tuple[np.ndarray, float]:
     sc = build()
     make_references.setup_cycles(sc, spp, seed)
     if mnee:
         shadow_caustics(sc)
-    path = os.path.join(work, f"cycles_{spp}_{seed}_{int(mnee)}.exr")
+    if adaptive:
+        sc.cycles.use_adaptive_sampling = True
+        sc.cycles.adaptive_threshold = 0.01
+        sc.cycles.adaptive_min_samples = 0
+    path = os.path.join(work, f"cycles_{spp}_{seed}_{int(mnee)}{'a' if adaptive else ''}.exr")
     sc.render.filepath = path
     t = time.time()
     bpy.ops.render.render(write_still=True)
@@ -195,10 +212,10 @@ def errors(img: np.ndarray, ref: np.ndarray, floor: np.ndarray) -> dict:
             "mean_ratio": float(img.mean() / ref.mean())}
 
 
-def scaled(e: dict, spp_from: float, spp_to: float) -> dict:
-    """Cycles' error at another spp: MSE ~ 1 / spp."""
-    k = spp_from / max(spp_to, 1e-9)
-    return {"rmse": e["rmse"] * math.sqrt(k), "relmse": e["relmse"] * k}
+def at_time(e: dict, t_from: float, t_to: float) -> dict:
+    """An error measured after ``t_from`` seconds, at ``t_to``: MSE ~ 1 / t."""
+    k = t_from / max(t_to, 1e-9)
+    return dict(e, rmse=e["rmse"] * math.sqrt(k), relmse=e["relmse"] * k, at_seconds=t_to)
 
 
 #: Scenes whose USD export differs from the Blender scene: the exporter writes no camera
@@ -243,10 +260,17 @@ def bench_scene(name: str, args, work: str) -> dict:
     build = SCENES[name]
     print(f"== {name}", file=sys.stderr, flush=True)
     ref, floor, res = reference(name, args, work)
-    # Cycles' cost model from two runs.
-    (_, t16), (_, t64) = (cycles(build, s, 7, False, work) for s in (16, 64))
-    per = max((t64 - t16) / 48, 1e-6)
-    fixed = max(t16 - 16 * per, 0.0)
+    # Each peer's cost model from runs at 16 and 64 spp (kept as points of the plot).
+    model = {}
+    res["peer_runs"] = {}
+    for peer, kw in PEERS.items():
+        runs = []
+        for spp in (16, 64):
+            img, t = cycles(build, spp, 7, work=work, **kw)
+            runs.append(dict(errors(img, ref, floor), seconds=t, spp=spp))
+        per = max((runs[1]["seconds"] - runs[0]["seconds"]) / 48, 1e-6)
+        model[peer] = (max(runs[0]["seconds"] - 16 * per, 0.0), per)
+        res["peer_runs"][peer] = runs
     stage = os.path.join(work, f"{name}.usda")
     usd = args.usd_python and name not in USD_NOT_COMPARABLE
     if usd:
@@ -254,39 +278,45 @@ def bench_scene(name: str, args, work: str) -> dict:
     for preset in args.presets:
         img, t = ours_addon(build, preset, seed=1)
         row = {"preset": preset, "addon": dict(errors(img, ref, floor), seconds=t)}
-        spp = max(1, int(round((t - fixed) / per)))
-        for label, mnee in (("cycles", False), ("cycles_mnee", True)):
-            cimg, ct = cycles(build, spp, 11, mnee, work)
-            row[label] = dict(errors(cimg, ref, floor), seconds=ct, spp=spp)
+        # Each peer at the spp its cost model gives for our time; its error is then brought
+        # to exactly our time (MSE ~ 1/t) from the time the run took.
+        for peer, kw in PEERS.items():
+            fixed, per = model[peer]
+            spp = max(1, int(round((t - fixed) / per)))
+            cimg, ct = cycles(build, spp, 11, work=work, **kw)
+            row[peer] = dict(at_time(errors(cimg, ref, floor), ct, t), seconds=ct, spp=spp)
         if usd:
             uimg, ut = ours_usd(stage, preset, 1, args.usd_python, work, ref.shape[:2])
             row["usd"] = dict(errors(uimg, ref, floor), seconds=ut)
-            uspp = max(1.0, (ut - fixed) / per)
-            best = min(("cycles", "cycles_mnee"), key=lambda k: row[k]["rmse"])
-            row["cycles_at_usd_time"] = dict(scaled(row[best], spp, uspp), spp=uspp, peer=best)
+            row["peers_at_usd_time"] = {peer: at_time(row[peer], t, ut) for peer in PEERS}
         res["rows"].append(row)
         print(json.dumps(row), file=sys.stderr, flush=True)
     return res
 
 
+def best(peers: dict, key: str) -> tuple[str, dict]:
+    """The peer with the lowest ``key`` error."""
+    return min(peers.items(), key=lambda kv: kv[1][key])
+
+
 def markdown(results: dict) -> str:
-    lines = ["| scene | preset | path | T ours (s) | Cycles spp | RMSE ours | RMSE Cycles | "
-             "RMSE Cycles+MNEE | ratio (ours / better Cycles) | relMSE ratio |",
+    lines = ["| scene | preset | path | T ours (s) | RMSE ours | RMSE Cycles (spp) | "
+             "RMSE Cycles+MNEE (spp) | RMSE Cycles adaptive (max spp) | RMSE ratio "
+             "(ours / best Cycles) | relMSE ratio |",
              "|---|---|---|---|---|---|---|---|---|---|"]
     for name, res in results.items():
         for row in res["rows"]:
-            c, m = row["cycles"], row["cycles_mnee"]
-            best = min(c, m, key=lambda e: e["rmse"])
-            paths = [("add-on", row["addon"], best)]
+            paths = [("add-on", row["addon"], {p: row[p] for p in PEERS})]
             if "usd" in row:
-                paths.append(("USD", row["usd"], row["cycles_at_usd_time"]))
-            for path, e, peer in paths:
+                paths.append(("USD", row["usd"], row["peers_at_usd_time"]))
+            for path, e, peers in paths:
+                cells = " | ".join(f"{peers[p]['rmse']:.4f} ({row[p]['spp']})" for p in PEERS)
+                _, br = best(peers, "rmse")
+                _, bm = best(peers, "relmse")
                 lines.append(
                     f"| {name} | {row['preset']} | {path} | {e['seconds']:.1f} | "
-                    f"{c['spp'] if path == 'add-on' else round(peer['spp'])} | {e['rmse']:.4f} | "
-                    f"{c['rmse']:.4f} | {m['rmse']:.4f} | "
-                    f"{e['rmse'] / max(peer['rmse'], 1e-12):.2f} | "
-                    f"{e['relmse'] / max(peer['relmse'], 1e-12):.2f} |")
+                    f"{e['rmse']:.4f} | {cells} | {e['rmse'] / max(br['rmse'], 1e-12):.2f} | "
+                    f"{e['relmse'] / max(bm['relmse'], 1e-12):.2f} |")
     return "\n".join(lines) + "\n"
 
 
@@ -303,6 +333,9 @@ def main() -> None:
                          "them in later runs")
     ap.add_argument("--json", default=None)
     ap.add_argument("--markdown", default=None)
+    ap.add_argument("--plot", default=None,
+                    help="PNG of error against seconds per scene (drawn by "
+                         "benches/plot_equal_time.py with --usd-python's matplotlib)")
     args = ap.parse_args()
     render_addon.install(args.zip)
     results = {}
@@ -317,6 +350,11 @@ def main() -> None:
     if args.markdown:
         with open(args.markdown, "w") as f:
             f.write(md)
+    if args.plot:
+        if not (args.json and args.usd_python):
+            raise SystemExit("--plot needs --json and --usd-python")
+        subprocess.run([args.usd_python, os.path.join(ROOT, "benches", "plot_equal_time.py"),
+                        args.json, args.plot], check=True)
 
 
 if __name__ == "__main__":

@@ -3,9 +3,11 @@
 //! stratified set), up to `max_factor` rounds in all.
 //!
 //! **How many.** A pixel's noise is the standard error of its combined image's luminance
-//! (the `error` AOV's replicates) over the square root of its mean luminance: the measure
-//! Cycles' noise threshold uses, between absolute error (which only sees highlights) and
-//! relative error (which only sees the dark). Halving the noise takes four times the samples,
+//! (the `error` AOV's replicates) over the square root of its mean luminance times the
+//! image's brightness: the form of Cycles' noise threshold (error over the root of the
+//! value), between absolute error (which only sees highlights) and relative error (which only
+//! sees the dark), made free of light units and exposure by the image's brightness (its mean
+//! luminance with the brightest 1% clamped). Halving the noise takes four times the samples,
 //! so a pixel whose neighbourhood is at noise `e` takes `ceil((e / threshold)^2)` rounds,
 //! clamped to `1..=max_factor`.
 //!
@@ -27,7 +29,7 @@ use crate::math::{luminance, Spectrum};
 /// The adaptive stage's settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Adaptive {
-    /// Target noise: standard error / sqrt(mean luminance).
+    /// Target noise: standard error / sqrt(mean luminance x the image's brightness).
     pub threshold: f32,
     /// Most rounds of `spp` samples a pixel takes, the first included.
     pub max_factor: u32,
@@ -46,17 +48,44 @@ pub struct AdaptiveStats {
     pub mean_spp: f64,
 }
 
-/// Luminance floor of the noise measure's denominator: below it, noise is judged as if
-/// absolute.
+/// Floor of the noise measure's denominator, as a fraction of the image's brightness: below
+/// it, noise is judged as if absolute.
 const DARK: f32 = 1e-3;
 
-/// A pixel's noise: standard error over the square root of its mean, both in luminance.
-pub fn noise(mean: Spectrum, standard_error: Spectrum) -> f32 {
-    let se = luminance(standard_error.max(Spectrum::ZERO));
-    let m = luminance(mean).max(DARK);
-    let n = se / m.sqrt();
+/// The image's brightness that noise is measured against: the mean luminance of the pixels,
+/// each clamped at the 99th percentile so that a light seen in frame does not set it.
+pub fn brightness(means: &[f32]) -> f32 {
+    if means.is_empty() {
+        return 0.0;
+    }
+    let mut sorted: Vec<f32> = means.iter().map(|m| if m.is_finite() { m.max(0.0) } else { 0.0 }).collect();
+    let k = ((sorted.len() - 1) as f64 * 0.99).round() as usize;
+    let (_, cap, _) = sorted.select_nth_unstable_by(k, f32::total_cmp);
+    let cap = *cap;
+    (sorted.iter().map(|&m| m.min(cap) as f64).sum::<f64>() / sorted.len() as f64) as f32
+}
+
+/// Each pixel's noise: the standard error of its luminance over sqrt(mean x `brightness`),
+/// both in luminance. Scaling every light scales error and mean alike, so the noise and the
+/// decisions do not change with light units or exposure.
+pub fn noise_map(means: &[Spectrum], errors: &[Spectrum]) -> Vec<f32> {
+    let lum: Vec<f32> = means.iter().map(|m| luminance(*m)).collect();
+    let b = brightness(&lum);
+    lum.iter()
+        .zip(errors)
+        .map(|(&m, e)| noise(m, luminance(e.max(Spectrum::ZERO)), b))
+        .collect()
+}
+
+/// One pixel's noise, from its mean and standard error (luminance) and the image's
+/// brightness; 0 in a black image.
+fn noise(mean: f32, standard_error: f32, brightness: f32) -> f32 {
+    if brightness <= 0.0 {
+        return 0.0;
+    }
+    let n = standard_error / (mean.max(DARK * brightness) * brightness).sqrt();
     if n.is_finite() {
-        n
+        n.max(0.0)
     } else {
         0.0
     }
@@ -111,13 +140,39 @@ mod tests {
     use super::*;
 
     #[test]
-    fn noise_is_error_over_root_mean() {
-        let n = noise(Spectrum::splat(4.0), Spectrum::splat(0.2));
-        assert!((n - 0.1).abs() < 1e-6, "{n}");
-        // Dark pixels are judged against the floor, not divided by zero.
-        let d = noise(Spectrum::ZERO, Spectrum::splat(1e-3));
-        assert!((d - 1e-3 / DARK.sqrt()).abs() < 1e-6, "{d}");
-        assert_eq!(noise(Spectrum::ONE, Spectrum::splat(f32::NAN)), 0.0);
+    fn noise_is_error_over_root_mean_times_brightness() {
+        // A uniform image of mean 4: brightness 4, noise = se / 4.
+        let means = vec![Spectrum::splat(4.0); 100];
+        let mut errors = vec![Spectrum::splat(0.2); 100];
+        errors[7] = Spectrum::splat(f32::NAN);
+        let n = noise_map(&means, &errors);
+        assert!((n[0] - 0.05).abs() < 1e-6, "{}", n[0]);
+        assert_eq!(n[7], 0.0, "a non-finite error is no noise");
+        // Every light 1000 times brighter: the same noise.
+        let m2: Vec<Spectrum> = means.iter().map(|m| *m * 1000.0).collect();
+        let e2: Vec<Spectrum> = errors.iter().map(|e| *e * 1000.0).collect();
+        let n2 = noise_map(&m2, &e2);
+        assert!((n2[0] - n[0]).abs() < 1e-6, "{} {}", n2[0], n[0]);
+        // A black pixel is judged against the floor, not divided by zero; a black image has
+        // no noise.
+        let mut dark = means.clone();
+        dark[3] = Spectrum::ZERO;
+        let d = noise_map(&dark, &errors)[3];
+        let b = brightness(&dark.iter().map(|m| luminance(*m)).collect::<Vec<_>>());
+        assert!((d - 0.2 / (DARK * b * b).sqrt()).abs() < 1e-3 * d, "{d}");
+        assert!(noise_map(&[Spectrum::ZERO; 4], &[Spectrum::ONE; 4]).iter().all(|&v| v == 0.0));
+    }
+
+    /// A light in frame, far brighter than the rest, does not set the brightness.
+    #[test]
+    fn brightness_ignores_the_brightest_percent() {
+        let mut m = vec![0.5f32; 1000];
+        for v in m.iter_mut().take(10) {
+            *v = 800.0;
+        }
+        let b = brightness(&m);
+        assert!((b - 0.5).abs() < 1e-6, "{b}");
+        assert_eq!(brightness(&[]), 0.0);
     }
 
     /// A pixel's rounds never read its own noise, only its neighbours'; four times the

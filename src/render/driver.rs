@@ -306,11 +306,10 @@ impl<'a> CameraPass<'a> {
         // Further rounds, decided once from the first round's noise.
         let rounds: Vec<u32> = match adaptive {
             Some(a) => {
-                let noise: Vec<f32> = pixels
-                    .iter()
-                    .map(|px| adaptive::noise(px.batches.mean(), px.batches.standard_error()))
-                    .collect();
-                a.rounds(&noise, w, h)
+                let means: Vec<Spectrum> = pixels.iter().map(|px| px.batches.mean()).collect();
+                let errors: Vec<Spectrum> =
+                    pixels.iter().map(|px| px.batches.standard_error()).collect();
+                a.rounds(&adaptive::noise_map(&means, &errors), w, h)
             }
             None => vec![1; w * h],
         };

@@ -379,9 +379,11 @@ fn adaptive_sampling_is_unbiased_on_a_rare_bright_path() {
         / (w * h) as f64;
     assert!(z(mean).abs() < 4.5, "adaptive mean {mean} (z {:.1})", z(mean));
 
-    // The rule that reads a pixel's own noise, on the same kind of samples.
+    // The rule that reads a pixel's own noise, on the same kind of samples (the image's
+    // brightness taken as the truth).
     let mut rng = Rng::new(11, 0);
     let mut own = 0.0f64;
+    let b = truth as f32;
     for _ in 0..w * h {
         let mut reps = Replicates::default();
         let mut sum = 0.0f64;
@@ -393,7 +395,8 @@ fn adaptive_sampling_is_unbiased_on_a_rare_bright_path() {
         for k in 0..spp {
             draw(k, &mut reps, &mut sum);
         }
-        let n = adaptive::noise(reps.mean(), reps.standard_error());
+        let (m, se) = (reps.mean().y, reps.standard_error().y);
+        let n = se / (m.max(1e-3 * b) * b).sqrt();
         let rounds = ((n / a.threshold).powi(2).ceil() as u32).clamp(1, a.max_factor);
         for k in spp..rounds * spp {
             draw(k, &mut reps, &mut sum);
