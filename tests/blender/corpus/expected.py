@@ -35,6 +35,14 @@ SPOT_RADIUS_CORNER = ("core: the left wall's foot at the image's edge, blocks (0
                       "(-11.9 sigma) and (0,12) -15.2% (-7.0 sigma); pixel relMSE within the "
                       "noise (0.97 of it)")
 
+# Noise that one pair of seeds understates: the irradiance cache's records differ by seed, and
+# their error is shared by every pixel of a block.
+EMISSION_CACHE_NOISE = ("noise: block (14,12) -10.0% against a tolerance of 9.98%: seeds 1 and 2 "
+                        "both land low there (-10.7%, -9.3%; seeds 3-6: +1.6%, +0.1%, -7.0%, "
+                        "+15.8%; the same with 400,000 photons), the irradiance cache's "
+                        "seed-to-seed spread; it passes with adaptive sampling off, whose "
+                        "lower noise in the neighbouring blocks narrows the tolerance")
+
 # Blender 5.0.1's USD exporter writes something else than the scene has; the USD render then
 # differs from Cycles' render of the Blender scene by more than the comparison allows.
 ELLIPSE = ("exporter: an ellipse area light (0.8 x 0.3) is written as a DiskLight of radius "
@@ -62,6 +70,7 @@ USD: dict[str, str] = {
     "area_ellipse": ELLIPSE,
     "area_hidden": HIDDEN,
     "area_spread60": SPREAD,
+    "emission_principled": EMISSION_CACHE_NOISE,
     "light_exposure": CUBE_FOOT_EXPOSURE,
     "mat_default": CUBE_FOOT,
     "metal_rough": METAL_ROUGH_USD,
