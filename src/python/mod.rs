@@ -18,7 +18,8 @@ mod pointer;
 use crate::cli::{self, Cli, Command, LoadedScene, SceneRequest};
 use crate::error::Error;
 use crate::io::scene_json;
-use crate::render::aov::Term;
+use crate::render::aov::{AovSpec, Term};
+use std::collections::BTreeMap;
 use crate::render::{ProgressFn, Quality, RenderOutput, RenderSettings};
 use crate::scene::desc::SceneDesc;
 use clap::Parser;
@@ -418,6 +419,75 @@ fn render_blocking(
     })
 }
 
+/// A spec of the AOV list as a dict: `name`, `pass_name`, `kind`, `channels`, `chan_id`,
+/// `pass_type` (the last two as Blender's `register_pass` takes them).
+fn spec_dict<'py>(py: Python<'py>, spec: &AovSpec) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("name", &spec.name)?;
+    d.set_item("pass_name", &spec.pass_name)?;
+    d.set_item(
+        "kind",
+        serde_json::to_value(spec.kind)
+            .ok()
+            .and_then(|v| v.as_str().map(str::to_string))
+            .unwrap_or_default(),
+    )?;
+    d.set_item("channels", spec.channels().to_vec())?;
+    d.set_item("chan_id", spec.kind.chan_id())?;
+    d.set_item("pass_type", spec.kind.pass_type())?;
+    Ok(d)
+}
+
+/// Every image of the film beside the terms, in the list's order: spec dicts with `data`,
+/// float32 little-endian bytes, the channels of each pixel together, rows top to bottom.
+fn aov_list<'py>(
+    py: Python<'py>,
+    film: &crate::render::film::Film,
+) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    film.extra_images()
+        .iter()
+        .map(|(spec, data)| {
+            let d = spec_dict(py, spec)?;
+            let mut v = Vec::with_capacity(data.len() * 4);
+            for x in data.iter() {
+                v.extend_from_slice(&x.to_le_bytes());
+            }
+            d.set_item("data", PyBytes::new(py, &v))?;
+            Ok(d)
+        })
+        .collect()
+}
+
+/// The AOVs beside the terms that a render with `settings` (the `render` keywords as JSON)
+/// writes, for a scene with the light groups `light_groups`, in output order, as spec dicts
+/// (see `spec_dict`): Blender registers its passes from it.
+#[pyfunction]
+#[pyo3(signature = (settings="{}", light_groups=Vec::new()))]
+fn aov_specs<'py>(
+    py: Python<'py>,
+    settings: &str,
+    light_groups: Vec<String>,
+) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    let options = crate::render::RenderOptions::from_json(settings).map_err(to_py)?;
+    options
+        .settings()
+        .aovs
+        .aovs(&light_groups)
+        .iter()
+        .map(|spec| spec_dict(py, spec))
+        .collect()
+}
+
+/// The EXR header attributes of Cryptomatte manifests (`{type name: [names]}` as JSON), each
+/// layer named `prefix` + type name: `{"cryptomatte/<key>/name": ..., ...}`.
+#[pyfunction]
+#[pyo3(signature = (manifests, prefix=""))]
+fn cryptomatte_header(manifests: &str, prefix: &str) -> PyResult<BTreeMap<String, String>> {
+    let m: BTreeMap<String, Vec<String>> =
+        serde_json::from_str(manifests).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    Ok(crate::render::compositing::cryptomatte_header(&m, prefix))
+}
+
 fn image_bytes<'py>(py: Python<'py>, img: &crate::render::film::Image) -> Bound<'py, PyBytes> {
     let mut v = Vec::with_capacity(img.data.len() * 12);
     for p in &img.data {
@@ -468,6 +538,12 @@ fn render<'py>(
     d.set_item(
         crate::render::aov::ERROR_AOV,
         image_bytes(py, &out.film.error),
+    )?;
+    d.set_item("aovs", aov_list(py, &out.film)?)?;
+    d.set_item(
+        "cryptomatte",
+        serde_json::to_string(&out.film.cryptomatte)
+            .map_err(|e| PhotonmapError::new_err(e.to_string()))?,
     )?;
     d.set_item("combined", image_bytes(py, &out.film.combined()))?;
     let stats =
@@ -648,6 +724,10 @@ fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run_cli, m)?)?;
     m.add_function(wrap_pyfunction!(preset, m)?)?;
     m.add_function(wrap_pyfunction!(settings_schema, m)?)?;
+    m.add_function(wrap_pyfunction!(aov_specs, m)?)?;
+    m.add_function(wrap_pyfunction!(cryptomatte_header, m)?)?;
+    m.add("DENOISED_TERMS", crate::render::aov::DENOISED_TERMS.map(|t| t.name()).to_vec())?;
+    m.add("NOISY_SUFFIX", crate::render::aov::NOISY_SUFFIX)?;
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
     Ok(())
 }

@@ -3,6 +3,7 @@
 //! `direct`, `caustic` and `indirect` terms run (routed to `specular` after a bounce).
 
 use super::aov::{Term, TermMask};
+use super::compositing::{Guides, SampleAovs};
 use super::film::TermRadiance;
 use super::irradiance_cache::IrradianceCache;
 use super::photons::PhotonMaps;
@@ -74,8 +75,28 @@ pub struct VisiblePoint {
 }
 
 /// Radiance along `ray`, per term. Non-finite estimates are dropped (counted by the caller).
-pub fn trace(ctx: &EyeCtx, ray: Ray, rng: &mut Rng, scratch: &mut KnnScratch) -> TermRadiance {
-    trace_split(ctx, ray, rng, scratch, None)
+/// What the path gives the compositing AOVs that `aovs` asks for goes into it.
+pub fn trace(
+    ctx: &EyeCtx,
+    ray: Ray,
+    rng: &mut Rng,
+    scratch: &mut KnnScratch,
+    aovs: &mut SampleAovs,
+) -> TermRadiance {
+    trace_split(ctx, ray, rng, scratch, None, aovs)
+}
+
+/// The denoising guides at the non-specular surface `si` that a path reaches through
+/// specular bounces of tint `tint` (their weights, without Russian roulette): the surface's
+/// directional albedo (every lobe's, as Open Image Denoise defines it) times the tint, and
+/// its shading normal turned towards the path.
+fn guides(si: &crate::geometry::SurfaceInteraction, bsdf: &Bsdf, tint: Spectrum) -> Guides {
+    let (d, s, t) = bsdf.rr_reflectivities(si.wo);
+    let n = if si.ns.dot(si.wo) < 0.0 { -si.ns } else { si.ns };
+    Guides {
+        albedo: tint * (d + s + t).min(Spectrum::ONE),
+        normal: n,
+    }
 }
 
 /// As [`trace`]; with `visible` given, the caustic and indirect estimators do not run at the
@@ -87,11 +108,15 @@ pub fn trace_split(
     rng: &mut Rng,
     scratch: &mut KnnScratch,
     mut visible: Option<&mut dyn FnMut(VisiblePoint)>,
+    aovs: &mut SampleAovs,
 ) -> TermRadiance {
     let scene = ctx.scene;
     let s = &ctx.settings;
     let mut out = TermRadiance::default();
     let mut beta = Spectrum::ONE;
+    // The tint of the specular bounces so far, for the denoising guides; `None` once they
+    // are recorded (or not asked for).
+    let mut guide_tint = aovs.want_guides.then_some(Spectrum::ONE);
     let mut bounces = 0u32;
     let wants = |term: Term, bounces: u32| s.terms.contains(specular::route(term, bounces));
     let add = |out: &mut TermRadiance, term: Term, bounces: u32, l: Spectrum| {
@@ -185,6 +210,9 @@ pub fn trace_split(
                     ray = si.spawn_ray(ray.d);
                     continue;
                 }
+                if aovs.want_first_hit && bounces == 0 && aovs.first_hit.is_none() {
+                    aovs.first_hit = Some((si.instance, si.material));
+                }
                 if !skip_emission {
                     add(
                         &mut out,
@@ -195,6 +223,12 @@ pub fn trace_split(
                 }
                 let bsdf = scene.shading_bsdf(mat, &mut si);
                 let passes = bsdf.passes_through();
+                if let Some(tint) = guide_tint {
+                    if bsdf.has_non_delta() || bsdf.is_black() {
+                        aovs.guides = Some(guides(&si, &bsdf, tint));
+                        guide_tint = None;
+                    }
+                }
                 if bsdf.has_non_delta() {
                     if wants(Term::Direct, bounces) {
                         add(
@@ -254,6 +288,9 @@ pub fn trace_split(
                 // vertex's direct estimate (light and BSDF samples, MIS).
                 skip_emission = !bs.is_delta();
                 beta *= bs.weight;
+                if let Some(tint) = guide_tint.as_mut() {
+                    *tint *= bs.weight;
+                }
                 bounces += 1;
                 match specular::continue_chain(beta, bounces, rng.f32()) {
                     Some(b) => beta = b,

@@ -3,6 +3,8 @@ pub mod adaptive;
 pub mod aov;
 pub mod budget;
 mod cache_fill;
+pub mod compositing;
+pub mod cryptomatte;
 pub mod driver;
 pub mod error_aov;
 pub mod eye;

@@ -38,6 +38,7 @@
 
 use super::aov::Term;
 use super::budget::BudgetStats;
+use super::compositing::SampleAovs;
 use super::driver::{Integrator, Pixel, Schedule};
 use super::error_aov::Replicates;
 use super::eye::{self, EyeCtx, EyeSettings, VisiblePoint};
@@ -161,6 +162,7 @@ impl Integrator for Sppm<'_> {
         px: &mut Radius,
         k: u32,
         (scratch, vps): &mut Self::Scratch,
+        aovs: &mut SampleAovs,
     ) -> (TermRadiance, Spectrum) {
         let r = self.renderer;
         let s = &r.settings;
@@ -179,7 +181,7 @@ impl Integrator for Sppm<'_> {
         };
         vps.clear();
         let mut record = |vp: VisiblePoint| vps.push(vp);
-        let l = eye::trace_split(&ctx, ray, rng, scratch, Some(&mut record));
+        let l = eye::trace_split(&ctx, ray, rng, scratch, Some(&mut record), aovs);
         let photons = match &pass.maps.global {
             Some(global) => gather(k, global, &pass.maps, vps, px, s, scratch),
             None => Spectrum::ZERO,

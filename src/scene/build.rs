@@ -44,6 +44,11 @@ pub struct Scene {
     /// Media containing the camera, and each light's position (lights at infinity: none).
     pub camera_stack: crate::media::MediumStack,
     pub light_stacks: Vec<crate::media::MediumStack>,
+    /// The object name of each instance of the acceleration structure (Cryptomatte object
+    /// mattes): its `object`, else its `name`, else `mesh<i>` / `instance<i>`.
+    pub instance_names: Vec<String>,
+    /// Each material's name (Cryptomatte material mattes), else `material<i>`.
+    pub material_names: Vec<String>,
 }
 
 /// What a ray found first. Analytic lights are not surfaces: they never occlude, and rays
@@ -92,6 +97,14 @@ impl Scene {
         let mut meshes = Vec::with_capacity(desc.meshes.len());
         let mut instances = Vec::new();
         let mut instance_medium = Vec::new();
+        let mut instance_names = Vec::new();
+        let named = |object: &Option<String>, name: &str, fallback: String| {
+            match object.as_deref().filter(|o| !o.is_empty()) {
+                Some(o) => o.to_string(),
+                None if !name.is_empty() => name.to_string(),
+                None => fallback,
+            }
+        };
         for (i, m) in desc.meshes.iter().enumerate() {
             meshes.push(mesh_geom(m));
             let t = Transform::from_rows(&m.transform).unwrap_or_default();
@@ -101,9 +114,11 @@ impl Scene {
                     transform: t,
                 });
                 instance_medium.push(m.interior_medium);
+                instance_names.push(named(&m.object, &m.name, format!("mesh{i}")));
             }
         }
-        for inst in &desc.instances {
+        for (j, inst) in desc.instances.iter().enumerate() {
+            instance_names.push(named(&inst.object, &inst.name, format!("instance{j}")));
             instance_medium.push(desc.meshes[inst.mesh as usize].interior_medium);
             let mesh_t = Transform::from_rows(&desc.meshes[inst.mesh as usize].transform)
                 .unwrap_or_default();
@@ -224,6 +239,16 @@ impl Scene {
             instance_medium,
             camera_stack: Default::default(),
             light_stacks: Vec::new(),
+            instance_names,
+            material_names: desc
+                .materials
+                .iter()
+                .enumerate()
+                .map(|(i, m)| match m.name() {
+                    "" => format!("material{i}"),
+                    n => n.to_string(),
+                })
+                .collect(),
         };
         scene.camera_stack = scene.medium_stack_at(scene.camera.position());
         scene.light_stacks = scene

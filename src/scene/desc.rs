@@ -226,6 +226,7 @@ pub enum SensorFit {
 /// | `material` | material of every triangle (index into `materials`) |
 /// | `material_indices` | optional per-triangle material, overrides `material` |
 /// | `transform` | object-to-world |
+/// | `object` | optional object name for Cryptomatte (default `name`) |
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct MeshDesc {
@@ -247,6 +248,10 @@ pub struct MeshDesc {
     /// triangle winding) must point outwards.
     #[serde(default)]
     pub interior_medium: Option<u32>,
+    /// The object's name where compositing names it (Cryptomatte object mattes); default
+    /// `name`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub object: Option<String>,
 }
 
 impl Default for MeshDesc {
@@ -261,6 +266,7 @@ impl Default for MeshDesc {
             material_indices: None,
             transform: IDENTITY,
             interior_medium: None,
+            object: None,
         }
     }
 }
@@ -274,6 +280,21 @@ pub struct InstanceDesc {
     pub mesh: u32,
     #[serde(default = "identity")]
     pub transform: Matrix,
+    /// The object's name where compositing names it (Cryptomatte object mattes); default
+    /// `name`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub object: Option<String>,
+}
+
+impl Default for InstanceDesc {
+    fn default() -> Self {
+        InstanceDesc {
+            name: String::new(),
+            mesh: 0,
+            transform: IDENTITY,
+            object: None,
+        }
+    }
 }
 
 /// Float RGB(A) image, rows from top to bottom, looked up bilinearly by UV
