@@ -1,0 +1,82 @@
+"""The compositing passes in Blender: the denoising guides under Blender's Denoise node,
+Cryptomatte under Blender's Cryptomatte node, and light groups beside Combined."""
+
+from __future__ import annotations
+
+import bpy
+import numpy as np
+import photonmap
+import pytest
+import scenes
+from conftest import exr_parts, set_multilayer_exr
+
+
+def _compositor(sc):
+    """An empty compositing node group of ``sc`` with an Image output; its Render Layers
+    node."""
+    tree = bpy.data.node_groups.new("Compositing", "CompositorNodeTree")
+    tree.interface.new_socket("Image", in_out="OUTPUT", socket_type="NodeSocketColor")
+    out = tree.nodes.new("NodeGroupOutput")
+    rl = tree.nodes.new("CompositorNodeRLayers")
+    rl.scene = sc
+    sc.compositing_node_group = tree
+    sc.render.use_compositing = True
+    return tree, rl, out
+
+
+def _render_rgb(sc, path) -> np.ndarray:
+    """Renders ``sc`` to a single-layer float EXR at ``path`` (the composited image when the
+    compositor is on) and reads its RGB."""
+    import OpenImageIO as oiio
+
+    sc.render.filepath = str(path)
+    sc.render.image_settings.media_type = "IMAGE"
+    sc.render.image_settings.file_format = "OPEN_EXR"
+    sc.render.image_settings.color_depth = "32"
+    bpy.ops.render.render(write_still=True)
+    return oiio.ImageBuf(str(path)).get_pixels(oiio.FLOAT)[..., :3]
+
+
+def _noise(img: np.ndarray) -> float:
+    """Mean absolute difference between a pixel and the mean of its four neighbours."""
+    c = img[1:-1, 1:-1]
+    nb = (img[:-2, 1:-1] + img[2:, 1:-1] + img[1:-1, :-2] + img[1:-1, 2:]) / 4
+    return float(np.abs(c - nb).mean())
+
+
+def test_denoise_node_runs_on_the_denoising_passes(photonmap_scene, addon, tmp_path):
+    sc = photonmap_scene(scenes.cornell_area)
+    sc.photonmap.spp = 2
+    sc.photonmap.noise_threshold = 0.0
+    sc.photonmap.denoising_data = True
+    # The passes exist, in the result and the multilayer EXR, with the guides' contents.
+    set_multilayer_exr(sc, tmp_path / "passes.exr")
+    bpy.ops.render.render(write_still=True)
+    parts = exr_parts(tmp_path / "passes.exr")
+    layer = bpy.context.view_layer.name
+    albedo = parts[f"{layer}.Denoising Albedo"]
+    normal = parts[f"{layer}.Denoising Normal"]
+    a = np.stack([albedo[f"{layer}.Denoising Albedo.{c}"] for c in "RGB"], -1)
+    n = np.stack([normal[f"{layer}.Denoising Normal.{c}"] for c in "XYZ"], -1)
+    # The back wall (white, 0.8) faces the camera: normal z < 0 in camera space.
+    centre = (slice(28, 36), slice(28, 36))
+    assert np.allclose(a[centre], 0.8, atol=0.02), a[centre].mean((0, 1))
+    assert (n[centre][..., 2] < -0.9).all(), n[centre].mean((0, 1))
+    # The red left wall's albedo is red.
+    left = a[28:36, 2:6].mean((0, 1))
+    assert left[0] > 0.7 and left[1] < 0.2, left
+
+    raw = _render_rgb(sc, tmp_path / "raw.exr")
+    tree, rl, out = _compositor(sc)
+    dn = tree.nodes.new("CompositorNodeDenoise")
+    links = [tree.links.new(rl.outputs["Image"], dn.inputs["Image"]),
+             tree.links.new(rl.outputs["Denoising Albedo"], dn.inputs["Albedo"]),
+             tree.links.new(rl.outputs["Denoising Normal"], dn.inputs["Normal"]),
+             tree.links.new(dn.outputs["Image"], out.inputs["Image"])]
+    assert all(lk.is_valid for lk in links)
+    assert rl.outputs["Denoising Albedo"].enabled and rl.outputs["Denoising Normal"].enabled
+    den = _render_rgb(sc, tmp_path / "denoised.exr")
+    assert np.isfinite(den).all()
+    # Open Image Denoise ran: the noise is several times lower, the brightness kept.
+    assert _noise(den) < 0.4 * _noise(raw), (_noise(den), _noise(raw))
+    assert abs(den.mean() / raw.mean() - 1) < 0.05, (den.mean(), raw.mean())
