@@ -245,7 +245,10 @@ def render(
     ``out["albedo"]`` and ``out["normal"]``; with ``cryptomatte=`` the layers
     ``out["CryptoObject00"]``, ... (id, coverage, id, coverage), whose manifests are in
     ``out["cryptomatte"]`` (``{type name: [names]}``; ``cryptomatte_header`` makes the EXR
-    metadata of them). See the README.
+    metadata of them). With ``denoise=True`` (the extra ``photonmap[denoise]``) the terms of
+    ``DENOISED_TERMS`` are denoised each on its own by Open Image Denoise with the guides,
+    ``combined`` is their sum, the terms as rendered are kept as ``<term>_noisy``, and
+    ``out["stats"]["denoise"]`` says what denoised them. See the README.
 
     ``settings`` are the render settings of ``settings_schema()``, each meaning what the
     command-line flag of the same name means (``quality="high"``, ``spp=64``,
@@ -264,6 +267,10 @@ def render(
     naming ``memory_limit`` and the estimate, when its photon maps and BVH would need more.
     """
     text = _settings_json(settings)
+    if settings.get("denoise"):
+        from . import denoise
+
+        denoise.require()
     s = _to_scene(scene)
 
     def show(b: bytes, w: int, h: int, passes: int) -> None:
@@ -288,6 +295,10 @@ def render(
     out["aovs"] = specs
     out["cryptomatte"] = json.loads(raw["cryptomatte"])
     out["stats"] = json.loads(raw["stats"])
+    if settings.get("denoise"):
+        from . import denoise
+
+        denoise.apply(out)
     return out
 
 

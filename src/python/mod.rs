@@ -552,17 +552,74 @@ fn render<'py>(
     Ok(d)
 }
 
+/// Denoises a render's terms through the Python `denoiser` (see `run_cli`): the terms it
+/// returns replace the film's, and what it reports goes into the stats.
+fn denoise_film(py: Python<'_>, denoiser: &Bound<'_, PyAny>, out: &mut RenderOutput) -> PyResult<()> {
+    let film = &mut out.film;
+    let (Some(albedo), Some(normal)) = (
+        film.aov(crate::render::aov::ALBEDO_AOV),
+        film.aov(crate::render::aov::NORMAL_AOV),
+    ) else {
+        return Err(PhotonmapError::new_err(
+            "internal error: denoising without the albedo and normal guides",
+        ));
+    };
+    let floats = |v: &[f32]| {
+        let mut b = Vec::with_capacity(v.len() * 4);
+        for x in v {
+            b.extend_from_slice(&x.to_le_bytes());
+        }
+        PyBytes::new(py, &b)
+    };
+    let terms = PyDict::new(py);
+    for t in crate::render::aov::DENOISED_TERMS {
+        terms.set_item(t.name(), image_bytes(py, film.term(t)))?;
+    }
+    let (albedo, normal) = (floats(&albedo.data), floats(&normal.data));
+    let (den, info): (BTreeMap<String, Vec<u8>>, BTreeMap<String, String>) = denoiser
+        .call1((film.width, film.height, terms, albedo, normal))?
+        .extract()?;
+    for t in crate::render::aov::DENOISED_TERMS {
+        let Some(b) = den.get(t.name()) else {
+            return Err(PhotonmapError::new_err(format!(
+                "the denoiser returned no `{}`",
+                t.name()
+            )));
+        };
+        let img = &mut film.terms[t.index()];
+        if b.len() != img.data.len() * 12 {
+            return Err(PhotonmapError::new_err(format!(
+                "the denoiser returned {} bytes for `{}`, expected {}",
+                b.len(),
+                t.name(),
+                img.data.len() * 12
+            )));
+        }
+        for (px, c) in img.data.iter_mut().zip(b.chunks_exact(12)) {
+            for k in 0..3 {
+                px[k] = f32::from_le_bytes([c[4 * k], c[4 * k + 1], c[4 * k + 2], c[4 * k + 3]]);
+            }
+        }
+    }
+    out.stats.denoise = serde_json::to_value(info).ok();
+    Ok(())
+}
+
 /// The `photonmap` command: parses `argv` (without the program name) with the core's clap
 /// definition, reads USD stages through `usd_loader(path, frame, camera, purposes, strict)`
 /// (which returns `(ir_json, import_stats_json)`), renders each frame with the progress bar on
-/// stderr, and writes the EXR, PNG and stats. Returns the exit status; errors of the loader are
-/// raised as they are.
+/// stderr, and writes the EXR, PNG and stats. With `--denoise`, `denoiser.check()` runs first
+/// (it raises when the denoiser is missing), and after each render `denoiser(width, height,
+/// {term: bytes}, albedo, normal)` returns the denoised terms (`{term: bytes}`) and what
+/// denoised them (`{key: text}`, into the stats and the EXR metadata). Returns the exit
+/// status; errors of the loader are raised as they are.
 #[pyfunction]
-#[pyo3(signature = (argv, usd_loader=None))]
+#[pyo3(signature = (argv, usd_loader=None, denoiser=None))]
 fn run_cli(
     py: Python<'_>,
     argv: Vec<String>,
     usd_loader: Option<Bound<'_, PyAny>>,
+    denoiser: Option<Bound<'_, PyAny>>,
 ) -> PyResult<i32> {
     let cli = match Cli::try_parse_from(std::iter::once("photonmap".to_string()).chain(argv)) {
         Ok(c) => c,
@@ -586,6 +643,16 @@ fn run_cli(
     };
     if let Err(e) = args.check() {
         return fail(e);
+    }
+    if args.options.denoise {
+        let ready = match &denoiser {
+            Some(d) => d.call_method0("check").map(|_| ()),
+            None => Err(PyValueError::new_err("no denoiser available")),
+        };
+        if let Err(e) = ready {
+            eprintln!("photonmap: error: --denoise: {}", e.value(py));
+            return Ok(2);
+        }
     }
     let frames = match args.frame_list() {
         Ok(f) => f,
@@ -655,6 +722,13 @@ fn run_cli(
             }
         };
         bar.finish_and_clear();
+        let mut out = out;
+        if let (true, Some(d)) = (a.options.denoise, &denoiser) {
+            if let Err(e) = denoise_film(py, d, &mut out) {
+                eprintln!("photonmap: error: --denoise: {}", e.value(py));
+                return Ok(1);
+            }
+        }
         if let Err(e) = caught(|| cli::write_outputs_with(&a, &out, loaded.import_stats.as_ref())) {
             return fail(e);
         }

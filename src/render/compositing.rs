@@ -50,9 +50,13 @@ impl SampleAovs {
     }
 }
 
-/// A pixel's running sums of its samples' compositing AOVs.
+/// A pixel's running sums of its samples' compositing AOVs: one pointer, allocated at the
+/// pixel's first sample that records something.
 #[derive(Clone, Debug, Default)]
-pub struct PixelAovs {
+pub struct PixelAovs(Option<Box<PixelSums>>);
+
+#[derive(Clone, Debug, Default)]
+struct PixelSums {
     /// Sums of albedo (0..3) and world normal (3..6).
     guides: [f32; 6],
     objects: Coverage,
@@ -156,6 +160,10 @@ impl AovLayout {
 
     /// Adds a sample's record to its pixel's sums, and clears the record.
     pub fn add(&self, px: &mut PixelAovs, s: &mut SampleAovs) {
+        if s.guides.is_none() && s.first_hit.is_none() {
+            return;
+        }
+        let px = px.0.get_or_insert_with(Default::default);
         if let Some(g) = s.guides {
             if g.albedo.is_finite() && g.normal.is_finite() {
                 for c in 0..3 {
@@ -195,18 +203,21 @@ impl AovLayout {
         images: &mut [AovImage],
         i: usize,
     ) {
+        if let Some(k) = self.noisy {
+            for (j, t) in super::aov::DENOISED_TERMS.iter().enumerate() {
+                let v = terms.0[t.index()].to_array();
+                images[k + j].data[3 * i..3 * i + 3].copy_from_slice(&v);
+            }
+        }
+        let Some(px) = px.0.as_deref() else {
+            return;
+        };
         let inv = 1.0 / samples.max(1) as f32;
         if let Some((to_camera, k)) = self.guides {
             let a = &px.guides;
             images[k].data[3 * i..3 * i + 3].copy_from_slice(&[a[0] * inv, a[1] * inv, a[2] * inv]);
             let n = to_camera * (Vec3::new(a[3], a[4], a[5]) * inv);
             images[k + 1].data[3 * i..3 * i + 3].copy_from_slice(&n.to_array());
-        }
-        if let Some(k) = self.noisy {
-            for (j, t) in super::aov::DENOISED_TERMS.iter().enumerate() {
-                let v = terms.0[t.index()].to_array();
-                images[k + j].data[3 * i..3 * i + 3].copy_from_slice(&v);
-            }
         }
         for t in &self.crypto {
             let cov = match t.type_name {
@@ -225,6 +236,17 @@ impl AovLayout {
                 }
             }
         }
+    }
+
+    /// Bytes the compositing AOVs of a `width` x `height` render take: the film's images and
+    /// each pixel's sums (the Cryptomatte coverage lists counted at `levels` entries).
+    pub fn memory_bytes(&self, width: usize, height: usize) -> u64 {
+        if self.specs.is_empty() {
+            return 0;
+        }
+        let channels: usize = self.specs.iter().map(|s| s.channels().len()).sum();
+        let sums = std::mem::size_of::<PixelSums>() + self.crypto.len() * self.levels * 8;
+        ((width * height) * (channels * 4 + sums)) as u64
     }
 
     /// Each Cryptomatte type's manifest: type name -> the names of its ids.
