@@ -160,3 +160,130 @@ fn guides_are_deterministic_for_any_thread_count() {
     let b = render_settings(&d, settings(2, guides()));
     assert_eq!(a.film.aovs, b.film.aovs);
 }
+
+/// A matte extracted as Cryptomatte decoders do (Nuke's gizmo, Blender's node): the sum of
+/// the coverages of the ranks whose id is the name's.
+fn matte(film: &Film, type_name: &str, name: &str) -> Vec<f32> {
+    let id = photonmap::render::cryptomatte::name_id(name);
+    let mut out = vec![0.0f32; film.width * film.height];
+    for layer in film.aovs.iter().filter(|a| a.spec.name.starts_with(type_name)) {
+        for (i, px) in layer.data.chunks_exact(4).enumerate() {
+            for pair in px.chunks_exact(2) {
+                if pair[0] == id {
+                    out[i] += pair[1];
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The camera looks down -z at two quads parallel to the film: a "card" at z = -2 whose
+/// edges fall at fractions of pixels, in front of a "backdrop"; with the box filter a
+/// pixel's coverage by the card is the share of its area the card covers.
+fn card_scene() -> (SceneDesc, impl Fn(usize, usize) -> f32) {
+    // fov 0.5 rad over 32 px at depth 2: a pixel is 2 tan(0.25) * 2 / 32 wide.
+    let (w, depth) = (32usize, 2.0f32);
+    let px = 2.0 * (0.25f32).tan() * depth / w as f32;
+    // Card edges in pixels from the left/top: x in [7.3, 20.6], y in [10.25, 25.8].
+    let (x0, x1, y0, y1) = (7.3f32, 20.6f32, 10.25f32, 25.8f32);
+    let to_world = |x: f32, y: f32| [(x - 16.0) * px, (16.0 - y) * px, -depth];
+    let c = [to_world(x0, y1), to_world(x1, y1), to_world(x1, y0), to_world(x0, y0)];
+    let d = desc(serde_json::json!({
+        "camera": {"fov": 0.5},
+        "film": {"width": w, "height": w},
+        "materials": [{"type": "diffuse", "name": "paper", "color": [0.7, 0.7, 0.7]},
+                      {"type": "diffuse", "name": "felt", "color": [0.2, 0.3, 0.5]}],
+        "meshes": [
+            {"name": "card", "material": 0, "positions": c, "indices": [[0, 1, 2], [0, 2, 3]]},
+            quad_z("backdrop", -4.0, 4.0, 1, true),
+        ],
+        "lights": [{"type": "point", "name": "bulb", "position": [0.0, 0.0, 0.0],
+                    "power": 50.0}],
+    }));
+    let overlap = |a: f32, b: f32, lo: f32, hi: f32| (b.min(hi) - a.max(lo)).max(0.0);
+    let coverage = move |x: usize, y: usize| {
+        let (x, y) = (x as f32, y as f32);
+        overlap(x, x + 1.0, x0, x1) * overlap(y, y + 1.0, y0, y1)
+    };
+    (d, coverage)
+}
+
+/// One object's matte, extracted from the Cryptomatte layers by its name's id, is the
+/// object's coverage of each pixel; the material matte of its material too, and the mattes
+/// of the card and the backdrop sum to 1 (every sample hits one of them).
+#[test]
+fn a_cryptomatte_matte_is_the_objects_coverage() {
+    let (d, coverage) = card_scene();
+    let mut s = settings(
+        64,
+        AovRequest {
+            cryptomatte: Cryptomatte::Both,
+            cryptomatte_levels: 6,
+            ..AovRequest::default()
+        },
+    );
+    s.filter = photonmap::render::film::Filter::Box;
+    let out = render_settings(&d, s);
+    let film = &out.film;
+    assert_eq!(film.cryptomatte["CryptoObject"], vec!["backdrop", "card"]);
+    assert_eq!(film.cryptomatte["CryptoMaterial"], vec!["felt", "paper"]);
+    let card = matte(film, "CryptoObject", "card");
+    let paper = matte(film, "CryptoMaterial", "paper");
+    let backdrop = matte(film, "CryptoObject", "backdrop");
+    let (mut worst, mut sum_abs, mut sum_signed, mut edge_pixels) = (0.0f32, 0.0f32, 0.0f32, 0);
+    for y in 0..film.height {
+        for x in 0..film.width {
+            let i = y * film.width + x;
+            let c = coverage(x, y);
+            let e = (card[i] - c).abs();
+            worst = worst.max(e);
+            sum_abs += e;
+            if c > 0.0 && c < 1.0 {
+                edge_pixels += 1;
+                sum_signed += card[i] - c;
+                // A pixel the edge crosses has a fractional matte.
+                assert!(card[i] > 0.0 && card[i] < 1.0, "({x}, {y}): {}", card[i]);
+            } else {
+                assert_eq!(card[i], c, "({x}, {y})");
+            }
+            assert_eq!(card[i], paper[i], "({x}, {y})");
+            assert!((card[i] + backdrop[i] - 1.0).abs() < 1e-5, "({x}, {y})");
+        }
+    }
+    assert!(edge_pixels > 40, "{edge_pixels}");
+    // 64 stratified samples per pixel (4 replicates of a jittered 4x4 grid): within a
+    // sixteenth, about 2% on average at the edges, and no bias.
+    assert!(worst <= 1.0 / 16.0 + 1e-6, "worst pixel off by {worst}");
+    let mean = sum_abs / edge_pixels as f32;
+    let bias = sum_signed / edge_pixels as f32;
+    assert!(mean < 0.025, "mean error at the edges {mean}");
+    assert!(bias.abs() < 0.005, "mean signed error at the edges {bias}");
+}
+
+/// The matte of an object moved by a third of a pixel is told apart (the test above would
+/// fail on a matte off by that much).
+#[test]
+fn a_matte_shifted_by_a_third_of_a_pixel_is_caught() {
+    let (d, coverage) = card_scene();
+    let mut s = settings(
+        64,
+        AovRequest {
+            cryptomatte: Cryptomatte::Object,
+            cryptomatte_levels: 2,
+            ..AovRequest::default()
+        },
+    );
+    s.filter = photonmap::render::film::Filter::Box;
+    let out = render_settings(&d, s);
+    let card = matte(&out.film, "CryptoObject", "card");
+    let shifted = |x: usize, y: usize| {
+        let c = |x: usize| coverage(x, y);
+        // The coverage a third of a pixel further right, by linear interpolation.
+        (2.0 * c(x) + if x > 0 { c(x - 1) } else { 0.0 }) / 3.0
+    };
+    let worst = (0..32 * 32)
+        .map(|i| (card[i] - shifted(i % 32, i / 32)).abs())
+        .fold(0.0f32, f32::max);
+    assert!(worst > 0.2, "{worst}");
+}

@@ -122,7 +122,7 @@ def export_scene(depsgraph, camera: dict | None = None, window: Window | None = 
                 _check_boundary(obj, shape, inst.matrix_world, warn)
             entry = meshes[key] = (m, [])
         if entry[0] is not None:
-            entry[1].append(inst.matrix_world.copy())
+            entry[1].append((inst.matrix_world.copy(), _object_name(inst)))
 
     n_inst = 0
     for m, placements in meshes.values():
@@ -131,11 +131,13 @@ def export_scene(depsgraph, camera: dict | None = None, window: Window | None = 
         idx = len(ir["meshes"])
         ir["meshes"].append(m)
         if len(placements) == 1:
-            m["transform"] = matrix_rows(placements[0])
+            mw, obj_name = placements[0]
+            m["transform"] = matrix_rows(mw)
+            m["object"] = obj_name
         else:
-            for k, mw in enumerate(placements):
+            for k, (mw, obj_name) in enumerate(placements):
                 ir["instances"].append({"name": f"{m['name']} #{k}", "mesh": idx,
-                                        "transform": matrix_rows(mw)})
+                                        "transform": matrix_rows(mw), "object": obj_name})
             n_inst += len(placements)
     if not ir["materials"]:
         materials.get(None)
@@ -166,6 +168,14 @@ def export_scene(depsgraph, camera: dict | None = None, window: Window | None = 
         "triangles": sum(len(m["indices"]) for m in ir["meshes"]),
     }
     return ExportResult(ir=ir, window=win, warnings=warnings, counts=counts)
+
+
+def _object_name(inst) -> str:
+    """The name of an instance's Cryptomatte object matte, as Cycles names it: that of the
+    (original, unevaluated) object placed, for instances made by particles, collections and
+    geometry nodes too."""
+    obj = inst.object
+    return obj.original.name if obj.original is not None else obj.name
 
 
 def _object_medium(obj, mats, media, warn) -> int | None:
