@@ -13,7 +13,9 @@
 //!
 //! Nothing is recorded or allocated for an AOV that was not asked for.
 
-use super::aov::{AovKind, AovSpec, Term, CRYPTO_MATERIAL, CRYPTO_OBJECT, NOISY_SUFFIX};
+use super::aov::{
+    AovKind, AovSpec, Term, CRYPTO_MATERIAL, CRYPTO_OBJECT, LIGHTGROUP_PREFIX, NOISY_SUFFIX,
+};
 use super::cryptomatte::{self, Coverage};
 use super::film::TermRadiance;
 use super::settings::RenderSettings;
@@ -41,12 +43,16 @@ pub struct SampleAovs {
     /// The first surface the camera ray hit: (instance of the acceleration structure,
     /// material).
     pub first_hit: Option<(u32, u32)>,
+    /// With light groups, each group's share of the sample's radiance (one entry per group;
+    /// empty without groups).
+    pub groups: Vec<Spectrum>,
 }
 
 impl SampleAovs {
     fn clear(&mut self) {
         self.guides = None;
         self.first_hit = None;
+        self.groups.iter_mut().for_each(|g| *g = Spectrum::ZERO);
     }
 }
 
@@ -61,6 +67,8 @@ struct PixelSums {
     guides: [f32; 6],
     objects: Coverage,
     materials: Coverage,
+    /// Sums of each light group's share.
+    groups: Vec<Spectrum>,
 }
 
 /// The layout of a render without compositing AOVs.
@@ -93,6 +101,8 @@ pub struct AovLayout {
     guides: Option<(Mat3, usize)>,
     /// The index of `direct_noisy` and the following noisy terms, when kept.
     noisy: Option<usize>,
+    /// The index of the first light group's image, and the number of groups (0: none).
+    groups: (usize, usize),
     crypto: Vec<CryptoType>,
     levels: usize,
 }
@@ -105,6 +115,13 @@ impl AovLayout {
         let index = |name: &str| specs.iter().position(|a| a.name == name);
         let guides = index(super::aov::ALBEDO_AOV).map(|i| (scene.camera.world_to_camera(), i));
         let noisy = index(&format!("{}{NOISY_SUFFIX}", Term::Direct.name()));
+        let groups = match light_groups.first() {
+            Some(g) => (
+                index(&format!("{LIGHTGROUP_PREFIX}{g}")).unwrap_or(specs.len()),
+                light_groups.len(),
+            ),
+            None => (0, 0),
+        };
         let mut crypto = Vec::new();
         for (on, type_name, names) in [
             (
@@ -133,6 +150,7 @@ impl AovLayout {
             specs,
             guides,
             noisy,
+            groups,
             crypto,
             levels: req.crypto_layers() * 2,
         }
@@ -144,6 +162,7 @@ impl AovLayout {
             specs: Vec::new(),
             guides: None,
             noisy: None,
+            groups: (0, 0),
             crypto: Vec::new(),
             levels: 0,
         }
@@ -154,16 +173,25 @@ impl AovLayout {
         SampleAovs {
             want_guides: self.guides.is_some(),
             want_first_hit: !self.crypto.is_empty(),
+            groups: vec![Spectrum::ZERO; self.groups.1],
             ..SampleAovs::default()
         }
     }
 
     /// Adds a sample's record to its pixel's sums, and clears the record.
     pub fn add(&self, px: &mut PixelAovs, s: &mut SampleAovs) {
-        if s.guides.is_none() && s.first_hit.is_none() {
+        if s.guides.is_none() && s.first_hit.is_none() && s.groups.is_empty() {
             return;
         }
         let px = px.0.get_or_insert_with(Default::default);
+        if !s.groups.is_empty() {
+            px.groups.resize(s.groups.len(), Spectrum::ZERO);
+            for (sum, g) in px.groups.iter_mut().zip(&s.groups) {
+                if g.is_finite() {
+                    *sum += *g;
+                }
+            }
+        }
         if let Some(g) = s.guides {
             if g.albedo.is_finite() && g.normal.is_finite() {
                 for c in 0..3 {
@@ -194,7 +222,9 @@ impl AovLayout {
             .collect()
     }
 
-    /// Writes pixel `i`'s AOVs after `samples` samples; `terms` is its resolved terms.
+    /// Writes pixel `i`'s AOVs after `samples` samples; `terms` is its resolved terms, and
+    /// `extra_groups` adds to its light groups' means what the integrator keeps apart (the
+    /// progressive mode's photon flux).
     pub fn resolve(
         &self,
         px: &PixelAovs,
@@ -202,7 +232,20 @@ impl AovLayout {
         terms: &TermRadiance,
         images: &mut [AovImage],
         i: usize,
+        extra_groups: impl FnOnce(&mut [Spectrum]),
     ) {
+        let (first_group, n_groups) = self.groups;
+        if n_groups > 0 {
+            let inv = 1.0 / samples.max(1) as f32;
+            let mut g: Vec<Spectrum> = match px.0.as_deref() {
+                Some(p) if !p.groups.is_empty() => p.groups.iter().map(|v| *v * inv).collect(),
+                _ => vec![Spectrum::ZERO; n_groups],
+            };
+            extra_groups(&mut g);
+            for (k, v) in g.iter().enumerate() {
+                images[first_group + k].data[3 * i..3 * i + 3].copy_from_slice(&v.to_array());
+            }
+        }
         if let Some(k) = self.noisy {
             for (j, t) in super::aov::DENOISED_TERMS.iter().enumerate() {
                 let v = terms.0[t.index()].to_array();
@@ -245,7 +288,9 @@ impl AovLayout {
             return 0;
         }
         let channels: usize = self.specs.iter().map(|s| s.channels().len()).sum();
-        let sums = std::mem::size_of::<PixelSums>() + self.crypto.len() * self.levels * 8;
+        let sums = std::mem::size_of::<PixelSums>()
+            + self.crypto.len() * self.levels * 8
+            + self.groups.1 * std::mem::size_of::<Spectrum>();
         ((width * height) * (channels * 4 + sums)) as u64
     }
 

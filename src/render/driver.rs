@@ -109,6 +109,10 @@ pub trait Integrator: Sync {
     fn resolve(&self, px: &Pixel<Self::Extra>, samples: u32) -> (TermRadiance, Spectrum) {
         (px.mean(samples), px.batches.standard_error())
     }
+
+    /// Adds to the pixel's light groups (the means of its samples' shares, one entry per
+    /// group) what the integrator keeps apart from its samples.
+    fn resolve_groups(&self, _px: &Pixel<Self::Extra>, _samples: u32, _groups: &mut [Spectrum]) {}
 }
 
 /// When a progressive camera pass stops.
@@ -287,7 +291,9 @@ impl<'a> CameraPass<'a> {
         let (v, err) = it.resolve(px, samples);
         film.set_pixel(i % w, i / w, &v);
         film.error.data[i] = err.to_array();
-        self.aovs.resolve(&px.aovs, samples, &v, &mut film.aovs, i);
+        self.aovs.resolve(&px.aovs, samples, &v, &mut film.aovs, i, |g| {
+            it.resolve_groups(px, samples, g)
+        });
     }
 
     /// All `spp` samples of a pixel at once, one pass, rows in parallel. Sample `i` belongs

@@ -4,6 +4,7 @@
 
 use super::aov::{Term, TermMask};
 use super::compositing::{Guides, SampleAovs};
+use super::lightgroups::Split;
 use super::film::TermRadiance;
 use super::irradiance_cache::IrradianceCache;
 use super::photons::PhotonMaps;
@@ -117,6 +118,18 @@ pub fn trace_split(
     // The tint of the specular bounces so far, for the denoising guides; `None` once they
     // are recorded (or not asked for).
     let mut guide_tint = aovs.want_guides.then_some(Spectrum::ONE);
+    let want_first_hit = aovs.want_first_hit;
+    let (rec_guides, first_hit) = (&mut aovs.guides, &mut aovs.first_hit);
+    // With light groups, each group's share of what the path adds.
+    let mut split = (!aovs.groups.is_empty()).then(|| Split::new(&mut aovs.groups));
+    // An emitter's share, seen along the path (where finite, as `add` takes it).
+    let share = |split: &mut Option<Split>, light: u32, l: Spectrum| {
+        if let Some(sp) = split.as_mut() {
+            if is_finite3(l) {
+                sp.add_light(scene, light, l);
+            }
+        }
+    };
     let mut bounces = 0u32;
     let wants = |term: Term, bounces: u32| s.terms.contains(specular::route(term, bounces));
     let add = |out: &mut TermRadiance, term: Term, bounces: u32, l: Spectrum| {
@@ -148,12 +161,9 @@ pub fn trace_split(
                     }
                     None => Spectrum::ONE,
                 };
-                add(
-                    &mut out,
-                    Term::Emission,
-                    bounces,
-                    beta * tr * scene.light_le(lh.index, ray.d),
-                );
+                let l = beta * tr * scene.light_le(lh.index, ray.d);
+                add(&mut out, Term::Emission, bounces, l);
+                share(&mut split, lh.index, l);
             });
         }
         // Participating medium between the ray origin and the hit: in-scattered light, and
@@ -161,6 +171,7 @@ pub fn trace_split(
         if let Some(m) = stack.current(scene.world_medium) {
             let dist = t_end * len;
             let tr = if wants(Term::Volume, bounces) {
+                let mut sp = split.as_mut().map(|sp| sp.scaled(beta));
                 let mr = volume::march(
                     scene,
                     ctx.maps,
@@ -172,6 +183,7 @@ pub fn trace_split(
                     &ctx.march,
                     rng,
                     scratch,
+                    sp.as_mut(),
                 );
                 ctx.work.march(mr.steps, mr.volume_lookups);
                 add(&mut out, Term::Volume, bounces, beta * mr.radiance);
@@ -193,6 +205,11 @@ pub fn trace_split(
                         bounces,
                         beta * emission::background(scene, ray.d),
                     );
+                    if wants(Term::Emission, bounces) {
+                        for &i in &scene.infinite_lights {
+                            share(&mut split, i, beta * scene.infinite_le(i, ray.d));
+                        }
+                    }
                 }
                 break;
             }
@@ -210,25 +227,28 @@ pub fn trace_split(
                     ray = si.spawn_ray(ray.d);
                     continue;
                 }
-                if aovs.want_first_hit && bounces == 0 && aovs.first_hit.is_none() {
-                    aovs.first_hit = Some((si.instance, si.material));
+                if want_first_hit && bounces == 0 && first_hit.is_none() {
+                    *first_hit = Some((si.instance, si.material));
                 }
                 if !skip_emission {
-                    add(
-                        &mut out,
-                        Term::Emission,
-                        bounces,
-                        beta * emission::surface_emission(scene, &si),
-                    );
+                    let l = beta * emission::surface_emission(scene, &si);
+                    add(&mut out, Term::Emission, bounces, l);
+                    if wants(Term::Emission, bounces) && l.max_element() > 0.0 {
+                        if let Some(&light) = scene.emissive.get(&(si.instance, si.prim)) {
+                            share(&mut split, light, l);
+                        }
+                    }
                 }
                 let bsdf = scene.shading_bsdf(mat, &mut si);
                 let passes = bsdf.passes_through();
                 if let Some(tint) = guide_tint {
                     if bsdf.has_non_delta() || bsdf.is_black() {
-                        aovs.guides = Some(guides(&si, &bsdf, tint));
+                        *rec_guides = Some(guides(&si, &bsdf, tint));
                         guide_tint = None;
                     }
                 }
+                // The estimates below add their groups' shares times the path's throughput.
+                let mut sp = split.as_mut().map(|sp| sp.scaled(beta));
                 if bsdf.has_non_delta() {
                     if wants(Term::Direct, bounces) {
                         add(
@@ -242,6 +262,7 @@ pub fn trace_split(
                                 &stack,
                                 EYE_LIGHT_SAMPLES,
                                 rng,
+                                sp.as_mut(),
                             ),
                         );
                     }
@@ -265,7 +286,7 @@ pub fn trace_split(
                             &mut out,
                             Term::Caustic,
                             bounces,
-                            beta * caustic::estimate(ctx.maps, &si, &bsdf, scratch),
+                            beta * caustic::estimate(ctx.maps, &si, &bsdf, scratch, sp.as_mut()),
                         );
                     }
                     if !passes && visible.is_none() && wants(Term::Indirect, bounces) {
@@ -273,7 +294,15 @@ pub fn trace_split(
                             &mut out,
                             Term::Indirect,
                             bounces,
-                            beta * indirect::estimate(ctx, &si, &bsdf, &stack, rng, scratch),
+                            beta * indirect::estimate(
+                                ctx,
+                                &si,
+                                &bsdf,
+                                &stack,
+                                rng,
+                                scratch,
+                                sp.as_mut(),
+                            ),
                         );
                     }
                 }

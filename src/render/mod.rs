@@ -11,6 +11,7 @@ pub mod eye;
 pub mod film;
 pub mod irradiance_cache;
 mod jensen;
+pub mod lightgroups;
 mod memory;
 pub mod options;
 pub mod photons;

@@ -144,7 +144,7 @@ impl<'a> Renderer<'a> {
 
     pub fn render(mut self) -> Result<RenderOutput> {
         let start = Instant::now();
-        self.aovs = AovLayout::new(self.scene, &self.settings, &[]);
+        self.aovs = AovLayout::new(self.scene, &self.settings, &self.scene.light_groups);
         let s = &self.settings;
         if let Some(b) = s.time_budget {
             budget::check_budget(b).map_err(|message| Error::InvalidSetting {
