@@ -1,8 +1,9 @@
 """Render passes: ``Combined``, one pass per term of the core (``photonmap.PASS_NAMES``), and
 the passes beside the terms, not part of the sum, as the core lists them
-(``photonmap.aov_specs``): ``Error`` always, and what the settings ask for (``Denoising
-Albedo`` and ``Denoising Normal``, ``Noisy <Term>``, ``CryptoObject00`` ...). No pass list is
-written out here."""
+(``photonmap.aov_specs``): ``Error`` always, what the settings ask for (``Denoising Albedo``
+and ``Denoising Normal``, ``Noisy <Term>``, ``CryptoObject00`` ...), and one
+``Combined_<group>`` per light group of the view layer (they sum to ``Combined``). No pass
+list is written out here."""
 
 from __future__ import annotations
 
@@ -16,11 +17,16 @@ PASS_NAMES: tuple[str, ...] = photonmap.PASS_NAMES
 TERM_OF_PASS = dict(zip(photonmap.PASS_NAMES, photonmap.TERMS))
 
 
+def light_groups(view_layer) -> list[str]:
+    """The view layer's light groups (the IR's; the core adds ``default``)."""
+    return [g.name for g in getattr(view_layer, "lightgroups", None) or []]
+
+
 def aov_specs(scene, view_layer=None) -> list[dict]:
     """The passes beside the terms that a render of ``scene`` writes (``photonmap.aov_specs``
-    for its settings)."""
+    for its settings and the view layer's light groups: ``Combined_<group>``, Cycles' names)."""
     settings = render_settings(scene.photonmap) if scene is not None else {}
-    return photonmap.aov_specs((), **settings)
+    return photonmap.aov_specs(light_groups(view_layer), **settings)
 
 
 def register_passes(engine, scene, view_layer) -> None:

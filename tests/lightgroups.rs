@@ -114,9 +114,11 @@ fn check_mode(mode: RenderMode) {
             .iter()
             .map(|a| a.spec.name.as_str())
             .collect::<Vec<_>>(),
-        vec!["lightgroup.key", "lightgroup.fill"]
+        vec!["lightgroup.key", "lightgroup.fill", "lightgroup.default"]
     );
-    assert_groups_sum_to_the_beauty(&out.film, &["key", "fill"]);
+    assert_groups_sum_to_the_beauty(&out.film, &["key", "fill", "default"]);
+    // Every light is in a group: `default` is there, and black.
+    assert_eq!(mean(&group(&out.film, "default")), 0.0);
     let out2 = render_settings(&d, settings(4, mode));
     for (name, keep) in [("key", 0), ("fill", 1)] {
         let g = group(&out.film, name);

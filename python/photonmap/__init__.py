@@ -304,7 +304,8 @@ def render(
 
 def aov_specs(light_groups: list[str] | tuple[str, ...] = (), **settings: Any) -> list[dict]:
     """The AOVs beside the terms that ``render(**settings)`` returns (and the command line
-    writes) for a scene with ``light_groups``, in output order: for each its ``name`` (the
+    writes) for a scene whose IR names the light groups ``light_groups`` (the core adds the
+    group ``default``, for the emitters in none), in output order: for each its ``name`` (the
     result's key and the EXR layer), ``pass_name`` (Blender's), ``kind`` (``color``,
     ``vector`` or ``crypto``), ``channels`` (``R,G,B``; ``X,Y,Z``; ``R,G,B,A``), and
     ``chan_id``/``pass_type`` as Blender's ``register_pass`` takes them. The list is the

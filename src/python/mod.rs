@@ -459,8 +459,9 @@ fn aov_list<'py>(
 }
 
 /// The AOVs beside the terms that a render with `settings` (the `render` keywords as JSON)
-/// writes, for a scene with the light groups `light_groups`, in output order, as spec dicts
-/// (see `spec_dict`): Blender registers its passes from it.
+/// writes, for a scene whose IR names the light groups `light_groups` (the `default` group
+/// is added as the scene build adds it), in output order, as spec dicts (see `spec_dict`):
+/// Blender registers its passes from it.
 #[pyfunction]
 #[pyo3(signature = (settings="{}", light_groups=Vec::new()))]
 fn aov_specs<'py>(
@@ -472,7 +473,7 @@ fn aov_specs<'py>(
     options
         .settings()
         .aovs
-        .aovs(&light_groups)
+        .aovs(&crate::render::aov::light_group_names(&light_groups))
         .iter()
         .map(|spec| spec_dict(py, spec))
         .collect()

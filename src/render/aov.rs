@@ -93,6 +93,17 @@ pub const LIGHTGROUP_PREFIX: &str = "lightgroup.";
 /// The light group of lights, emitters and worlds that name none, once any names one.
 pub const DEFAULT_LIGHTGROUP: &str = "default";
 
+/// The light groups of a scene whose IR names the groups `given`: those, then
+/// [`DEFAULT_LIGHTGROUP`] for the emitters in none (unless a group has that name); none
+/// without groups. Every front end derives the group images from this.
+pub fn light_group_names(given: &[String]) -> Vec<String> {
+    let mut names = given.to_vec();
+    if !names.is_empty() && !names.iter().any(|n| n == DEFAULT_LIGHTGROUP) {
+        names.push(DEFAULT_LIGHTGROUP.to_string());
+    }
+    names
+}
+
 /// The terms that `--denoise` denoises (each on its own; the beauty stays their sum).
 /// `emission` (emitters and the background seen directly) is left as it is.
 pub const DENOISED_TERMS: [Term; 5] = [

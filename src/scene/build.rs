@@ -375,25 +375,13 @@ impl Scene {
 }
 
 /// The group names and each light's group index: the IR's groups in order, then `default`
-/// (`aov::DEFAULT_LIGHTGROUP`) for the lights in none, unless every light is in one (or the
-/// IR names the group `default` itself). Without groups: no names, every light 0.
+/// for the emitters in none (`aov::light_group_names`). Without groups: no names, every
+/// light 0.
 fn light_groups(desc: &SceneDesc, groups: &[Option<u8>]) -> (Vec<String>, Vec<u8>) {
-    if desc.lightgroups.is_empty() {
-        return (Vec::new(), vec![0; groups.len()]);
-    }
-    let mut names: Vec<String> = desc.lightgroups.iter().map(|g| g.name.clone()).collect();
+    let given: Vec<String> = desc.lightgroups.iter().map(|g| g.name.clone()).collect();
+    let names = crate::render::aov::light_group_names(&given);
     let default = crate::render::aov::DEFAULT_LIGHTGROUP;
-    let fallback = if groups.iter().any(Option::is_none) {
-        match names.iter().position(|n| n == default) {
-            Some(i) => i,
-            None => {
-                names.push(default.to_string());
-                names.len() - 1
-            }
-        }
-    } else {
-        0
-    };
+    let fallback = names.iter().position(|n| n == default).unwrap_or(0);
     let index = groups
         .iter()
         .map(|g| g.unwrap_or(fallback as u8))

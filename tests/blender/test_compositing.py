@@ -134,3 +134,37 @@ def test_cryptomatte_node_extracts_a_matte(photonmap_scene, addon, tmp_path):
     # Blender's node decodes the same matte from our passes and manifest.
     assert got.max() > 0.99
     np.testing.assert_allclose(got, ours, atol=1e-5)
+
+
+def test_light_group_passes_exist_and_sum_to_combined(photonmap_scene, addon, tmp_path):
+    sc = photonmap_scene(scenes.cornell_area)
+    sc.photonmap.spp = 4
+    sc.photonmap.noise_threshold = 0.0
+    layer = bpy.context.view_layer
+    for name in ("key", "fill"):
+        layer.lightgroups.add(name=name)
+    area = next(o for o in sc.objects if o.type == "LIGHT")
+    area.lightgroup = "key"
+    lamp = scenes.light("POINT", (-0.6, 0.3, 0.5), energy=20.0, color=(1.0, 0.7, 0.4),
+                        shadow_soft_size=0.05)
+    lamp.lightgroup = "fill"
+    layer.update_render_passes()
+    set_multilayer_exr(sc, tmp_path / "groups.exr")
+    bpy.ops.render.render(write_still=True)
+    parts = exr_parts(tmp_path / "groups.exr")
+    name = layer.name
+    groups = ["key", "fill", "default"]
+    rgb = lambda p: np.stack([parts[f"{name}.{p}"][f"{name}.{p}.{c}"] for c in "RGB"], -1)  # noqa
+    comb = rgb("Combined")
+    total = sum(rgb(f"Combined_{g}") for g in groups)
+    assert comb.mean() > 0.05
+    np.testing.assert_allclose(total, comb, rtol=1e-4, atol=1e-5)
+    key, fill = rgb("Combined_key"), rgb("Combined_fill")
+    assert key.mean() > 0.02 and fill.mean() > 0.005
+    assert not rgb("Combined_default").any()  # every light is in a group
+    # The warm lamp's group is warm.
+    assert fill[..., 0].mean() > 1.3 * fill[..., 2].mean()
+    # The compositor's Render Layers node offers the groups as sockets.
+    tree, rl, out = _compositor(sc)
+    sockets = {o.name for o in rl.outputs if o.enabled}
+    assert {f"Combined_{g}" for g in groups} <= sockets, sockets
