@@ -92,11 +92,11 @@ fn noise(mean: f32, standard_error: f32, brightness: f32) -> f32 {
 }
 
 impl Adaptive {
-    /// The adaptive stage of the settings `s`, if they ask for one: a threshold above 0 and
-    /// room for a second round under `max_spp`.
+    /// The adaptive stage of the settings `s`, if they ask for one: adaptive sampling on, a
+    /// threshold above 0 and room for a second round under `max_spp`.
     pub fn of(s: &RenderSettings) -> Option<Adaptive> {
         let max_factor = s.max_spp / s.spp.max(1);
-        (s.noise_threshold > 0.0 && max_factor > 1).then_some(Adaptive {
+        (s.adaptive_sampling && s.noise_threshold > 0.0 && max_factor > 1).then_some(Adaptive {
             threshold: s.noise_threshold,
             max_factor,
         })

@@ -100,6 +100,7 @@ impl Quality {
         let (noise_threshold, max_spp) = self.adaptive();
         RenderSettings {
             spp: self.spp(),
+            adaptive_sampling: true,
             noise_threshold,
             max_spp,
             photons: self.photons(),
@@ -212,7 +213,9 @@ pub const CRYPTOMATTE_LEVELS: u32 = 6;
 #[derive(Clone, Debug, Serialize)]
 pub struct RenderSettings {
     pub spp: u32,
-    /// Adaptive sampling's noise threshold (`render::adaptive`); 0 = off.
+    /// Adaptive sampling (`render::adaptive`).
+    pub adaptive_sampling: bool,
+    /// Adaptive sampling's noise threshold.
     pub noise_threshold: f32,
     /// The most camera samples a pixel takes with adaptive sampling, in whole rounds of
     /// `spp`; at most `spp` = off.
@@ -256,6 +259,7 @@ impl Default for RenderSettings {
         let (noise_threshold, max_spp) = Quality::Medium.adaptive();
         RenderSettings {
             spp: Quality::Medium.spp(),
+            adaptive_sampling: true,
             noise_threshold,
             max_spp,
             seed: 0,

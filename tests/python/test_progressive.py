@@ -46,8 +46,8 @@ def test_sppm_renders_converging_passes_with_previews_and_an_error_aov():
 def test_error_aov_shrinks_with_samples_in_jensen_mode():
     s = spheres()
     # Without adaptive sampling, which would add samples where the error is largest.
-    a = photonmap.render(s, quality="draft", spp=8, seed=1, noise_threshold=0)
-    b = photonmap.render(s, quality="draft", spp=128, seed=1, noise_threshold=0)
+    a = photonmap.render(s, quality="draft", spp=8, seed=1, adaptive_sampling=False)
+    b = photonmap.render(s, quality="draft", spp=128, seed=1, adaptive_sampling=False)
     # Standard error ~ 1/sqrt(spp): 16x the samples, about a quarter of the error.
     ratio = b["error"].mean() / a["error"].mean()
     assert 0.15 < ratio < 0.4, ratio

@@ -110,16 +110,23 @@ render_options! {
     #[arg(long)]
     #[schema(label: "Samples", min: Some(1.0), soft_max: Some(4096.0), preset: true)]
     pub spp: Option<u32>,
-    /// Adaptive sampling: pixels whose neighbours are noisier than this (standard error over
-    /// the square root of the mean) after `spp` samples take more, in rounds of `spp`, up to
-    /// `max_spp`. Smaller is less noisy and slower; 0 = off (default: the preset's).
+    /// Adaptive sampling, on or off: after `spp` samples, pixels whose neighbours are noisier
+    /// than `noise_threshold` take more, in rounds of `spp`, up to `max_spp` (default: the
+    /// preset's, on).
+    #[arg(long, value_name = "on|off", value_parser = parse_on_off)]
+    #[schema(label: "Adaptive Sampling", preset: true)]
+    pub adaptive_sampling: Option<bool>,
+    /// Adaptive sampling's noise threshold: standard error over the square root of the mean
+    /// times the image's brightness. Smaller is less noisy and slower (default: the preset's).
     #[arg(long)]
-    #[schema(label: "Noise Threshold", min: Some(0.0), soft_max: Some(1.0), preset: true)]
+    #[schema(label: "Noise Threshold", min: Some(0.0), min_open: true, soft_max: Some(1.0),
+             preset: true, requires: Some("adaptive_sampling"))]
     pub noise_threshold: Option<f32>,
-    /// Adaptive sampling: the most camera samples a pixel takes (a multiple of `spp`; at
-    /// most `spp` turns adaptive sampling off; default: the preset's).
+    /// Adaptive sampling: the most camera samples a pixel takes, in whole rounds of `spp`
+    /// (default: the preset's, 16 x its `spp`).
     #[arg(long)]
-    #[schema(label: "Max Samples", min: Some(1.0), soft_max: Some(16384.0), preset: true)]
+    #[schema(label: "Max Samples", min: Some(1.0), soft_max: Some(16384.0), preset: true,
+             requires: Some("adaptive_sampling"))]
     pub max_spp: Option<u32>,
     /// Seconds the whole render should take (photon pass, irradiance cache, camera pass);
     /// photon counts and camera passes are planned to fill it, and the plan is written to the
@@ -253,6 +260,7 @@ impl RenderOptions {
         RenderOptions {
             quality,
             spp: Some(s.spp),
+            adaptive_sampling: Some(s.adaptive_sampling),
             noise_threshold: Some(s.noise_threshold),
             max_spp: Some(s.max_spp),
             photons: Some(p.global),
@@ -278,6 +286,7 @@ impl RenderOptions {
             alpha: s.sppm_alpha,
             initial_photons: s.sppm_initial_photons,
             spp: Some(s.spp),
+            adaptive_sampling: Some(s.adaptive_sampling),
             noise_threshold: Some(s.noise_threshold),
             max_spp: Some(s.max_spp),
             time_budget: s.time_budget,
@@ -375,6 +384,7 @@ impl RenderOptions {
     pub fn settings(&self) -> RenderSettings {
         let mut s = self.quality.settings();
         s.spp = self.spp.unwrap_or(s.spp);
+        s.adaptive_sampling = self.adaptive_sampling.unwrap_or(s.adaptive_sampling);
         s.noise_threshold = self.noise_threshold.unwrap_or(s.noise_threshold);
         s.max_spp = self.max_spp.unwrap_or(s.max_spp);
         s.seed = self.seed;
