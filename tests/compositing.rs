@@ -31,7 +31,7 @@ fn settings(spp: u32, aovs: AovRequest) -> RenderSettings {
         spp,
         seed: 3,
         threads: 2,
-        noise_threshold: 0.0,
+        adaptive_sampling: false,
         aovs,
         ..RenderSettings::default()
     };

@@ -53,7 +53,7 @@ fn settings(seed: u64, mode: RenderMode) -> RenderSettings {
         spp: 16,
         seed,
         threads: 2,
-        noise_threshold: 0.0,
+        adaptive_sampling: false,
         mode,
         ..RenderSettings::default()
     };

@@ -47,7 +47,7 @@ def _noise(img: np.ndarray) -> float:
 def test_denoise_node_runs_on_the_denoising_passes(photonmap_scene, addon, tmp_path):
     sc = photonmap_scene(scenes.cornell_area)
     sc.photonmap.spp = 2
-    sc.photonmap.noise_threshold = 0.0
+    sc.photonmap.adaptive_sampling = False
     sc.photonmap.denoising_data = True
     # The passes exist, in the result and the multilayer EXR, with the guides' contents.
     set_multilayer_exr(sc, tmp_path / "passes.exr")
@@ -110,7 +110,7 @@ def _name_id(name: str) -> np.float32:
 def test_cryptomatte_node_extracts_a_matte(photonmap_scene, addon, tmp_path):
     sc = photonmap_scene(scenes.cornell_area)
     sc.photonmap.spp = 4
-    sc.photonmap.noise_threshold = 0.0
+    sc.photonmap.adaptive_sampling = False
     sc.photonmap.cryptomatte = "both"
     set_multilayer_exr(sc, tmp_path / "crypto.exr")
     bpy.ops.render.render(write_still=True)
@@ -139,7 +139,7 @@ def test_cryptomatte_node_extracts_a_matte(photonmap_scene, addon, tmp_path):
 def test_light_group_passes_exist_and_sum_to_combined(photonmap_scene, addon, tmp_path):
     sc = photonmap_scene(scenes.cornell_area)
     sc.photonmap.spp = 4
-    sc.photonmap.noise_threshold = 0.0
+    sc.photonmap.adaptive_sampling = False
     layer = bpy.context.view_layer
     for name in ("key", "fill"):
         layer.lightgroups.add(name=name)
