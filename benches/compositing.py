@@ -16,8 +16,9 @@ preset at 512 spp) agrees with it (its worst 1% left out: the light's edges and 
 the mirror sphere, a few pixels of aliasing that swamp every other pixel), the same pixels
 for every render; and, where the scene has a caustic, the relMSE of 4x4-pixel block means in
 the caustic's region (8x8 blocks where the converged render's caustic term exceeds a quarter
-of its brightest) against the converged render, which would rise if denoising smeared the
-caustic's edges.
+of its brightest) against the converged render; over 4 seeds, the ratio of that error after
+and before denoising, and the caustic term's edge strength there (mean |dx| + |dy| of the
+pixels), which a blur of its edges would lower.
 """
 
 from __future__ import annotations
@@ -63,28 +64,35 @@ def costs(args) -> None:
         ("two lights, 2 groups (+default)", grouped, {}),
         ("denoise (pyoidn)", base, {"denoise": True}),
     ]
-    rows = []
-    for name, scene, kw in cases:
-        times, render_s, stats = [], [], None
-        for r in range(args.repeat):
-            t0 = time.perf_counter()
+    # The cases take turns, `repeat` rounds: a machine shared with other work slows them
+    # alike. CPU seconds (user + system, all threads) vary less with the load than the wall
+    # clock does; the median of the rounds is reported.
+    import resource
+
+    def cpu() -> float:
+        r = resource.getrusage(resource.RUSAGE_SELF)
+        return r.ru_utime + r.ru_stime
+
+    meas = {name: {"wall": [], "cpu": [], "stats": None} for name, _, _ in cases}
+    for r in range(args.repeat):
+        for name, scene, kw in cases:
+            t0, c0 = time.perf_counter(), cpu()
             out = photonmap.render(scene, quality="medium", seed=1, threads=args.threads, **kw)
-            times.append(time.perf_counter() - t0)
-            render_s.append(out["stats"]["seconds"].get("render", 0.0))
-            stats = out["stats"]
-        rows.append({
-            "case": name, "seconds": statistics.median(times),
-            "camera_pass": statistics.median(render_s),
-            "aov_mib": stats["aov_memory_bytes"] / 2**20,
-            "memory_mib": stats["memory_bytes"] / 2**20,
-            "denoise_s": (stats.get("denoise") or {}).get("seconds"),
-        })
-        print(json.dumps(rows[-1]), flush=True)
-    print("\n| AOVs | total s | camera pass s | AOV memory MiB | memory MiB |")
-    print("|---|---:|---:|---:|---:|")
-    for r in rows:
-        print(f"| {r['case']} | {r['seconds']:.2f} | {r['camera_pass']:.2f} | "
-              f"{r['aov_mib']:.1f} | {r['memory_mib']:.1f} |")
+            meas[name]["wall"].append(time.perf_counter() - t0)
+            meas[name]["cpu"].append(cpu() - c0)
+            meas[name]["stats"] = out["stats"]
+        print(f"round {r + 1} done", file=sys.stderr, flush=True)
+    base_cpu = statistics.median(meas["none"]["cpu"])
+    print("| AOVs | CPU s (median) | vs none | wall s (median) | AOV memory MiB | "
+          "memory MiB |")
+    print("|---|---:|---:|---:|---:|---:|")
+    for name, _, _ in cases:
+        m = meas[name]
+        st = m["stats"]
+        c = statistics.median(m["cpu"])
+        print(f"| {name} | {c:.2f} | {c / base_cpu:.3f} | {statistics.median(m['wall']):.2f} | "
+              f"{st['aov_memory_bytes'] / 2**20:.1f} | {st['memory_bytes'] / 2**20:.1f} |",
+              flush=True)
 
 
 def _read(path):
@@ -107,6 +115,7 @@ def denoise(args) -> None:
     print("| scene | preset | raw s | raw relMSE | raw equal-time s | raw equal-time relMSE | "
           "denoised s | denoised relMSE | caustic blocks raw / equal-time / denoised |")
     print("|---|---|---:|---:|---:|---:|---:|---:|---|")
+    caustic_rows = []
     for scene_name, ref_name in (("cornell_spheres", "cornell_spheres_full"),
                                  ("cornell_diffuse", "cornell_diffuse_full")):
         path = os.path.join(SCENES, f"{scene_name}.json")
@@ -126,7 +135,28 @@ def denoise(args) -> None:
                 return float("nan")
             return float(_pixel_error(_blocks(img, 4), _blocks(conv["combined"], 4))[mask].mean())
 
+        def edges(img):
+            c = img.mean(-1)
+            g = np.abs(np.diff(c, axis=1))[:-1, :] + np.abs(np.diff(c, axis=0))[:, :-1]
+            return float(g[np.repeat(np.repeat(region, 8, 0), 8, 1)[:-1, :-1]].mean())
+
         for q in presets:
+            if mask.any():
+                # The caustic over 4 seeds: the block error of the denoised render over its
+                # own noisy render's, and the caustic term's edge strength.
+                ratios, e_noisy, e_den = [], [], []
+                for seed in range(1, 5):
+                    o = photonmap.render(path, quality=q, seed=seed, threads=args.threads,
+                                         denoise=True)
+                    noisy = o["emission"] + sum(o[f"{t}_noisy"] for t in
+                                                photonmap.DENOISED_TERMS)
+                    ratios.append(caustic(o["combined"]) / caustic(noisy))
+                    e_noisy.append(edges(o["caustic_noisy"]))
+                    e_den.append(edges(o["caustic"]))
+                caustic_rows.append(
+                    f"| {scene_name} | {q} | {statistics.mean(ratios):.2f} "
+                    f"({min(ratios):.2f}-{max(ratios):.2f}) | {statistics.mean(e_noisy):.4f} | "
+                    f"{statistics.mean(e_den):.4f} | {edges(conv['caustic']):.4f} |")
             spp = photonmap.preset(q)["spp"]
             t0 = time.perf_counter()
             raw = photonmap.render(path, quality=q, seed=1, threads=args.threads)
@@ -145,6 +175,11 @@ def denoise(args) -> None:
                   f"{t_eq:.2f} ({spp_eq} spp) | {err(eq['combined']):.2e} | {t_den:.2f} | "
                   f"{err(den['combined']):.2e} | {caustic(raw['combined']):.2e} / "
                   f"{caustic(eq['combined']):.2e} / {caustic(den['combined']):.2e} |", flush=True)
+    print("\n| scene | preset | caustic blocks, denoised / noisy (4 seeds: mean, range) | "
+          "edge strength noisy | denoised | converged |")
+    print("|---|---|---|---:|---:|---:|")
+    for row in caustic_rows:
+        print(row)
 
 
 def main(argv=None) -> int:

