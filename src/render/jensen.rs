@@ -99,7 +99,19 @@ impl Renderer<'_> {
         // First pass: photons.
         self.report(0.0, "photons");
         let t0 = Instant::now();
-        let (maps, map_stats) = photons::build(self.scene, &s.photons, s.seed, need, self.cancel());
+        let (mut maps, mut map_stats) =
+            photons::build(self.scene, &s.photons, s.seed, need, self.cancel());
+        if self.is_cancelled() {
+            return Err(Error::Cancelled);
+        }
+        photons::build_volume_points(
+            self.scene,
+            &s.photons,
+            &mut maps,
+            &mut map_stats,
+            s.seed,
+            self.cancel(),
+        );
         if self.is_cancelled() {
             return Err(Error::Cancelled);
         }
