@@ -18,7 +18,7 @@ PY="${PYTHON:-python3}"
 VENV="${PHOTONMAP_TEST_VENV:-$PWD/.venv-test}"
 "$PY" -m venv "$VENV"
 "$VENV/bin/python" -m pip install --quiet --upgrade pip
-CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}" "$VENV/bin/python" -m pip install --quiet ".[trade]" pytest hypothesis
+CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}" "$VENV/bin/python" -m pip install --quiet ".[trade,denoise]" pytest hypothesis
 stage "Python package build"
 (cd tests/python && "$VENV/bin/python" -m pytest -q -p no:cacheprovider .)
 stage "Python tests"

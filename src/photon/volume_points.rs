@@ -100,7 +100,7 @@ impl VolumePointMap {
                 chunk
                     .iter()
                     .map(|&(i, p)| {
-                        let (l, r2) = volume.volume_radiance(p, Vec3::Z, &iso, k, max_r2, scratch)?;
+                        let (l, r2) = volume.volume_radiance(p, Vec3::Z, &iso, k, max_r2, scratch, None)?;
                         let r = r2.sqrt();
                         let l = l / reach(i, p, r);
                         Some(VolumePoint {

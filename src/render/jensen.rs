@@ -6,6 +6,7 @@
 use super::adaptive::Adaptive;
 use super::budget::BudgetStats;
 use super::cache_fill;
+use super::compositing::SampleAovs;
 use super::driver::{Integrator, Schedule};
 use super::eye::{self, EyeCtx, EyeSettings};
 use super::film::TermRadiance;
@@ -49,8 +50,9 @@ impl Integrator for Jensen<'_> {
         _extra: &mut (),
         _k: u32,
         scratch: &mut KnnScratch,
+        aovs: &mut SampleAovs,
     ) -> (TermRadiance, Spectrum) {
-        (eye::trace(&self.ctx, ray, rng, scratch), Spectrum::ZERO)
+        (eye::trace(&self.ctx, ray, rng, scratch, aovs), Spectrum::ZERO)
     }
 }
 

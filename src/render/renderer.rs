@@ -6,6 +6,7 @@
 
 use super::aov::Term;
 use super::budget;
+use super::compositing::AovLayout;
 use super::driver::CameraPass;
 use super::film::Film;
 use super::memory::MemoryEstimate;
@@ -43,6 +44,8 @@ pub struct Renderer<'a> {
     pub(super) preview: Option<Arc<PreviewFn>>,
     pub(super) output_time: Option<Arc<OutputTimeFn>>,
     pub(super) work: super::work::WorkCounts,
+    /// The compositing AOVs of the render (set when it starts, from the settings).
+    pub(super) aovs: AovLayout,
 }
 
 impl<'a> Renderer<'a> {
@@ -55,6 +58,7 @@ impl<'a> Renderer<'a> {
             preview: None,
             output_time: None,
             work: Default::default(),
+            aovs: AovLayout::none(),
         }
     }
     pub fn settings(mut self, s: RenderSettings) -> Self {
@@ -108,6 +112,7 @@ impl<'a> Renderer<'a> {
         driver.cancel = self.cancel();
         driver.preview = self.preview.as_deref();
         driver.output_time = self.output_time.as_deref();
+        driver.aovs = &self.aovs;
         driver
     }
 
@@ -137,8 +142,9 @@ impl<'a> Renderer<'a> {
         [need_global, need_caustic, need_volume]
     }
 
-    pub fn render(self) -> Result<RenderOutput> {
+    pub fn render(mut self) -> Result<RenderOutput> {
         let start = Instant::now();
+        self.aovs = AovLayout::new(self.scene, &self.settings, &self.scene.light_groups);
         let s = &self.settings;
         if let Some(b) = s.time_budget {
             budget::check_budget(b).map_err(|message| Error::InvalidSetting {

@@ -1,6 +1,6 @@
 //! Render settings and the quality presets shared by the CLI, the Python API and Blender.
 
-use super::aov::TermMask;
+use super::aov::{AovRequest, TermMask};
 use super::film::Filter;
 use serde::{Deserialize, Serialize};
 
@@ -211,6 +211,9 @@ pub const SPPM_ALPHA: f32 = 0.7;
 /// 35% less error than 100 at equal time.
 pub const SPPM_INITIAL_PHOTONS: usize = 20;
 
+/// Cryptomatte ranks per pixel by default: the specification's suggested 6 (three layers).
+pub const CRYPTOMATTE_LEVELS: u32 = 6;
+
 /// Everything a render is asked to do. The stats of a render record it (`settings`).
 #[derive(Clone, Debug, Serialize)]
 pub struct RenderSettings {
@@ -252,6 +255,8 @@ pub struct RenderSettings {
     /// Progressive photon mapping: a pixel's first radius reaches this many photons (k
     /// nearest around its first visible point).
     pub sppm_initial_photons: usize,
+    /// The optional AOVs: denoising guides, noisy terms, Cryptomatte (`aov::AovRequest`).
+    pub aovs: AovRequest,
 }
 
 impl Default for RenderSettings {
@@ -275,6 +280,10 @@ impl Default for RenderSettings {
             mode: RenderMode::Jensen,
             sppm_alpha: SPPM_ALPHA,
             sppm_initial_photons: SPPM_INITIAL_PHOTONS,
+            aovs: AovRequest {
+                cryptomatte_levels: CRYPTOMATTE_LEVELS,
+                ..AovRequest::default()
+            },
         }
     }
 }

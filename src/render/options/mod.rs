@@ -13,8 +13,10 @@
 use crate::error::{Error, Result};
 use crate::render::budget::check_budget;
 use crate::render::film::Filter;
+use crate::render::aov::AovRequest;
 use crate::render::settings::{
-    available_memory, Quality, RenderMode, RenderSettings, SPPM_ALPHA, SPPM_INITIAL_PHOTONS,
+    available_memory, Quality, RenderMode, RenderSettings, CRYPTOMATTE_LEVELS, SPPM_ALPHA,
+    SPPM_INITIAL_PHOTONS,
 };
 use clap::{Args, FromArgMatches};
 use serde::{Deserialize, Serialize};
@@ -214,6 +216,29 @@ render_options! {
     #[schema(label: "Max Specular Depth", group: Group::Gathering, min: Some(0.0),
              soft_max: Some(128.0), preset: true)]
     pub max_specular_depth: u32,
+    /// Write the denoising guides: `albedo` (the reflectance of the first non-specular
+    /// surface, seen through perfect mirrors and glass) and `normal` (its normal, in camera
+    /// space), as Open Image Denoise and Blender's Denoise node expect them.
+    #[arg(long)]
+    #[schema(label: "Denoising Data", group: Group::Passes)]
+    pub denoising_data: bool,
+    /// Denoise with Open Image Denoise (the Python package with its `denoise` extra: pip
+    /// install photonmap[denoise]), guided by `albedo` and `normal`: each noisy term on its
+    /// own, the beauty their sum; the noisy terms are kept as `<term>_noisy`.
+    #[arg(long)]
+    #[schema(label: "Denoise", group: Group::Passes)]
+    pub denoise: bool,
+    /// Cryptomatte mattes to write: off, object, material or both (`CryptoObject00`, ...,
+    /// with the manifest in the EXR metadata).
+    #[arg(long, value_enum, default_value_t = Cryptomatte::Off)]
+    #[schema(label: "Cryptomatte", group: Group::Passes)]
+    pub cryptomatte: Cryptomatte,
+    /// Cryptomatte ranks per pixel: the most objects (or materials) a pixel's matte tells
+    /// apart; two per layer.
+    #[arg(long, default_value_t = CRYPTOMATTE_LEVELS)]
+    #[schema(label: "Cryptomatte Levels", group: Group::Passes, min: Some(1.0),
+             max: Some(16.0))]
+    pub cryptomatte_levels: u32,
 }
 
 impl Default for RenderOptions {
@@ -290,6 +315,10 @@ impl RenderOptions {
             cache_tolerance: Some(p.cache_tolerance),
             gather_rays_per_sample: s.gather_rays_per_sample,
             max_specular_depth: s.max_specular_depth,
+            denoising_data: s.aovs.denoising_data,
+            denoise: s.aovs.denoise,
+            cryptomatte: s.aovs.cryptomatte,
+            cryptomatte_levels: s.aovs.cryptomatte_levels,
         }
     }
 
@@ -380,6 +409,12 @@ impl RenderOptions {
         s.sppm_initial_photons = self.initial_photons;
         s.progressive = self.progressive;
         s.gather_rays_per_sample = self.gather_rays_per_sample;
+        s.aovs = AovRequest {
+            denoising_data: self.denoising_data,
+            denoise: self.denoise,
+            cryptomatte: self.cryptomatte,
+            cryptomatte_levels: self.cryptomatte_levels,
+        };
         s
     }
 

@@ -2,6 +2,7 @@
 //! panel ([`Spec`]), and the value types of the settings that are not plain numbers.
 
 use crate::render::budget::check_budget;
+pub use crate::render::aov::Cryptomatte;
 use crate::render::film::Filter;
 use crate::render::settings::{parse_bytes, Quality, RenderMode};
 use clap::ValueEnum;
@@ -108,7 +109,7 @@ macro_rules! enumerated {
         }
     )*};
 }
-enumerated!(Quality, RenderMode, FilterName, PhotonPower);
+enumerated!(Quality, RenderMode, FilterName, PhotonPower, Cryptomatte);
 
 /// Pixel reconstruction filters by name (their widths are the core's).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, ValueEnum)]
@@ -198,6 +199,8 @@ pub enum Group {
     Quality,
     Photons,
     Gathering,
+    /// The optional AOVs (compositing passes) and denoising.
+    Passes,
 }
 
 /// What the schema says of one setting besides its type, documentation and default.
