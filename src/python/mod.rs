@@ -309,6 +309,31 @@ fn render_blocking(
     map_err: fn(Error) -> PyErr,
     output_time: Option<Arc<crate::render::OutputTimeFn>>,
 ) -> PyResult<RenderOutput> {
+    run_blocking(
+        py,
+        cli::RenderRequest {
+            output_time,
+            ..cli::RenderRequest::new(desc, settings)
+        },
+        direct,
+        callback,
+        preview,
+        cancel,
+        map_err,
+    )
+}
+
+/// As [`render_blocking`], for a whole request (photon maps to reuse or keep).
+#[allow(clippy::too_many_arguments)]
+fn run_blocking(
+    py: Python<'_>,
+    request: cli::RenderRequest<'_>,
+    direct: Option<Arc<ProgressFn>>,
+    callback: Option<&Bound<'_, PyAny>>,
+    preview: Option<&Bound<'_, PyAny>>,
+    cancel: Arc<AtomicBool>,
+    map_err: fn(Error) -> PyErr,
+) -> PyResult<RenderOutput> {
     // The latest preview of a progressive render (beauty, passes), handed to `preview` by the
     // calling thread as `preview(bytes, width, height, passes)`.
     type Preview = (crate::render::film::Image, u32);
@@ -354,14 +379,12 @@ fn render_blocking(
         let done_ref = &done;
         s.spawn(move || {
             let r = catch_unwind(AssertUnwindSafe(|| {
-                cli::render_desc_with_preview(
-                    desc,
-                    settings,
-                    Some(progress),
-                    Some(flag),
-                    preview_fn,
-                    output_time,
-                )
+                cli::render_request(cli::RenderRequest {
+                    progress: Some(progress),
+                    cancel: Some(flag),
+                    preview: preview_fn,
+                    ..request
+                })
             }));
             if let Ok(mut g) = done_ref.0.lock() {
                 *g = Some(r);
@@ -495,7 +518,28 @@ fn run_cli(
             return Ok(e.exit_code());
         }
     };
-    let Command::Render(args) = cli.command;
+    let args = match cli.command {
+        Command::Render(args) => args,
+        Command::Merge(m) => {
+            return match py.detach(|| caught(|| cli::run_merge(&m))) {
+                Ok(p) => {
+                    if !m.quiet {
+                        eprintln!(
+                            "wrote {} ({} passes from {} partial sums)",
+                            m.output.display(),
+                            p.passes(),
+                            m.partials.len()
+                        );
+                    }
+                    Ok(0)
+                }
+                Err(e) => {
+                    eprintln!("photonmap: error: {}", e.for_cli());
+                    Ok(1)
+                }
+            };
+        }
+    };
     // Under --time-budget the command's wall clock runs from here: the USD import, the
     // scene build, the render and the writing of every frame all count.
     let clock = args.wall_clock();
@@ -515,9 +559,65 @@ fn run_cli(
         Ok(f) => f,
         Err(e) => return fail(e),
     };
-    let mut py_err: Option<PyErr> = None;
-    let mut load = |req: &SceneRequest| -> Result<LoadedScene, Error> {
-        let Some(loader) = &usd_loader else {
+    let py_err: std::cell::RefCell<Option<PyErr>> = Default::default();
+    let mut load = usd_load_fn(usd_loader.as_ref(), &py_err);
+    let frame_count = frames.len();
+    let mut reuse = cli::FrameReuse::new(&args, frame_count);
+    for (i, frame) in frames.into_iter().enumerate() {
+        let a = args.for_frame(frame);
+        let loaded = match caught(|| a.load_scene_with(frame, Some(&mut load))) {
+            Ok(l) => l,
+            Err(e) => match py_err.borrow_mut().take() {
+                Some(pe) => return Err(pe),
+                None => return fail(e),
+            },
+        };
+        let (bar, bar_fn) = cli::progress_bar(a.quiet);
+        let cancel = Arc::new(AtomicBool::new(false));
+        let settings = a.settings_within(clock.as_ref(), frame_count - i);
+        let output = clock.map(|_| a.output_time());
+        let request = reuse.request(
+            i,
+            cli::RenderRequest {
+                output_time: output,
+                ..cli::RenderRequest::new(&loaded.desc, settings)
+            },
+        );
+        let out = run_blocking(py, request, Some(bar_fn), None, None, cancel, |e| {
+            to_py(e.for_cli())
+        });
+        let mut out = match out {
+            Ok(o) => o,
+            Err(e) => {
+                bar.abandon();
+                if e.is_instance_of::<PyKeyboardInterrupt>(py) {
+                    return Err(e);
+                }
+                eprintln!("photonmap: error: {}", e.value(py));
+                return Ok(1);
+            }
+        };
+        reuse.rendered(i, &mut out);
+        bar.finish_and_clear();
+        if let Err(e) = caught(|| cli::write_outputs_with(&a, &out, loaded.import_stats.as_ref())) {
+            return fail(e);
+        }
+        if !a.quiet {
+            eprintln!("{}", cli::summary(&a, &out));
+        }
+    }
+    Ok(0)
+}
+
+/// The scene reader of the command: USD stages through the Python `usd_loader(path, frame,
+/// camera, purposes, strict)`, which returns `(ir_json, import_stats_json)`. An exception of
+/// the loader is kept in `py_err`, to be raised as it is.
+fn usd_load_fn<'a, 'py>(
+    usd_loader: Option<&'a Bound<'py, PyAny>>,
+    py_err: &'a std::cell::RefCell<Option<PyErr>>,
+) -> impl FnMut(&SceneRequest) -> Result<LoadedScene, Error> + 'a {
+    move |req: &SceneRequest| -> Result<LoadedScene, Error> {
+        let Some(loader) = usd_loader else {
             return Err(Error::io(req.path, "no USD reader available"));
         };
         let r = loader
@@ -537,56 +637,11 @@ fn run_cli(
             }
             Err(e) => {
                 let msg = e.to_string();
-                py_err = Some(e);
+                *py_err.borrow_mut() = Some(e);
                 Err(Error::io(req.path, msg))
             }
         }
-    };
-    let frame_count = frames.len();
-    for (i, frame) in frames.into_iter().enumerate() {
-        let a = args.for_frame(frame);
-        let loaded = match caught(|| a.load_scene_with(frame, Some(&mut load))) {
-            Ok(l) => l,
-            Err(e) => match py_err.take() {
-                Some(pe) => return Err(pe),
-                None => return fail(e),
-            },
-        };
-        let (bar, bar_fn) = cli::progress_bar(a.quiet);
-        let cancel = Arc::new(AtomicBool::new(false));
-        let settings = a.settings_within(clock.as_ref(), frame_count - i);
-        let output = clock.map(|_| a.output_time());
-        let out = render_blocking(
-            py,
-            &loaded.desc,
-            settings,
-            Some(bar_fn),
-            None,
-            None,
-            cancel,
-            |e| to_py(e.for_cli()),
-            output,
-        );
-        let out = match out {
-            Ok(o) => o,
-            Err(e) => {
-                bar.abandon();
-                if e.is_instance_of::<PyKeyboardInterrupt>(py) {
-                    return Err(e);
-                }
-                eprintln!("photonmap: error: {}", e.value(py));
-                return Ok(1);
-            }
-        };
-        bar.finish_and_clear();
-        if let Err(e) = caught(|| cli::write_outputs_with(&a, &out, loaded.import_stats.as_ref())) {
-            return fail(e);
-        }
-        if !a.quiet {
-            eprintln!("{}", cli::summary(&a, &out));
-        }
     }
-    Ok(0)
 }
 
 /// The preset fields of a quality preset as JSON, named as the `render` keywords.
