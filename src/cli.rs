@@ -470,8 +470,18 @@ pub fn write_merged(
     png: Option<&Path>,
     stats: Option<&Path>,
 ) -> Result<()> {
+    write_merged_with(merged, output, png, stats, &merged_stats(merged))
+}
+
+/// As [`write_merged`], with the stats JSON `st`.
+pub fn write_merged_with(
+    merged: &crate::render::pppm::Partial,
+    output: &Path,
+    png: Option<&Path>,
+    stats: Option<&Path>,
+    st: &serde_json::Value,
+) -> Result<()> {
     let film = merged.film();
-    let st = merged_stats(merged);
     let mut meta = BTreeMap::new();
     meta.insert("version".into(), env!("CARGO_PKG_VERSION").to_string());
     meta.insert("seed".into(), merged.header.seed.to_string());
@@ -511,10 +521,10 @@ pub fn merged_stats(p: &crate::render::pppm::Partial) -> serde_json::Value {
         "pppm": {
             "passes": p.passes(),
             "pass_ranges": p.ranges,
-            "alpha": p.header.alpha,
-            "initial_radius": p.header.initial_radius,
-            "final_radius": crate::render::pppm::pass_radius2(
-                p.header.initial_radius, p.header.alpha, last).sqrt(),
+            "alpha": shortest(p.header.alpha),
+            "initial_radius": shortest(p.header.initial_radius),
+            "final_radius": shortest(crate::render::pppm::pass_radius2(
+                p.header.initial_radius, p.header.alpha, last).sqrt()),
             "photons_per_pass": p.header.photons_per_pass,
             "photons_emitted": t.photons_emitted,
             "photon_seconds": t.photon_seconds,
@@ -523,6 +533,15 @@ pub fn merged_stats(p: &crate::render::pppm::Partial) -> serde_json::Value {
         },
         "options": options,
     })
+}
+
+/// An `f32` as the JSON number of its shortest decimal (0.7, not 0.699999988).
+fn shortest(v: f32) -> serde_json::Value {
+    v.to_string()
+        .parse::<f64>()
+        .ok()
+        .and_then(serde_json::Number::from_f64)
+        .map_or(serde_json::Value::Null, serde_json::Value::Number)
 }
 
 /// Writes a multilayer EXR atomically (a temporary file renamed over `path`).
@@ -765,6 +784,11 @@ impl FrameReuse {
         req
     }
 
+    /// Whether frames reuse the first frame's maps.
+    pub fn enabled(&self) -> bool {
+        self.enabled
+    }
+
     /// After frame `index`: keeps the first frame's maps.
     pub fn rendered(&mut self, index: usize, out: &mut RenderOutput) {
         if index == 0 && self.enabled {
@@ -814,6 +838,31 @@ pub fn summary(args: &RenderArgs, out: &RenderOutput) -> String {
         s.push_str(&format!("\n  {} is zero: {}", t.term, t.reason));
     }
     s
+}
+
+/// Writes a film assembled elsewhere (tiles) with its stats JSON: the EXR with the
+/// metadata `write_outputs` gives, the PNG and the stats, each atomically.
+pub fn write_film_outputs(
+    args: &RenderArgs,
+    film: &crate::render::film::Film,
+    stats: &serde_json::Value,
+) -> Result<()> {
+    let mut meta = BTreeMap::new();
+    meta.insert("version".into(), env!("CARGO_PKG_VERSION").to_string());
+    meta.insert("seed".into(), stats["seed"].to_string());
+    meta.insert("spp".into(), stats["spp"].to_string());
+    meta.insert("photons".into(), stats["photons_stored"].to_string());
+    meta.insert("seconds".into(), stats["seconds"].to_string());
+    write_exr_atomic(&args.output, film, &meta)?;
+    if let Some(p) = &args.png {
+        container::with_temp_path(p, |tmp| io::png::write_png(tmp, &film.combined(), 1.0))?;
+    }
+    if let Some(p) = &args.stats {
+        let text =
+            serde_json::to_string_pretty(stats).map_err(|e| Error::Internal(e.to_string()))?;
+        container::write_atomic(p, text.as_bytes())?;
+    }
+    Ok(())
 }
 
 /// EXR (with metadata), optional PNG and stats JSON.

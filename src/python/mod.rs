@@ -13,6 +13,7 @@
 //! `photonmap.PhotonmapError` ("internal error: the renderer panicked: ..."), an ordinary
 //! `Exception`, where pyo3 alone would raise `PanicException`, a `BaseException`.
 
+mod job;
 mod pointer;
 
 use crate::cli::{self, Cli, Command, LoadedScene, SceneRequest};
@@ -455,7 +456,7 @@ fn image_bytes<'py>(py: Python<'py>, img: &crate::render::film::Image) -> Bound<
 /// "stats": json}`, images as float32 RGB rows top to bottom. `settings` is a JSON object of
 /// render settings named as the schema names them (`settings_schema`); `null` is a default.
 #[pyfunction]
-#[pyo3(signature = (scene, settings="{}", *, progress=None, preview=None, cancel=None))]
+#[pyo3(signature = (scene, settings="{}", *, progress=None, preview=None, cancel=None, pass_range=None))]
 fn render<'py>(
     py: Python<'py>,
     scene: &PyScene,
@@ -463,12 +464,22 @@ fn render<'py>(
     progress: Option<Bound<'py, PyAny>>,
     preview: Option<Bound<'py, PyAny>>,
     cancel: Option<&CancelToken>,
+    pass_range: Option<(u32, u32)>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let options = crate::render::RenderOptions::from_json(settings).map_err(to_py)?;
     let flag = cancel
         .map(|c| c.flag.clone())
         .unwrap_or_else(|| Arc::new(AtomicBool::new(false)));
-    let settings = options.settings();
+    let mut settings = options.settings();
+    if let Some((a, b)) = pass_range {
+        if settings.mode != crate::render::settings::RenderMode::Pppm || a >= b {
+            return Err(PyValueError::new_err(format!(
+                "invalid render setting `pass_range`: ({a}, {b}) must be passes a < b of the \
+                 pppm mode (mode=\"pppm\")"
+            )));
+        }
+        settings.pass_range = Some((a, b));
+    }
     let out = render_blocking(
         py,
         &scene.desc,
@@ -480,22 +491,59 @@ fn render<'py>(
         to_py,
         None,
     )?;
-    let d = PyDict::new(py);
-    d.set_item("width", out.film.width)?;
-    d.set_item("height", out.film.height)?;
-    let terms = PyDict::new(py);
-    for t in Term::ALL {
-        terms.set_item(t.name(), image_bytes(py, out.film.term(t)))?;
-    }
-    d.set_item("terms", terms)?;
-    d.set_item(
-        crate::render::aov::ERROR_AOV,
-        image_bytes(py, &out.film.error),
-    )?;
-    d.set_item("combined", image_bytes(py, &out.film.combined()))?;
+    let d = film_dict(py, &out.film)?;
     let stats =
         serde_json::to_string(&out.stats).map_err(|e| PhotonmapError::new_err(e.to_string()))?;
     d.set_item("stats", stats)?;
+    if let Some(p) = &out.partial {
+        d.set_item("partial", PyBytes::new(py, &p.to_bytes()))?;
+    }
+    Ok(d)
+}
+
+/// Merges partial sums of pppm passes (the bytes of partial-sum files, every block of one
+/// frame; in any order) into the frame's image: the dict of `render`, with `partial` the
+/// merged sums.
+#[pyfunction]
+fn merge_partials<'py>(py: Python<'py>, partials: Vec<Vec<u8>>) -> PyResult<Bound<'py, PyDict>> {
+    use crate::render::pppm::Partial;
+    let merged = py
+        .detach(|| {
+            caught(|| {
+                let parts: Vec<Partial> = partials
+                    .iter()
+                    .enumerate()
+                    .map(|(i, b)| {
+                        Partial::from_bytes(b, std::path::Path::new(&format!("partial {i}")))
+                    })
+                    .collect::<Result<_, Error>>()?;
+                let m = Partial::merge_all(&parts)?;
+                m.check_complete()?;
+                Ok(m)
+            })
+        })
+        .map_err(to_py)?;
+    let d = film_dict(py, &merged.film())?;
+    d.set_item("stats", cli::merged_stats(&merged).to_string())?;
+    d.set_item("partial", PyBytes::new(py, &merged.to_bytes()))?;
+    Ok(d)
+}
+
+/// `{"width", "height", "terms": {name: bytes}, "error": bytes, "combined": bytes}`.
+fn film_dict<'py>(
+    py: Python<'py>,
+    film: &crate::render::film::Film,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("width", film.width)?;
+    d.set_item("height", film.height)?;
+    let terms = PyDict::new(py);
+    for t in Term::ALL {
+        terms.set_item(t.name(), image_bytes(py, film.term(t)))?;
+    }
+    d.set_item("terms", terms)?;
+    d.set_item(crate::render::aov::ERROR_AOV, image_bytes(py, &film.error))?;
+    d.set_item("combined", image_bytes(py, &film.combined()))?;
     Ok(d)
 }
 
@@ -699,6 +747,8 @@ fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("RenderCancelled", py.get_type::<RenderCancelled>())?;
     m.add_class::<PyScene>()?;
     m.add_class::<CancelToken>()?;
+    m.add_class::<job::Job>()?;
+    m.add_function(wrap_pyfunction!(merge_partials, m)?)?;
     m.add_function(wrap_pyfunction!(render, m)?)?;
     m.add_function(wrap_pyfunction!(run_cli, m)?)?;
     m.add_function(wrap_pyfunction!(preset, m)?)?;

@@ -183,6 +183,49 @@ pub fn place(film: &mut Film, rect: Rect, tile: &Film) -> Result<()> {
     Ok(())
 }
 
+/// Floats per pixel of [`film_to_bytes`]: RGB of every term, then of the `error` AOV.
+pub const FILM_FLOATS: usize = (Term::COUNT + 1) * 3;
+
+/// A film as little-endian `f32`s, pixel by pixel (row-major): RGB of every term in
+/// `Term::ALL` order, then of the `error` AOV (to ship a tile between machines).
+pub fn film_to_bytes(film: &Film) -> Vec<u8> {
+    let mut out = Vec::with_capacity(film.width * film.height * FILM_FLOATS * 4);
+    for i in 0..film.width * film.height {
+        for img in film.terms.iter().chain(std::iter::once(&film.error)) {
+            for v in img.data[i] {
+                out.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+    }
+    out
+}
+
+/// The `width`-by-`height` film of [`film_to_bytes`].
+pub fn film_from_bytes(bytes: &[u8], width: usize, height: usize) -> Result<Film> {
+    if bytes.len() != width * height * FILM_FLOATS * 4 {
+        return Err(Error::Internal(format!(
+            "{} bytes are not a {width}x{height} film",
+            bytes.len()
+        )));
+    }
+    let mut film = Film::new(width, height);
+    let mut f = bytes
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]));
+    for i in 0..width * height {
+        for img in film
+            .terms
+            .iter_mut()
+            .chain(std::iter::once(&mut film.error))
+        {
+            for c in 0..3 {
+                img.data[i][c] = f.next().unwrap_or(0.0);
+            }
+        }
+    }
+    Ok(film)
+}
+
 impl Renderer<'_> {
     /// One stage of tile `rect` of a Jensen frame (see the module documentation): the photon
     /// maps and irradiance cache of the frame must be given with
