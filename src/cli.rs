@@ -110,6 +110,11 @@ pub struct RenderArgs {
     /// the image of all the blocks.
     #[arg(long, value_name = "A:B", value_parser = parse_pass_range)]
     pub pass_range: Option<(u32, u32)>,
+    /// Jensen: build the photon maps and the irradiance cache for the (first) frame's view
+    /// and write them to `-o` (a photon-map file, for `--load-photon-maps`), rendering no
+    /// image: the photon-map step of a farm job.
+    #[arg(long)]
+    pub photon_maps_only: bool,
     /// Frames whose scene matches the first frame's, the camera aside: reuse its photon
     /// maps and irradiance cache (extended for each view), or rebuild them every frame.
     #[arg(long, value_enum, default_value_t = FrameMaps::Reuse)]
@@ -398,6 +403,23 @@ impl RenderArgs {
                 });
             }
         }
+        if self.photon_maps_only {
+            let s = self.settings();
+            if s.mode != crate::render::settings::RenderMode::Jensen {
+                return Err(Error::InvalidSetting {
+                    setting: "photon_maps_only".into(),
+                    message: "builds the maps of the jensen mode; the progressive modes trace \
+                              a fresh map every pass"
+                        .into(),
+                });
+            }
+            if s.time_budget.is_some() || self.pass_range.is_some() {
+                return Err(Error::InvalidSetting {
+                    setting: "photon_maps_only".into(),
+                    message: "cannot be combined with --time-budget or --pass-range".into(),
+                });
+            }
+        }
         if self.cluster.is_some() {
             return Err(Error::InvalidSetting {
                 setting: "cluster".into(),
@@ -438,6 +460,7 @@ fn render_and_write(
     let out = render_request(RenderRequest {
         progress,
         output_time: output,
+        maps_only: args.photon_maps_only,
         ..RenderRequest::new(&desc, settings)
     })?;
     write_outputs(args, &out)?;
@@ -826,6 +849,19 @@ pub fn progress_bar(quiet: bool) -> (indicatif::ProgressBar, Arc<crate::render::
 /// The lines printed after a render: what was written, and which terms are zero and why.
 pub fn summary(args: &RenderArgs, out: &RenderOutput) -> String {
     let secs: f64 = out.stats.seconds.values().sum();
+    if args.photon_maps_only {
+        return format!(
+            "wrote {} (photon maps: {}; {} irradiance-cache records; {secs:.2} s)",
+            args.output.display(),
+            out.stats
+                .photons_stored
+                .iter()
+                .map(|(k, v)| format!("{k} {v}"))
+                .collect::<Vec<_>>()
+                .join(", "),
+            out.stats.irradiance_cache_records
+        );
+    }
     let mut s = format!(
         "wrote {} ({}x{}, {} spp, {:.2} s)",
         args.output.display(),
@@ -888,11 +924,12 @@ pub fn write_outputs_with(
         "seconds".into(),
         serde_json::to_string(&out.stats.seconds).unwrap_or_default(),
     );
-    match (&out.partial, args.pass_range) {
-        (Some(partial), Some(_)) => partial.save(&args.output)?,
+    match (&out.partial, &out.photon_maps) {
+        (Some(partial), _) if args.pass_range.is_some() => partial.save(&args.output)?,
+        (_, Some(set)) if args.photon_maps_only => set.save(&args.output)?,
         _ => write_exr_atomic(&args.output, &out.film, &meta)?,
     }
-    if let Some(p) = &args.png {
+    if let Some(p) = args.png.as_ref().filter(|_| !args.photon_maps_only) {
         container::with_temp_path(p, |tmp| io::png::write_png(tmp, &out.film.combined(), 1.0))?;
     }
     if let Some(p) = &args.stats {

@@ -130,8 +130,8 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     })
 }
 
-/// Calls `write` with a temporary path beside `path`, then renames the file written there to
-/// `path`; on error the temporary file is removed. The temporary name keeps the extension
+/// Calls `write` with a temporary path beside `path` (its directory created if missing),
+/// then renames the file written there to `path`; on error the temporary file is removed. The temporary name keeps the extension
 /// (`out.exr` -> `.out.exr.<pid>.<n>.tmp.exr`), for writers that look at it.
 pub fn with_temp_path(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
     use std::sync::atomic::{AtomicU64, Ordering};
@@ -144,6 +144,9 @@ pub fn with_temp_path(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> R
         .extension()
         .map(|e| format!(".{}", e.to_string_lossy()))
         .unwrap_or_default();
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    }
     let n = COUNTER.fetch_add(1, Ordering::Relaxed);
     let tmp: PathBuf = path.with_file_name(format!(".{name}.{}.{n}.tmp{ext}", std::process::id()));
     match write(&tmp) {

@@ -628,6 +628,7 @@ fn run_cli(
             i,
             cli::RenderRequest {
                 output_time: output,
+                maps_only: a.photon_maps_only,
                 ..cli::RenderRequest::new(&loaded.desc, settings)
             },
         );
@@ -645,13 +646,17 @@ fn run_cli(
                 return Ok(1);
             }
         };
-        reuse.rendered(i, &mut out);
         bar.finish_and_clear();
         if let Err(e) = caught(|| cli::write_outputs_with(&a, &out, loaded.import_stats.as_ref())) {
             return fail(e);
         }
+        reuse.rendered(i, &mut out);
         if !a.quiet {
             eprintln!("{}", cli::summary(&a, &out));
+        }
+        if a.photon_maps_only {
+            // The maps of the first frame's view; later frames load them.
+            break;
         }
     }
     Ok(0)

@@ -80,8 +80,6 @@ def write_scene_usda(path, desc, camera_x=(0.0,), frame_start=1):
         if m["type"] == "diffuse":
             inp("diffuseColor", Sdf.ValueTypeNames.Color3f, Gf.Vec3f(*m["color"]))
             inp("roughness", Sdf.ValueTypeNames.Float, 1.0)
-            inp("specularColor", Sdf.ValueTypeNames.Color3f, Gf.Vec3f(0, 0, 0))
-            inp("useSpecularWorkflow", Sdf.ValueTypeNames.Int, 1)
         elif m["type"] == "mirror":
             inp("diffuseColor", Sdf.ValueTypeNames.Color3f, Gf.Vec3f(*m["color"]))
             inp("metallic", Sdf.ValueTypeNames.Float, 1.0)
