@@ -195,10 +195,10 @@ pub enum RenderMode {
     /// passes, each with a fresh map of `photons` stored photons and a shrinking search radius
     /// per pixel, converging to the exact image as passes grow.
     Sppm,
-    /// Distributable progressive: probabilistic progressive photon mapping (Knaus & Zwicker
-    /// 2011); `spp` independent passes, each with a fresh map and a global radius that
-    /// depends on the pass index only, summed so that blocks of passes rendered anywhere
-    /// merge to the same image.
+    /// Progressive (farm): probabilistic progressive photon mapping (Knaus & Zwicker 2011);
+    /// `spp` independent passes, each with a fresh map and a global radius that depends on
+    /// the pass index only, summed so that blocks of passes rendered anywhere merge to the
+    /// same image.
     Pppm,
 }
 
