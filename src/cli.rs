@@ -694,8 +694,15 @@ pub fn render_request(req: RenderRequest) -> Result<RenderOutput> {
     } = req;
     map_file::check_settings(&settings)?;
     let files = settings.photon_map_files.clone();
-    let jensen = settings.mode == crate::render::settings::RenderMode::Jensen;
-    let keyed = !jensen || reuse.is_some() || keep_maps || maps_only || files != Default::default();
+    use crate::render::settings::RenderMode;
+    // Keys hash the whole scene: computed only where they are used.
+    let keyed = match settings.mode {
+        RenderMode::Pppm => true,
+        RenderMode::Sppm => false,
+        RenderMode::Jensen => {
+            reuse.is_some() || keep_maps || maps_only || files != Default::default()
+        }
+    };
     let (keys, parts) = if keyed {
         (
             Some(map_file::keys(desc, &settings)),

@@ -14,7 +14,8 @@ The command is split into tasks that each run a piece of it through the core
 - **One Jensen frame**: the photon maps and the irradiance cache built once for the frame
   and broadcast, then tiles (``--tiles CxR``); with adaptive sampling in two stages (the
   first round of every tile, then the rounds decided from the whole image).
-- **One sppm frame**: its passes depend on each other, so it is one task.
+- **One sppm frame** (its passes depend on each other), or a Jensen frame in whole passes
+  (``--progressive``): one task.
 
 Every piece is deterministic and depends only on the command line, its scene and what it is
 given, so the outputs are the bits of the command run in one process, whatever the workers
@@ -217,9 +218,9 @@ def render(argv: list[str], client, *, threads: int | None = None,
         frame = frames[0]
         if info["mode"] == "pppm":
             return [_pppm(client, argv, job, info, frame, threads, progress)]
-        if info["mode"] == "jensen":
+        if info["mode"] == "jensen" and not info["progressive"]:
             return [_tiles(client, argv, job, info, frame, threads, progress)]
-        # sppm: each pass depends on the last; the frame is one task.
+        # sppm (each pass depends on the last), or Jensen's whole passes: one task.
         fut = client.submit(task_frame, argv, frame, None, threads, retries=RETRIES, pure=False)
         return _wait(client, [fut], progress, "frame")
     finally:

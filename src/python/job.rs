@@ -126,6 +126,7 @@ impl Job {
             "spp": s.spp,
             "threads": s.threads,
             "time_budget": s.time_budget,
+            "progressive": s.progressive,
             "frame_maps_reused": reuse,
             "two_stage_tiles": tile::two_stages(&s),
             "tiles": self.args.tiles,
