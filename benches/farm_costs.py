@@ -73,7 +73,8 @@ def main():
     maps = job.build_maps(sc)
     rect = (0, 0, w, h)
     means, errors, state = job.tile_first(sc, maps, rect)
-    film, _ = job.tile_finish(sc, maps, rect, None, None)
+    rounds = job.adaptive_rounds(means, errors, w, h)
+    film, _ = job.tile_finish(sc, maps, rect, rounds, state)
     out["tile_means_errors_bytes_per_pixel"] = (len(means) + len(errors)) / px
     out["tile_state_bytes_per_pixel"] = len(state) / px
     out["tile_film_bytes_per_pixel"] = len(film) / px

@@ -20,9 +20,10 @@ use std::path::{Path, PathBuf};
 /// Bytes before the payload.
 pub const HEADER_BYTES: usize = 20;
 
-/// The CRC-32 table of the reflected IEEE polynomial 0xEDB88320.
-const CRC_TABLE: [u32; 256] = {
-    let mut table = [0u32; 256];
+/// The CRC-32 tables of the reflected IEEE polynomial 0xEDB88320 for slicing by 8 (table 0
+/// is the classic byte-at-a-time table; table k advances a byte by k more zero bytes).
+const CRC_TABLES: [[u32; 256]; 8] = {
+    let mut t = [[0u32; 256]; 8];
     let mut i = 0;
     while i < 256 {
         let mut c = i as u32;
@@ -35,17 +36,40 @@ const CRC_TABLE: [u32; 256] = {
             };
             k += 1;
         }
-        table[i] = c;
+        t[0][i] = c;
         i += 1;
     }
-    table
+    let mut i = 0;
+    while i < 256 {
+        let mut k = 1;
+        while k < 8 {
+            let prev = t[k - 1][i];
+            t[k][i] = (prev >> 8) ^ t[0][(prev & 0xFF) as usize];
+            k += 1;
+        }
+        i += 1;
+    }
+    t
 };
 
-/// CRC-32 (IEEE 802.3, as zlib's `crc32`) of `data`.
+/// CRC-32 (IEEE 802.3, as zlib's `crc32`) of `data`, eight bytes at a time.
 pub fn crc32(data: &[u8]) -> u32 {
+    let t = &CRC_TABLES;
     let mut c = 0xFFFF_FFFFu32;
-    for &b in data {
-        c = CRC_TABLE[((c ^ b as u32) & 0xFF) as usize] ^ (c >> 8);
+    let mut chunks = data.chunks_exact(8);
+    for b in &mut chunks {
+        let lo = c ^ u32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+        c = t[7][(lo & 0xFF) as usize]
+            ^ t[6][((lo >> 8) & 0xFF) as usize]
+            ^ t[5][((lo >> 16) & 0xFF) as usize]
+            ^ t[4][(lo >> 24) as usize]
+            ^ t[3][b[4] as usize]
+            ^ t[2][b[5] as usize]
+            ^ t[1][b[6] as usize]
+            ^ t[0][b[7] as usize];
+    }
+    for &b in chunks.remainder() {
+        c = t[0][((c ^ b as u32) & 0xFF) as usize] ^ (c >> 8);
     }
     c ^ 0xFFFF_FFFF
 }
@@ -348,6 +372,17 @@ mod tests {
         // The check value of CRC-32/ISO-HDLC (zlib's crc32) for "123456789".
         assert_eq!(crc32(b"123456789"), 0xCBF4_3926);
         assert_eq!(crc32(b""), 0);
+        // Eight bytes at a time and one at a time agree, for every length and alignment.
+        let data: Vec<u8> = (0..100u32).map(|i| (i * 37 + 11) as u8).collect();
+        for a in 0..9 {
+            for b in a..data.len() {
+                let mut c = 0xFFFF_FFFFu32;
+                for &x in &data[a..b] {
+                    c = CRC_TABLES[0][((c ^ x as u32) & 0xFF) as usize] ^ (c >> 8);
+                }
+                assert_eq!(crc32(&data[a..b]), c ^ 0xFFFF_FFFF, "{a}..{b}");
+            }
+        }
     }
 
     #[test]

@@ -377,13 +377,12 @@ impl Partial {
         w.u32(t.partials);
         w.str(&self.options);
         w.str(&serde_json::to_string(&self.maps).unwrap_or_default());
-        w.u64(self.terms.len() as u64);
-        for v in &self.terms {
-            w.i64(*v);
-        }
-        w.u64(self.replicates.len() as u64);
-        for v in &self.replicates {
-            w.i64(*v);
+        for sums in [&self.terms, &self.replicates] {
+            w.u64(sums.len() as u64);
+            w.buf.reserve(sums.len() * 8);
+            for v in sums.iter() {
+                w.buf.extend_from_slice(&v.to_le_bytes());
+            }
         }
         container::encode(&PARTIAL_FILE, &w.buf)
     }
@@ -429,7 +428,11 @@ impl Partial {
                     pixels * per_pixel
                 )));
             }
-            (0..n).map(|_| r.i64(what)).collect()
+            let bytes = r.take(n * 8, what)?;
+            Ok(bytes
+                .chunks_exact(8)
+                .map(|c| i64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]))
+                .collect())
         };
         let terms = read_sums("term sums", TERM_VALUES)?;
         let replicates = read_sums("replicate sums", REPLICATE_VALUES)?;
