@@ -133,6 +133,8 @@ pub struct PartialHeader {
     pub alpha: f32,
     pub initial_radius: f32,
     pub photons_per_pass: u64,
+    /// The passes of the whole render (`spp`): the merge of every block holds `0..total`.
+    pub total_passes: u32,
     /// A hash of the scene (camera included) and of the settings that change a pass, from
     /// the front end (0 = not given).
     pub key: u64,
@@ -222,6 +224,13 @@ impl Partial {
                 b.photons_per_pass.to_string(),
             );
         }
+        if a.total_passes != b.total_passes {
+            return differ(
+                "passes in all",
+                a.total_passes.to_string(),
+                b.total_passes.to_string(),
+            );
+        }
         if a.key != b.key {
             return differ(
                 "scene or settings (key)",
@@ -292,8 +301,9 @@ impl Partial {
     /// Errors unless the passes summed are exactly 0..n for some n (a block lost or not yet
     /// rendered leaves a gap).
     pub fn check_complete(&self) -> Result<u32> {
+        let total = self.header.total_passes;
         match self.ranges.as_slice() {
-            [(0, n)] if *n > 0 => Ok(*n),
+            [(0, n)] if *n == total && total > 0 => Ok(total),
             [] => Err(Error::InvalidSetting {
                 setting: "partials".into(),
                 message: "no passes".into(),
@@ -307,11 +317,14 @@ impl Partial {
                     }
                     at = b;
                 }
+                if at < total {
+                    missing.push(format!("{at}..{total}"));
+                }
                 Err(Error::InvalidSetting {
                     setting: "partials".into(),
                     message: format!(
-                        "passes {} are missing (the partial sums hold {}): render and merge \
-                         every block",
+                        "passes {} of the render's {total} are missing (the partial sums hold \
+                         {}): render and merge every block",
                         missing.join(", "),
                         r.iter()
                             .map(|(a, b)| format!("{a}..{b}"))
@@ -363,6 +376,7 @@ impl Partial {
         w.f32(h.alpha);
         w.f32(h.initial_radius);
         w.u64(h.photons_per_pass);
+        w.u32(h.total_passes);
         w.u64(h.key);
         w.u64(self.ranges.len() as u64);
         for &(a, b) in &self.ranges {
@@ -398,6 +412,7 @@ impl Partial {
             alpha: r.f32("alpha")?,
             initial_radius: r.f32("initial radius")?,
             photons_per_pass: r.u64("photons per pass")?,
+            total_passes: r.u32("passes in all")?,
             key: r.u64("key")?,
         };
         let n = r.count(8, "ranges")?;
@@ -641,7 +656,14 @@ impl Renderer<'_> {
 
     /// Renders passes `first .. first + count` of the pppm mode with first radius `r1` into a
     /// partial sum. `key` identifies the scene and settings (see [`PartialHeader::key`]).
-    pub fn pppm_passes(&self, r1: f32, first: u32, count: u32, key: u64) -> Result<Partial> {
+    pub fn pppm_passes(
+        &self,
+        r1: f32,
+        first: u32,
+        count: u32,
+        total: u32,
+        key: u64,
+    ) -> Result<Partial> {
         let s = &self.settings;
         let (w, h) = (self.scene.width, self.scene.height);
         let header = PartialHeader {
@@ -651,6 +673,7 @@ impl Renderer<'_> {
             alpha: s.sppm_alpha,
             initial_radius: r1,
             photons_per_pass: s.photons.global as u64,
+            total_passes: total,
             key,
         };
         let mut out = Partial::empty(header);
@@ -813,7 +836,12 @@ impl Renderer<'_> {
             None if s.time_budget.is_some() => (0, u32::MAX),
             None => (0, s.spp),
         };
-        let partial = self.pppm_passes(r1, first, count, self.keys.map_or(0, |k| k.render))?;
+        let key = self.keys.map_or(0, |k| k.render);
+        let mut partial = self.pppm_passes(r1, first, count, s.spp, key)?;
+        if s.pass_range.is_none() {
+            // A whole render (under a time budget, of the passes that fit).
+            partial.header.total_passes = partial.passes();
+        }
         let mut out = self.pppm_output(&partial, threads, estimate)?;
         if let Some(p) = out.stats.pppm.as_mut() {
             p.initial_radius_source = source.into();
@@ -927,6 +955,7 @@ mod tests {
             alpha: 0.7,
             initial_radius: 0.1,
             photons_per_pass: 10,
+            total_passes: 12,
             key: 5,
         });
         p.ranges = ranges.to_vec();
@@ -953,7 +982,20 @@ mod tests {
         assert!(e.contains("passes 0..4 are in two partial sums"), "{e}");
         let gap = Partial::merge_all(&[a.clone(), c.clone()]).unwrap();
         let e = gap.check_complete().unwrap_err().to_string();
-        assert!(e.contains("passes 4..8 are missing"), "{e}");
+        assert!(
+            e.contains("passes 4..8 of the render's 12 are missing"),
+            "{e}"
+        );
+        // The first blocks alone are not the render either.
+        let e = Partial::merge_all(&[a.clone(), b.clone()])
+            .unwrap()
+            .check_complete()
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("passes 8..12 of the render's 12 are missing"),
+            "{e}"
+        );
         let mut other = partial(&[(4, 8)], 1);
         other.header.seed = 2;
         let e = Partial::merge_all(&[a.clone(), other])

@@ -166,8 +166,10 @@ def test_pass_blocks_merge_through_the_python_api():
     for k in ("combined", "error") + photonmap.TERMS:
         assert np.array_equal(merged[k].view(np.uint32), whole[k].view(np.uint32)), k
     assert merged["stats"]["pppm"]["passes"] == 6
-    with pytest.raises(ValueError, match="passes 2..3 are missing"):
+    with pytest.raises(ValueError, match="passes 2..3 of the render's 6 are missing"):
         photonmap.merge_partials(parts[:2])
+    with pytest.raises(ValueError, match="passes 3..6 of the render's 6 are missing"):
+        photonmap.merge_partials(parts[1:])
     with pytest.raises(ValueError, match="counted twice"):
         photonmap.merge_partials([parts[0], parts[0]])
     with pytest.raises(ValueError, match="pass_range"):
