@@ -10,7 +10,8 @@ The command is split into tasks that each run a piece of it through the core
   every worker (``scatter(..., broadcast=True)``), and each frame task reuses them where its
   scene matches the first frame's (the camera aside), as the command does in one process.
 - **One pppm frame** (``--mode pppm``): r_1 computed once, then blocks of passes
-  (``--block-passes``), whose partial sums are merged on the client.
+  (``--block-passes``), whose partial sums are added pairwise on the workers (a tree) and
+  the total written by the client.
 - **One Jensen frame**: the photon maps and the irradiance cache built once for the frame
   and broadcast, then tiles (``--tiles CxR``); with adaptive sampling in two stages (the
   first round of every tile, then the rounds decided from the whole image).
@@ -152,6 +153,11 @@ def task_tile_finish(argv, frame, maps, rect, rounds, first, threads):
     return film, json.loads(stats)
 
 
+def task_add(a, b):
+    """The sum of two partial sums (a step of the merge's tree reduction)."""
+    return _core.add_partials([a, b])
+
+
 def _item(t, i):
     return t[i]
 
@@ -247,10 +253,20 @@ def _pppm(client, argv, job, info, frame, threads, progress):
     blocks = [(a, min(a + per, spp)) for a in range(0, spp, per)]
     futs = [client.submit(task_passes, argv, frame, a, b, r1, threads, retries=RETRIES)
             for a, b in blocks]
-    partials = _wait(client, futs, progress, "passes")
+    # A tree reduction on the workers: pairs of partial sums added where they are, so the
+    # client receives one, and the adds run in parallel (integer sums: any order, same bits).
+    level = futs
+    merges = []
+    while len(level) > 1:
+        nxt = [client.submit(task_add, level[i], level[i + 1], retries=RETRIES)
+               for i in range(0, len(level) - 1, 2)]
+        merges += nxt
+        level = nxt + level[len(level) - len(level) % 2:]
+    _wait(client, futs + merges, progress, "passes")
+    total = level[0].result()
     extra = {"distributed": {"workers": _workers(client), "blocks": len(blocks),
-                             "passes_per_block": per}}
-    return json.loads(job.write_merged(frame, partials, json.dumps(extra)))
+                             "passes_per_block": per, "merge_tasks": len(merges)}}
+    return json.loads(job.write_merged(frame, [total], json.dumps(extra)))
 
 
 def _split(width, height, cols, rows):

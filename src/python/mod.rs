@@ -529,6 +529,28 @@ fn merge_partials<'py>(py: Python<'py>, partials: Vec<Vec<u8>>) -> PyResult<Boun
     Ok(d)
 }
 
+/// The sum of partial sums (bytes of partial-sum files, in any order) as the bytes of one,
+/// without checking that every pass is there: a step of a tree reduction.
+#[pyfunction]
+fn add_partials<'py>(py: Python<'py>, partials: Vec<Vec<u8>>) -> PyResult<Bound<'py, PyBytes>> {
+    use crate::render::pppm::Partial;
+    let bytes = py
+        .detach(|| {
+            caught(|| {
+                let parts: Vec<Partial> = partials
+                    .iter()
+                    .enumerate()
+                    .map(|(i, b)| {
+                        Partial::from_bytes(b, std::path::Path::new(&format!("partial {i}")))
+                    })
+                    .collect::<Result<_, Error>>()?;
+                Ok(Partial::merge_all(&parts)?.to_bytes())
+            })
+        })
+        .map_err(to_py)?;
+    Ok(PyBytes::new(py, &bytes))
+}
+
 /// `{"width", "height", "terms": {name: bytes}, "error": bytes, "combined": bytes}`.
 fn film_dict<'py>(
     py: Python<'py>,
@@ -754,6 +776,7 @@ fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<CancelToken>()?;
     m.add_class::<job::Job>()?;
     m.add_function(wrap_pyfunction!(merge_partials, m)?)?;
+    m.add_function(wrap_pyfunction!(add_partials, m)?)?;
     m.add_function(wrap_pyfunction!(render, m)?)?;
     m.add_function(wrap_pyfunction!(run_cli, m)?)?;
     m.add_function(wrap_pyfunction!(preset, m)?)?;

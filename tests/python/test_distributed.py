@@ -83,7 +83,7 @@ def test_a_pppm_frame_of_8_passes_in_blocks(client, animation, tmp_path):
     assert same_bits(tmp_path / "one.exr", tmp_path / "dist.exr")
     (st,) = stats
     assert st["pppm"]["passes"] == 8 and st["pppm"]["partials"] == 3
-    assert st["distributed"]["blocks"] == 3
+    assert st["distributed"]["blocks"] == 3 and st["distributed"]["merge_tasks"] == 2
 
 
 def test_a_jensen_frame_in_4_tiles(client, animation, tmp_path):
