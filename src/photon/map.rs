@@ -353,6 +353,22 @@ fn volume_radiance_in<P: PhotonRecord>(
 }
 
 impl PhotonMap {
+    /// A map of `kind` holding `tree`, with no precomputed irradiance.
+    pub fn from_tree(kind: MapKind, tree: PhotonTree) -> PhotonMap {
+        PhotonMap {
+            kind,
+            tree,
+            irradiance: None,
+            emitted: 0,
+            build_seconds: 0.0,
+        }
+    }
+
+    /// Every photon's position, in the tree's order.
+    pub fn positions(&self) -> Vec<Vec3> {
+        with_tree!(&self.tree, t => t.photons().iter().map(KdRecord::position).collect())
+    }
+
     pub fn len(&self) -> usize {
         self.tree.len()
     }

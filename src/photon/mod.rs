@@ -21,6 +21,7 @@ pub mod map;
 #[allow(clippy::module_inception)]
 pub mod photon;
 pub mod trace;
+pub mod volume_points;
 
 pub use kdtree::{
     KnnScratch, Neighbor, PhotonKdTree, MAX_TREE_DEPTH, PARALLEL_BUILD_THRESHOLD, SCAN_LEVELS,

@@ -148,7 +148,7 @@ pub fn trace_split(
                     rng,
                     scratch,
                 );
-                ctx.work.march(mr.steps, mr.volume_lookups);
+                ctx.work.march(mr.steps, mr.volume_lookups, mr.volume_point_reads);
                 add(&mut out, Term::Volume, bounces, beta * mr.radiance);
                 mr.transmittance
             } else {

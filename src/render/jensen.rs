@@ -135,8 +135,19 @@ impl Renderer<'_> {
             }
             None => {
                 self.report(0.0, "photons");
-                let (maps, stats) =
+                let (mut maps, mut stats) =
                     photons::build(self.scene, &s.photons, s.seed, need, self.cancel());
+                if self.is_cancelled() {
+                    return Err(Error::Cancelled);
+                }
+                photons::build_volume_points(
+                    self.scene,
+                    &s.photons,
+                    &mut maps,
+                    &mut stats,
+                    s.seed,
+                    self.cancel(),
+                );
                 if self.is_cancelled() {
                     return Err(Error::Cancelled);
                 }

@@ -2,8 +2,8 @@
 //! (`save_photon_maps`, `load_photon_maps`).
 //!
 //! **What is kept** ([`MapSet`]): Jensen's global, caustic and volume maps (with the global
-//! map's precomputed irradiance) and the irradiance cache. The photon maps depend on the
-//! scene and the settings, never on the camera. The cache's records are world-space points,
+//! map's precomputed irradiance and the volume map's precomputed radiance) and the irradiance
+//! cache. The photon maps depend on the scene and the settings, never on the camera. The cache's records are world-space points,
 //! so they are valid for any view, but where they are depends on the view it was filled for:
 //! a render through another camera extends a copy of it for its own view (the fill's rounds,
 //! giving records only to the points it does not cover yet) and never changes the kept one.
@@ -29,6 +29,7 @@ use crate::io::container::{self, Fnv64, Kind, Reader, Writer};
 use crate::math::Spectrum;
 use crate::photon::irradiance::{IrradianceMap, IrradiancePoint};
 use crate::photon::map::{MapKind, PhotonMap, PhotonTree};
+use crate::photon::volume_points::{VolumePoint, VolumePointMap};
 use crate::photon::{Photon, PhotonF32, PhotonKdTree};
 use crate::scene::SceneDesc;
 use glam::Vec3;
@@ -459,6 +460,18 @@ impl MapSet {
         write_map(&mut w, &self.maps.global);
         write_map(&mut w, &self.maps.caustic);
         write_map(&mut w, &self.maps.volume);
+        match &self.maps.volume_points {
+            Some(vp) => {
+                w.u8(1);
+                let (points, max_r) = vp.parts();
+                w.f32(max_r);
+                w.u64(points.len() as u64);
+                for p in points {
+                    w.buf.extend_from_slice(&p.to_le_bytes());
+                }
+            }
+            None => w.u8(0),
+        }
         w.str(&serde_json::to_string(&self.stats).unwrap_or_default());
         match &self.cache {
             Some(c) => {
@@ -504,6 +517,19 @@ impl MapSet {
         let global = read_map(&mut r)?;
         let caustic = read_map(&mut r)?;
         let volume = read_map(&mut r)?;
+        let volume_points = if r.u8("volume points present")? != 0 {
+            let max_r = r.f32("volume points radius")?;
+            let n = r.count(VolumePoint::BYTES, "volume points")?;
+            let b = r.take(n * VolumePoint::BYTES, "volume points")?;
+            Some(VolumePointMap::from_parts(
+                b.chunks_exact(VolumePoint::BYTES)
+                    .map(VolumePoint::from_le_bytes)
+                    .collect(),
+                max_r,
+            ))
+        } else {
+            None
+        };
         let stats_json = r.str("map stats")?;
         let stats = parse_map_stats(stats_json).map_err(|e| r.corrupt(e))?;
         let cache = if r.u8("cache present")? != 0 {
@@ -526,6 +552,7 @@ impl MapSet {
                 global,
                 caustic,
                 volume,
+                volume_points,
                 gather,
                 global_r2,
                 caustic_r2,
@@ -564,6 +591,8 @@ fn parse_map_stats(text: &str) -> std::result::Result<Vec<MapStats>, String> {
         seconds: f64,
         kdtree_seconds: f64,
         irradiance_points: u64,
+        #[serde(default)]
+        volume_points: u64,
         skipped_because: Option<String>,
     }
     let v: Vec<In> = serde_json::from_str(text).map_err(|e| format!("map stats: {e}"))?;
@@ -586,6 +615,7 @@ fn parse_map_stats(text: &str) -> std::result::Result<Vec<MapStats>, String> {
                 seconds: m.seconds,
                 kdtree_seconds: m.kdtree_seconds,
                 irradiance_points: m.irradiance_points,
+                volume_points: m.volume_points,
                 skipped_because: m.skipped_because,
             })
         })

@@ -4,6 +4,7 @@
 use crate::lights::Target;
 use crate::photon::map::{MapKind, PhotonMap};
 use crate::photon::trace::{build_map, TraceParams};
+use crate::photon::volume_points::VolumePointMap;
 use crate::render::settings::PhotonSettings;
 use crate::scene::Scene;
 use serde::Serialize;
@@ -14,6 +15,9 @@ pub struct PhotonMaps {
     pub global: Option<PhotonMap>,
     pub caustic: Option<PhotonMap>,
     pub volume: Option<PhotonMap>,
+    /// Precomputed radiance at a subset of the volume map's photons, for isotropic media
+    /// (`photon::volume_points`); Jensen's mode only.
+    pub volume_points: Option<VolumePointMap>,
     pub gather: usize,
     pub global_r2: f32,
     pub caustic_r2: f32,
@@ -37,6 +41,9 @@ pub struct MapStats {
     pub kdtree_seconds: f64,
     /// Points of precomputed irradiance (global map: every fourth photon), in `memory_bytes`.
     pub irradiance_points: u64,
+    /// Points of precomputed volume radiance (volume map, scenes with an isotropic medium:
+    /// every fourth photon).
+    pub volume_points: u64,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub skipped_because: Option<String>,
 }
@@ -149,6 +156,7 @@ pub fn build_with(
                 seconds: 0.0,
                 kdtree_seconds: 0.0,
                 irradiance_points: 0,
+                volume_points: 0,
                 skipped_because: Some(r),
             });
             return None;
@@ -183,6 +191,7 @@ pub fn build_with(
             seconds: t0.elapsed().as_secs_f64(),
             kdtree_seconds: map.build_seconds,
             irradiance_points: map.irradiance.as_ref().map_or(0, |m| m.len() as u64),
+            volume_points: 0,
             skipped_because: None,
         });
         Some(map)
@@ -223,9 +232,55 @@ pub fn build_with(
         global,
         caustic,
         volume,
+        volume_points: None,
         gather: s.gather,
         global_r2: max_r * max_r,
         caustic_r2: max_r * max_r,
     };
     (maps, stats)
+}
+
+/// Support rays of a volume point's boundary correction: it is computed once and read by many
+/// march steps, so with four times the rays of a step's own.
+const VOLUME_POINT_SUPPORT_RAYS: u32 = 32;
+
+/// Precomputes the volume map's points (`photon::volume_points`) where a medium of the scene
+/// is isotropic, records their count in `stats`, and returns the seconds taken. Deterministic:
+/// point `i`'s support rays draw from `Rng::new(seed ^ SALT, i)`.
+pub fn build_volume_points(
+    scene: &Scene,
+    s: &PhotonSettings,
+    maps: &mut PhotonMaps,
+    stats: &mut [MapStats],
+    seed: u64,
+    cancel: Option<&AtomicBool>,
+) -> f64 {
+    const SALT: u64 = 0x766f_6c5f_7074;
+    let t0 = std::time::Instant::now();
+    let isotropic = scene.media.iter().any(|m| m.phase().g == 0.0);
+    if !s.volume_points {
+        return 0.0;
+    }
+    let Some(vm) = maps.volume.as_ref().filter(|_| isotropic) else {
+        return 0.0;
+    };
+    let reach = |i: u64, p: glam::Vec3, r: f32| {
+        let mut rng = crate::sampling::Rng::new(seed ^ SALT, i);
+        super::terms::volume::reachable_fraction_with(
+            scene,
+            p,
+            r,
+            &mut rng,
+            VOLUME_POINT_SUPPORT_RAYS,
+        )
+    };
+    maps.volume_points = VolumePointMap::build(vm, maps.gather, maps.global_r2, &reach, cancel);
+    if let (Some(vp), Some(st)) = (
+        maps.volume_points.as_ref(),
+        stats.iter_mut().find(|m| m.map == MapKind::Volume.name()),
+    ) {
+        st.volume_points = vp.len() as u64;
+        st.memory_bytes += vp.memory_bytes() as u64;
+    }
+    t0.elapsed().as_secs_f64()
 }

@@ -487,6 +487,8 @@ struct MapStatsIn {
     seconds: f64,
     kdtree_seconds: f64,
     irradiance_points: u64,
+    #[serde(default)]
+    volume_points: u64,
     skipped_because: Option<String>,
 }
 
@@ -508,6 +510,7 @@ impl MapStatsIn {
             seconds: self.seconds,
             kdtree_seconds: self.kdtree_seconds,
             irradiance_points: self.irradiance_points,
+            volume_points: self.volume_points,
             skipped_because: self.skipped_because,
         }
     }

@@ -136,6 +136,10 @@ pub struct PhotonSettings {
     /// Photons emitted at most per stored photon requested, so that a scene that stores
     /// nothing still ends.
     pub max_emitted_factor: usize,
+    /// Precompute the volume map's radiance at every fourth photon for isotropic media
+    /// (`photon::volume_points`) and read it in the march; off, every march step runs the
+    /// k-nearest estimate (for comparisons).
+    pub volume_points: bool,
     /// Store photon power as `f32` (28-byte `photon::PhotonF32`) instead of Ward's RGBE
     /// (20-byte `photon::Photon`, the default): 40% more memory, no power quantisation.
     pub f32_power: bool,
@@ -178,6 +182,7 @@ impl Default for PhotonSettings {
             cache_tolerance: 0.1,
             max_bounces: 64,
             max_emitted_factor: 20,
+            volume_points: true,
             f32_power: false,
         }
     }

@@ -9,6 +9,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 pub struct WorkCounts {
     march_steps: AtomicU64,
     volume_lookups: AtomicU64,
+    volume_point_reads: AtomicU64,
     caustic_lookups: AtomicU64,
 }
 
@@ -19,12 +20,19 @@ pub struct WorkStats {
     pub march_steps: u64,
     /// Radiance estimates read from the volume photon map.
     pub volume_lookups: u64,
+    /// Of those, the ones answered by a precomputed point (isotropic media) instead of a
+    /// k-nearest search.
+    pub volume_point_reads: u64,
     /// Radiance estimates read from the caustic photon map.
     pub caustic_lookups: u64,
 }
 
 impl WorkCounts {
-    pub fn march(&self, steps: u64, volume_lookups: u64) {
+    pub fn march(&self, steps: u64, volume_lookups: u64, volume_point_reads: u64) {
+        if volume_point_reads > 0 {
+            self.volume_point_reads
+                .fetch_add(volume_point_reads, Ordering::Relaxed);
+        }
         if steps > 0 {
             self.march_steps.fetch_add(steps, Ordering::Relaxed);
         }
@@ -42,6 +50,7 @@ impl WorkCounts {
         WorkStats {
             march_steps: self.march_steps.load(Ordering::Relaxed),
             volume_lookups: self.volume_lookups.load(Ordering::Relaxed),
+            volume_point_reads: self.volume_point_reads.load(Ordering::Relaxed),
             caustic_lookups: self.caustic_lookups.load(Ordering::Relaxed),
         }
     }

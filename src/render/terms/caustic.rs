@@ -83,6 +83,7 @@ mod tests {
             global: None,
             caustic: Some(map),
             volume: None,
+            volume_points: None,
             gather: 200,
             global_r2: 0.25,
             caustic_r2: 0.25,

@@ -82,6 +82,8 @@ pub struct March {
     pub transmittance: Spectrum,
     pub steps: u64,
     pub volume_lookups: u64,
+    /// Of the lookups, those a precomputed point answered.
+    pub volume_point_reads: u64,
 }
 
 /// Light scattered towards `-dir` along `[0, dist)` from `o` inside `medium`, and the
@@ -100,11 +102,12 @@ pub fn march(
     scratch: &mut KnnScratch,
 ) -> March {
     let med = &scene.media[medium as usize];
-    let done = |radiance, transmittance, steps, volume_lookups| March {
+    let done = |radiance, transmittance, steps, volume_lookups, volume_point_reads| March {
         radiance,
         transmittance,
         steps,
         volume_lookups,
+        volume_point_reads,
     };
     // An unbounded segment (world fog, ray escaping): beyond the scene's bounding sphere no
     // light source but those at infinity remains; march to the far side of the sphere.
@@ -123,7 +126,7 @@ pub fn march(
         Spectrum::ZERO
     };
     if seg <= 0.0 {
-        return done(Spectrum::ZERO, t_total, 0, 0);
+        return done(Spectrum::ZERO, t_total, 0, 0, 0);
     }
     // In a homogeneous medium only the part of the segment with transmittance above the
     // cut-off matters; a grid's march stops when the accumulated transmittance falls below it.
@@ -139,7 +142,7 @@ pub fn march(
     let wo = -dir;
     let mut l = Spectrum::ZERO;
     let mut t_start = Spectrum::ONE;
-    let (mut steps, mut lookups) = (0u64, 0u64);
+    let (mut steps, mut lookups, mut point_reads) = (0u64, 0u64, 0u64);
     for i in 0..n {
         if t_start.max_element() < T_CUTOFF {
             break;
@@ -165,7 +168,12 @@ pub fn march(
             inscatter += sigma_s * single_scattering(scene, stack, x, wo, &phase, rng);
         }
         if let Some(vm) = &maps.volume {
-            if let Some((l_vol, r2)) =
+            // In an isotropic medium the nearest precomputed point answers where one reaches.
+            let points = maps.volume_points.as_ref().filter(|_| phase.g == 0.0);
+            if let Some(l_vol) = points.and_then(|vp| vp.lookup(x, scratch)) {
+                inscatter += l_vol;
+                point_reads += 1;
+            } else if let Some((l_vol, r2)) =
                 vm.volume_radiance(x, wo, &phase, s.gather, s.max_r2, scratch)
             {
                 inscatter += l_vol / reachable_fraction(scene, x, r2.sqrt(), rng);
@@ -176,7 +184,7 @@ pub fn march(
         l += weight * inscatter;
         t_start *= exp_neg(sigma_t, step);
     }
-    done(l, t_total, steps, lookups)
+    done(l, t_total, steps, lookups, point_reads)
 }
 
 /// Directions of [`reachable_fraction`]'s estimate, one per stratum of the sphere.
@@ -194,13 +202,19 @@ const MIN_SUPPORT: f32 = 0.125;
 /// the darkening within one radius of a medium's walls, floor and objects. Deep inside, every
 /// ray runs its full length and the fraction is exactly 1.
 pub fn reachable_fraction(scene: &Scene, x: Vec3, r: f32, rng: &mut Rng) -> f32 {
+    reachable_fraction_with(scene, x, r, rng, SUPPORT_RAYS)
+}
+
+/// [`reachable_fraction`] with `rays` directions (even), for estimates made once and read
+/// many times.
+pub fn reachable_fraction_with(scene: &Scene, x: Vec3, r: f32, rng: &mut Rng, rays: u32) -> f32 {
     // With no surface within r every ray below runs its full length: the fraction is 1.
     if !(r > 0.0) || !scene.accel.any_surface_near(x, r) {
         return 1.0;
     }
-    let (nu, nv) = (2u32, SUPPORT_RAYS / 2);
+    let (nu, nv) = (2u32, (rays / 2).max(1));
     let mut sum = 0.0;
-    for j in 0..SUPPORT_RAYS {
+    for j in 0..nu * nv {
         let (a, b) = (j % nu, j / nu);
         let u = glam::Vec2::new(
             (a as f32 + rng.f32()) / nu as f32,
@@ -212,7 +226,7 @@ pub fn reachable_fraction(scene: &Scene, x: Vec3, r: f32, rng: &mut Rng) -> f32 
         let q = t / r;
         sum += q * q * q;
     }
-    (sum / SUPPORT_RAYS as f32).max(MIN_SUPPORT)
+    (sum / (nu * nv) as f32).max(MIN_SUPPORT)
 }
 
 /// Radiance from the lights arriving at `x` in a medium and scattered towards `wo`, per unit
@@ -285,6 +299,7 @@ mod tests {
             global: None,
             caustic: None,
             volume: None,
+            volume_points: None,
             gather: 50,
             global_r2: 0.25,
             caustic_r2: 0.25,
