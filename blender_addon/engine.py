@@ -10,7 +10,7 @@ import photonmap
 
 from . import passes
 from .export import export_scene
-from .properties import render_settings
+from .properties import SCHEMA, render_settings
 
 
 def _mib(n) -> str:
@@ -123,6 +123,8 @@ class PhotonMapRenderEngine(bpy.types.RenderEngine):
             self._report("WARNING", w)
         settings = render_settings(scene.photonmap)
         if self.is_preview:
+            # Material previews: the beauty alone, at draft settings.
+            settings.update({f["name"]: f["default"] for f in SCHEMA if f["group"] == "passes"})
             draft = photonmap.preset("draft")
             settings.update(quality="draft", **{
                 k: min(settings[k], draft[k])

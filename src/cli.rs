@@ -454,6 +454,14 @@ fn render_and_write(
 ) -> Result<RenderOutput> {
     let clock = args.wall_clock();
     args.check()?;
+    if args.options.denoise {
+        return Err(Error::InvalidSetting {
+            setting: "denoise".into(),
+            message: "denoising runs Open Image Denoise in the Python package's `photonmap` \
+                      command (pip install 'photonmap[denoise]'), not in this binary"
+                .into(),
+        });
+    }
     let desc = args.load_scene()?;
     let settings = args.settings_within(clock.as_ref(), 1);
     let output = clock.map(|_| args.output_time());
@@ -931,6 +939,16 @@ pub fn write_outputs_with(
         "seconds".into(),
         serde_json::to_string(&out.stats.seconds).unwrap_or_default(),
     );
+    // The denoiser that ran, under `photonmap/denoise/...`: filter, version, binding, terms.
+    if let Some(serde_json::Value::Object(d)) = &out.stats.denoise {
+        for (k, v) in d {
+            let v = match v {
+                serde_json::Value::String(s) => s.clone(),
+                other => other.to_string(),
+            };
+            meta.insert(format!("denoise/{k}"), v);
+        }
+    }
     match (&out.partial, &out.photon_maps) {
         (Some(partial), _) if args.pass_range.is_some() => partial.save(&args.output)?,
         (_, Some(set)) if args.photon_maps_only => set.save(&args.output)?,

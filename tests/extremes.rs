@@ -720,6 +720,7 @@ fn every_field_scene() -> SceneDesc {
         name: "card_copy".into(),
         mesh: 5,
         transform: IDENTITY,
+        ..Default::default()
     });
     desc.lights.push(LightDesc::Spot {
         name: "spot".into(),

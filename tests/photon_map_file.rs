@@ -101,7 +101,11 @@ fn a_saved_set_renders_the_same_bits() {
         assert_eq!(again.stats.photons_stored, first.stats.photons_stored);
         let reads = |o: &RenderOutput| o.stats.work.volume_point_reads;
         assert_eq!(reads(&again), reads(&first));
-        assert_eq!(reads(&first) > 0, name.ends_with("isotropic"), "{name}: point reads");
+        assert_eq!(
+            reads(&first) > 0,
+            name.ends_with("isotropic"),
+            "{name}: point reads"
+        );
 
         // Another view: the cache is extended for it, deterministically.
         let other = moved(&desc, 0.05);

@@ -84,6 +84,49 @@ def import_stage(stage, frame=None, camera=None, purposes=("render",), strict=Fa
         raise Diagnostics.error(where[0], _tf_detail(e)) from None
 
 
+#: The attribute naming a prim's light group: a string primvar, inherited down the namespace
+#: (set it on a light, an emissive mesh, a dome light, or a scope above them).
+LIGHTGROUP_PRIMVAR = "photonmap:lightgroup"
+
+
+class LightGroups:
+    """The IR's ``lightgroups``: each group a prim names (``primvars:photonmap:lightgroup``)
+    with its members, in the order the stage names them. Emitters naming none go to the
+    core's ``default`` group."""
+
+    def __init__(self, time):
+        self.time = time
+        self.ir: list[dict] = []
+        self.index: dict[str, int] = {}
+
+    def name_of(self, prim) -> str:
+        pv = UsdGeom.PrimvarsAPI(prim).FindPrimvarWithInheritance(LIGHTGROUP_PRIMVAR)
+        if not pv or not pv.HasAuthoredValue():
+            return ""
+        v = pv.Get(self.time)
+        if not isinstance(v, str):
+            raise Diagnostics.error(prim, f"primvars:{LIGHTGROUP_PRIMVAR} must be a string, "
+                                          f"got {type(v).__name__}")
+        v = v.strip()
+        if v and not all(c.isascii() and (c.isalnum() or c in "_-") for c in v):
+            raise Diagnostics.error(prim, f"primvars:{LIGHTGROUP_PRIMVAR} `{v}` is not a light "
+                                          f"group name: letters, digits, `_` and `-` only")
+        return v
+
+    def join(self, prim, kind: str, index) -> None:
+        name = self.name_of(prim)
+        if not name:
+            return
+        if name not in self.index:
+            self.index[name] = len(self.ir)
+            self.ir.append({"name": name})
+        g = self.ir[self.index[name]]
+        if kind == "environment":
+            g["environment"] = True
+        else:
+            g.setdefault(kind, []).append(int(index))
+
+
 def _import_stage(stage, frame, camera, purposes, strict, width, where) -> ImportResult:
     diag = Diagnostics(strict)
     time = Usd.TimeCode.Default() if frame is None else Usd.TimeCode(float(frame))
@@ -101,12 +144,14 @@ def _import_stage(stage, frame, camera, purposes, strict, width, where) -> Impor
     stats = {"prims_read": 0, "meshes": 0, "triangles": 0, "instances": 0, "lights": 0,
              "single_sided_meshes": 0}
     proto_mesh: dict[str, tuple[int, np.ndarray]] = {}
+    groups = LightGroups(time)
 
     def add_mesh(prim, local: np.ndarray):
         m = read_mesh(prim, time, diag, materials.index_of)
         if m is None:
             return None
         m["transform"] = ir_matrix(local)
+        groups.join(prim, "meshes", len(meshes))
         meshes.append(m)
         stats["meshes"] += 1
         stats["triangles"] += int(len(m["indices"]))
@@ -177,6 +222,7 @@ def _import_stage(stage, frame, camera, purposes, strict, width, where) -> Impor
                     proto_mesh[key] = (idx, local)
                 idx, local = proto_mesh[key]
                 if idx is not None:
+                    groups.join(prim, "instances", len(instances))
                     add_instance(idx, world @ np.linalg.inv(local), str(prim.GetPath()))
             continue
         if t in _LIGHT_TYPES or prim.HasAPI(UsdLux.LightAPI):
@@ -190,7 +236,9 @@ def _import_stage(stage, frame, camera, purposes, strict, width, where) -> Impor
                     diag.warn(prim, "more than one dome light: only the first is used")
                 else:
                     env = d
+                    groups.join(prim, "environment", None)
             else:
+                groups.join(prim, "lights", len(lights))
                 lights.append(d)
                 stats["lights"] += 1
             continue
@@ -228,6 +276,9 @@ def _import_stage(stage, frame, camera, purposes, strict, width, where) -> Impor
           "textures": textures.textures, "lights": lights}
     if env is not None:
         ir["environment"] = env
+    if groups.ir:
+        ir["lightgroups"] = groups.ir
+        stats["lightgroups"] = [g["name"] for g in groups.ir]
     stats.update({
         "materials": len(ir["materials"]), "textures": len(textures.textures),
         "meters_per_unit": mpu, "up_axis": up_axis,

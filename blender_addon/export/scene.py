@@ -2,6 +2,12 @@
 converter. Each unique mesh is exported once; repeated placements (linked duplicates,
 collection instances, particles, geometry-node instances) become IR instances of it.
 
+Light groups: the view layer's light groups become the IR's ``lightgroups``, with the lights,
+emissive objects (``Object.lightgroup``) and the world (``World.lightgroup``) that name them;
+the rest goes to the core's ``default`` group, as do members of a group the view layer does not
+have (warned). Without light groups in the view layer, none are exported (as Cycles writes no
+light-group passes then).
+
 Volumes: a mesh whose material has a Volume shader becomes the closed boundary of an IR medium
 (``interior_medium``; its surface is ``null`` when the material has no Surface shader), and the
 World's Volume shader becomes ``world_medium`` (volume.py). Volume objects (OpenVDB grids) are
@@ -83,6 +89,7 @@ def export_scene(depsgraph, camera: dict | None = None, window: Window | None = 
             warnings.append(msg)
 
     ir = {"materials": [], "textures": [], "meshes": [], "instances": [], "lights": []}
+    groups = _LightGroups(depsgraph.view_layer, warn)
     images = ImageCache(ir["textures"], warn)
     materials = _Materials(ir["materials"], MaterialExporter(images, warn))
     ir["media"] = []
@@ -96,6 +103,7 @@ def export_scene(depsgraph, camera: dict | None = None, window: Window | None = 
             if inst.show_self:
                 light = export_light(obj, inst.matrix_world, warn)
                 if light is not None:
+                    groups.add(obj, "lights", len(ir["lights"]))
                     ir["lights"].append(light)
             continue
         if kind == "VOLUME":
@@ -122,7 +130,7 @@ def export_scene(depsgraph, camera: dict | None = None, window: Window | None = 
                 _check_boundary(obj, shape, inst.matrix_world, warn)
             entry = meshes[key] = (m, [])
         if entry[0] is not None:
-            entry[1].append(inst.matrix_world.copy())
+            entry[1].append((inst.matrix_world.copy(), _object_name(inst), inst.object))
 
     n_inst = 0
     for m, placements in meshes.values():
@@ -131,11 +139,15 @@ def export_scene(depsgraph, camera: dict | None = None, window: Window | None = 
         idx = len(ir["meshes"])
         ir["meshes"].append(m)
         if len(placements) == 1:
-            m["transform"] = matrix_rows(placements[0])
+            mw, obj_name, obj = placements[0]
+            m["transform"] = matrix_rows(mw)
+            m["object"] = obj_name
+            groups.add(obj, "meshes", idx)
         else:
-            for k, mw in enumerate(placements):
+            for k, (mw, obj_name, obj) in enumerate(placements):
+                groups.add(obj, "instances", len(ir["instances"]))
                 ir["instances"].append({"name": f"{m['name']} #{k}", "mesh": idx,
-                                        "transform": matrix_rows(mw)})
+                                        "transform": matrix_rows(mw), "object": obj_name})
             n_inst += len(placements)
     if not ir["materials"]:
         materials.get(None)
@@ -143,6 +155,9 @@ def export_scene(depsgraph, camera: dict | None = None, window: Window | None = 
     env = export_world(scene.world, images, warn)
     if env is not None:
         ir["environment"] = env
+        groups.add(scene.world, "environment", None)
+    if groups.ir:
+        ir["lightgroups"] = groups.ir
     sock = world_volume_socket(scene.world)
     if sock is not None:
         medium, issues = read_volume(sock)
@@ -166,6 +181,41 @@ def export_scene(depsgraph, camera: dict | None = None, window: Window | None = 
         "triangles": sum(len(m["indices"]) for m in ir["meshes"]),
     }
     return ExportResult(ir=ir, window=win, warnings=warnings, counts=counts)
+
+
+class _LightGroups:
+    """The IR's light groups: the view layer's, each with the members that name it."""
+
+    def __init__(self, view_layer, warn):
+        self.warn = warn
+        names = [g.name for g in getattr(view_layer, "lightgroups", [])]
+        self.ir = [{"name": n} for n in names]
+        self.index = {n: i for i, n in enumerate(names)}
+
+    def add(self, id_block, kind: str, index) -> None:
+        """``id_block`` (an object or the world) is IR ``kind`` ``index`` (``environment``:
+        no index); it joins the group it names."""
+        name = getattr(getattr(id_block, "original", id_block), "lightgroup", "") or ""
+        if not name or not self.ir:
+            return
+        i = self.index.get(name)
+        if i is None:
+            what = "world" if kind == "environment" else "object"
+            self.warn(f"{what} '{id_block.name}': light group '{name}' is not one of the view "
+                      f"layer's light groups; its light goes to the default group")
+            return
+        if kind == "environment":
+            self.ir[i]["environment"] = True
+        else:
+            self.ir[i].setdefault(kind, []).append(index)
+
+
+def _object_name(inst) -> str:
+    """The name of an instance's Cryptomatte object matte, as Cycles names it: that of the
+    (original, unevaluated) object placed, for instances made by particles, collections and
+    geometry nodes too."""
+    obj = inst.object
+    return obj.original.name if obj.original is not None else obj.name
 
 
 def _object_medium(obj, mats, media, warn) -> int | None:

@@ -650,6 +650,7 @@ impl FuzzScene {
                     name: String::new(),
                     mesh: *m as u32 % 9,
                     transform: t.matrix(),
+                    ..Default::default()
                 })
                 .collect(),
             materials: self.materials.iter().take(8).map(|m| m.desc()).collect(),

@@ -39,6 +39,10 @@ ERROR_AOV: str = _core.ERROR_AOV
 ERROR_PASS: str = _core.ERROR_PASS
 #: Quality presets.
 QUALITIES: tuple[str, ...] = tuple(_core.QUALITIES)
+#: The terms that ``denoise=True`` denoises, each on its own (``emission`` stays as rendered).
+DENOISED_TERMS: tuple[str, ...] = tuple(_core.DENOISED_TERMS)
+#: Suffix of a term kept as rendered when the terms are denoised (``direct_noisy``).
+NOISY_SUFFIX: str = _core.NOISY_SUFFIX
 
 __all__ = [
     "TERMS",
@@ -46,6 +50,10 @@ __all__ = [
     "QUALITIES",
     "ERROR_AOV",
     "ERROR_PASS",
+    "DENOISED_TERMS",
+    "NOISY_SUFFIX",
+    "aov_specs",
+    "cryptomatte_header",
     "Scene",
     "Renderer",
     "CancelToken",
@@ -232,8 +240,17 @@ def render(
     """Renders ``scene`` (a Scene, an IR dict, JSON text, or a .json/.usd path).
 
     Returns ``{"combined": (H,W,3) float32, <term>: (H,W,3) float32 for each of TERMS,
-    "stats": dict}``; ``combined`` is the sum of the terms. ``out["error"]`` is the estimated
-    standard error of ``combined`` per pixel and channel (not a term; see the README).
+    "stats": dict}``; ``combined`` is the sum of the terms. Beside the terms, not part of
+    the sum, come the AOVs that ``out["aovs"]`` lists in order (``aov_specs``), each under
+    its name as an (H,W,C) float32 array: ``out["error"]``, the estimated standard error of
+    ``combined`` per pixel and channel, always; with ``denoising_data=True`` the guides
+    ``out["albedo"]`` and ``out["normal"]``; with ``cryptomatte=`` the layers
+    ``out["CryptoObject00"]``, ... (id, coverage, id, coverage), whose manifests are in
+    ``out["cryptomatte"]`` (``{type name: [names]}``; ``cryptomatte_header`` makes the EXR
+    metadata of them). With ``denoise=True`` (the extra ``photonmap[denoise]``) the terms of
+    ``DENOISED_TERMS`` are denoised each on its own by Open Image Denoise with the guides,
+    ``combined`` is their sum, the terms as rendered are kept as ``<term>_noisy``, and
+    ``out["stats"]["denoise"]`` says what denoised them. See the README.
 
     ``settings`` are the render settings of ``settings_schema()``, each meaning what the
     command-line flag of the same name means (``quality="high"``, ``spp=64``,
@@ -258,6 +275,10 @@ def render(
     load Jensen's photon maps and irradiance cache (``stats["photon_map_reuse"]``).
     """
     text = _settings_json(settings)
+    if settings.get("denoise"):
+        from . import denoise
+
+        denoise.require()
     s = _to_scene(scene)
 
     def show(b: bytes, w: int, h: int, passes: int) -> None:
@@ -266,7 +287,12 @@ def render(
     raw = _core.render(s, text, progress=progress,
                        preview=show if preview is not None else None, cancel=cancel,
                        pass_range=None if pass_range is None else tuple(pass_range))
-    return _images(raw)
+    out = _images(raw)
+    if settings.get("denoise"):
+        from . import denoise
+
+        denoise.apply(out)
+    return out
 
 
 def _images(raw: dict) -> dict:
@@ -279,7 +305,14 @@ def _images(raw: dict) -> dict:
     out: dict[str, Any] = {"combined": img(raw["combined"])}
     for t in TERMS:
         out[t] = img(raw["terms"][t])
-    out[ERROR_AOV] = img(raw[ERROR_AOV])
+    specs = []
+    for a in raw["aovs"]:
+        data = a.pop("data")
+        out[a["name"]] = np.frombuffer(data, dtype="<f4").reshape(
+            h, w, len(a["channels"])).astype(np.float32, copy=True)
+        specs.append(a)
+    out["aovs"] = specs
+    out["cryptomatte"] = json.loads(raw["cryptomatte"])
     out["stats"] = json.loads(raw["stats"])
     if "partial" in raw:
         out["partial"] = raw["partial"]
@@ -292,6 +325,24 @@ def merge_partials(partials) -> dict:
     all of them: the dict ``render`` returns, ``partial`` the merged sums. Partials of
     different renders, a pass in two partials, or missing passes raise ValueError."""
     return _images(_core.merge_partials([bytes(p) for p in partials]))
+
+
+def aov_specs(light_groups: list[str] | tuple[str, ...] = (), **settings: Any) -> list[dict]:
+    """The AOVs beside the terms that ``render(**settings)`` returns (and the command line
+    writes) for a scene whose IR names the light groups ``light_groups`` (the core adds the
+    group ``default``, for the emitters in none), in output order: for each its ``name`` (the
+    result's key and the EXR layer), ``pass_name`` (Blender's), ``kind`` (``color``,
+    ``vector`` or ``crypto``), ``channels`` (``R,G,B``; ``X,Y,Z``; ``R,G,B,A``), and
+    ``chan_id``/``pass_type`` as Blender's ``register_pass`` takes them. The list is the
+    core's (``src/render/aov.rs``)."""
+    return _core.aov_specs(_settings_json(settings), list(light_groups))
+
+
+def cryptomatte_header(manifests: Mapping[str, list[str]], prefix: str = "") -> dict[str, str]:
+    """The EXR header attributes of Cryptomatte ``manifests`` (``out["cryptomatte"]``), each
+    layer named ``prefix`` + type name (Blender: ``"ViewLayer."``): ``cryptomatte/<key>/name``,
+    ``hash``, ``conversion`` and ``manifest``, as the Cryptomatte specification names them."""
+    return dict(_core.cryptomatte_header(json.dumps(dict(manifests)), prefix))
 
 
 def _settings_json(settings: Mapping[str, Any]) -> str:

@@ -45,7 +45,9 @@ def main(argv: list[str] | None = None) -> int:
             return 130
     results: list = []
     try:
-        code = _core.run_cli(argv, _usd_loader(results))
+        from .denoise import CliDenoiser
+
+        code = _core.run_cli(argv, _usd_loader(results), CliDenoiser())
     except KeyboardInterrupt:
         print("photonmap: interrupted", file=sys.stderr)
         code = 130

@@ -1,5 +1,8 @@
 //! Multilayer float32 EXR, per the contract: the beauty in `R,G,B,A` (the default layer, so any
-//! viewer shows it), each term in `<term>.R/G/B`, and metadata as string attributes.
+//! viewer shows it), each term in `<term>.R/G/B`, the AOVs beside the terms as
+//! `aov::AovRequest::aovs` lists them (`error.R/G/B`, `albedo.R/G/B`, `normal.X/Y/Z`,
+//! `lightgroup.<name>.R/G/B`, `CryptoObject00.R/G/B/A`, ...), and metadata as string
+//! attributes: the renderer's under `photonmap/`, Cryptomatte's under `cryptomatte/<key>/`.
 
 use crate::error::{Error, Result};
 use crate::render::aov::Term;
@@ -18,7 +21,9 @@ fn channel(name: String, img: &Image, c: usize) -> AnyChannel<FlatSamples> {
 /// Name of the layer holding the `error` AOV (the estimated standard error of the beauty).
 pub const ERROR_AOV: &str = crate::render::aov::ERROR_AOV;
 
-/// Writes the beauty, every term and the `error` AOV. `metadata` becomes string attributes of the header.
+/// Writes the beauty, every term and every AOV beside them. `metadata` becomes string
+/// attributes of the header, each under `photonmap/`; the film's Cryptomatte manifests
+/// become the specification's `cryptomatte/<key>/...` attributes.
 pub fn write_multilayer(
     path: impl AsRef<Path>,
     film: &Film,
@@ -47,6 +52,17 @@ pub fn estimate_write_seconds(film: &Film) -> f64 {
             dst.data.copy_from_slice(&src.data[..w * rows]);
         }
         s.error.data.copy_from_slice(&film.error.data[..w * rows]);
+        s.aovs = film
+            .aovs
+            .iter()
+            .map(|a| {
+                let n = a.spec.channels().len();
+                crate::render::film::AovImage {
+                    spec: a.spec.clone(),
+                    data: a.data[..w * rows * n].to_vec(),
+                }
+            })
+            .collect();
         s
     };
     let encode = |f: &Film| {
@@ -85,15 +101,25 @@ fn multilayer_image(
             channels.push(channel(format!("{}.{n}", t.name()), film.term(t), c));
         }
     }
-    for (c, n) in ["R", "G", "B"].iter().enumerate() {
-        channels.push(channel(format!("{ERROR_AOV}.{n}"), &film.error, c));
+    for (spec, data) in film.extra_images() {
+        let names = spec.channels();
+        for (c, n) in names.iter().enumerate() {
+            let v: Vec<f32> = data.iter().skip(c).step_by(names.len()).copied().collect();
+            channels.push(AnyChannel::new(
+                format!("{}.{n}", spec.name).as_str(),
+                FlatSamples::F32(v),
+            ));
+        }
     }
     let mut attrs = LayerAttributes::default();
+    let text = |k: &str, v: &str| (Text::from(k), AttributeValue::Text(Text::from(v)));
     for (k, v) in metadata {
-        attrs.other.insert(
-            Text::from(format!("photonmap/{k}").as_str()),
-            AttributeValue::Text(Text::from(v.as_str())),
-        );
+        let (k, v) = text(&format!("photonmap/{k}"), v);
+        attrs.other.insert(k, v);
+    }
+    for (k, v) in crate::render::compositing::cryptomatte_header(&film.cryptomatte, "") {
+        let (k, v) = text(&k, &v);
+        attrs.other.insert(k, v);
     }
     let layer = Layer::new(
         (film.width, film.height),
@@ -104,7 +130,7 @@ fn multilayer_image(
     exr::prelude::Image::from_layer(layer)
 }
 
-/// Reads every RGB group of a single-part EXR: `""` for `R,G,B`, and `"direct"` for
+/// Reads every RGB (or XYZ) group of a single-part EXR: `""` for `R,G,B`, and `"direct"` for
 /// `direct.R/G/B`, and so on. Also returns the string attributes.
 pub fn read_rgb_layers(
     path: impl AsRef<Path>,
@@ -140,9 +166,9 @@ pub fn read_rgb_layers(
                 None => (String::new(), full.clone()),
             };
             let c = match comp.as_str() {
-                "R" | "r" => 0,
-                "G" | "g" => 1,
-                "B" | "b" => 2,
+                "R" | "r" | "X" => 0,
+                "G" | "g" | "Y" => 1,
+                "B" | "b" | "Z" => 2,
                 _ => continue,
             };
             let entry = out.entry(group).or_insert_with(|| Image::new(w, h));

@@ -103,6 +103,10 @@ impl IrradiancePoint {
 pub struct IrradianceMap {
     tree: PhotonKdTree<IrradiancePoint>,
     max_r2: f32,
+    /// With light groups: each point's fraction of its irradiance per group (per channel),
+    /// `groups` entries per point in the tree's order.
+    fractions: Vec<Spectrum>,
+    groups: usize,
 }
 
 impl IrradianceMap {
@@ -138,7 +142,65 @@ impl IrradianceMap {
             return None;
         }
         let tree = PhotonKdTree::build(records.into_iter().flatten().collect());
-        Some(IrradianceMap { tree, max_r2 })
+        Some(IrradianceMap {
+            tree,
+            max_r2,
+            fractions: Vec::new(),
+            groups: 0,
+        })
+    }
+
+    /// Adds each point's light-group fractions (`groups` groups): the same estimate as the
+    /// point's, split by the photons' groups. None when cancelled.
+    pub fn split_groups(
+        &mut self,
+        global: &PhotonMap,
+        groups: usize,
+        k: usize,
+        select: Select,
+        cancel: Option<&AtomicBool>,
+    ) -> Option<()> {
+        let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
+        let max_r2 = self.max_r2;
+        let points: Vec<(Vec3, Vec3)> = self
+            .tree
+            .photons()
+            .iter()
+            .map(|pt| (KdRecord::position(pt), pt.normal()))
+            .collect();
+        let fractions: Vec<Spectrum> = points
+            .par_chunks(4096)
+            .map_init(KnnScratch::new, |scratch, chunk| {
+                let mut out = Vec::with_capacity(chunk.len() * groups);
+                if cancelled() {
+                    return out;
+                }
+                let mut parts = vec![Spectrum::ZERO; groups];
+                for &(p, n) in chunk {
+                    parts.iter_mut().for_each(|v| *v = Spectrum::ZERO);
+                    let est = global
+                        .irradiance_estimate_split(p, n, k, max_r2, select, scratch, &mut parts);
+                    out.extend(crate::render::lightgroups::fractions(
+                        &parts,
+                        est.irradiance,
+                    ));
+                }
+                out
+            })
+            .flatten_iter()
+            .collect();
+        if cancelled() {
+            return None;
+        }
+        self.fractions = fractions;
+        self.groups = groups;
+        Some(())
+    }
+
+    /// The light-group fractions of the point at heap index `index` (empty without groups).
+    pub fn fractions(&self, index: u32) -> &[Spectrum] {
+        let i = index as usize * self.groups;
+        self.fractions.get(i..i + self.groups).unwrap_or(&[])
     }
 
     pub fn len(&self) -> usize {
@@ -150,11 +212,24 @@ impl IrradianceMap {
         (self.tree.photons(), self.max_r2)
     }
 
-    /// The map of [`IrradianceMap::parts`].
-    pub fn from_parts(points: Vec<IrradiancePoint>, max_r2: f32) -> IrradianceMap {
+    /// The light groups per point and every point's fractions, in heap order (empty
+    /// without groups): what a saved map keeps with its points.
+    pub fn group_parts(&self) -> (usize, &[Spectrum]) {
+        (self.groups, &self.fractions)
+    }
+
+    /// The map of [`IrradianceMap::parts`] and [`IrradianceMap::group_parts`].
+    pub fn from_parts(
+        points: Vec<IrradiancePoint>,
+        max_r2: f32,
+        groups: usize,
+        fractions: Vec<Spectrum>,
+    ) -> IrradianceMap {
         IrradianceMap {
             tree: PhotonKdTree::from_heap(points),
             max_r2,
+            groups,
+            fractions,
         }
     }
 
@@ -163,18 +238,23 @@ impl IrradianceMap {
     }
 
     pub fn memory_bytes(&self) -> usize {
-        self.tree.memory_bytes()
+        self.tree.memory_bytes() + self.fractions.len() * std::mem::size_of::<Spectrum>()
     }
 
     /// The nearest point to `p` whose normal is within about 25 degrees of `n`, within the
-    /// map's search radius.
-    pub fn lookup(&self, p: Vec3, n: Vec3, scratch: &mut KnnScratch) -> Option<&IrradiancePoint> {
+    /// map's search radius, and its light-group fractions (empty without groups).
+    pub fn lookup(
+        &self,
+        p: Vec3,
+        n: Vec3,
+        scratch: &mut KnnScratch,
+    ) -> Option<(&IrradiancePoint, &[Spectrum])> {
         let found = self.tree.knn(p, CANDIDATES, self.max_r2, scratch);
         let best = found
             .iter()
             .filter(|nb| self.tree.get(nb.index).normal().dot(n) >= MIN_COS)
             .min_by(|a, b| a.dist2.total_cmp(&b.dist2))?;
-        Some(self.tree.get(best.index))
+        Some((self.tree.get(best.index), self.fractions(best.index)))
     }
 }
 
@@ -197,13 +277,35 @@ impl PhotonMap {
         select: Select,
         scratch: &mut KnnScratch,
     ) -> IrradianceEstimate {
+        self.irradiance_estimate_split(p, n, k, max_r2, select, scratch, &mut [])
+    }
+
+    /// As [`PhotonMap::irradiance_estimate`], each light group's share added to `groups`
+    /// (as many entries as groups; none: no split).
+    #[allow(clippy::too_many_arguments)]
+    pub fn irradiance_estimate_split(
+        &self,
+        p: Vec3,
+        n: Vec3,
+        k: usize,
+        max_r2: f32,
+        select: Select,
+        scratch: &mut KnnScratch,
+        groups: &mut [Spectrum],
+    ) -> IrradianceEstimate {
         let mut sum = Spectrum::ZERO;
         let r2 = self.for_each_nearest(p, k, max_r2, scratch, n, |power, wi, flags| {
             if wi.dot(n) > 0.0 && select.takes(flags) {
                 sum += power;
+                if let Some(g) = groups.get_mut(super::map::group_of(flags)) {
+                    *g += power;
+                }
             }
         });
         let norm = r2.map_or(0.0, |r2| 1.0 / (PI * r2));
+        for g in groups.iter_mut() {
+            *g *= norm;
+        }
         IrradianceEstimate {
             irradiance: sum * norm,
         }

@@ -38,6 +38,22 @@ pub const FLAG_FROM_MEDIUM: u16 = 2;
 /// global map.
 pub const FLAG_CAUSTIC_PATH: u16 = 4;
 
+/// The user flags above this bit hold the photon's light group (`Scene::light_group`): 8
+/// bits, beside the `FLAG_*` bits below it, inside the 20-byte photon's flag word.
+pub const GROUP_SHIFT: u16 = 3;
+/// The `FLAG_*` bits of a photon's user flags, without its group.
+pub const FLAG_MASK: u16 = (1 << GROUP_SHIFT) - 1;
+
+/// A photon's light group, from its user flags.
+#[inline]
+pub fn group_of(flags: u16) -> usize {
+    (flags >> GROUP_SHIFT) as usize
+}
+
+/// Receives an estimate's share of each light group: (group, share), the shares summing to
+/// the estimate.
+pub type GroupShare<'a> = &'a mut dyn FnMut(usize, Spectrum);
+
 /// Which photons of a map an estimate takes, by their user flags: those with every `require`
 /// bit and no `exclude` bit.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -261,12 +277,18 @@ fn radiance_in<P: PhotonRecord>(
     filter: EstimateFilter,
     select: Select,
     scratch: &mut KnnScratch,
+    mut share: Option<GroupShare>,
 ) -> Spectrum {
     let Some((found, r2, skip)) = nearest(tree, p, k, max_r2, scratch) else {
         return Spectrum::ZERO;
     };
     let r = r2.sqrt();
     let bsdf = bsdf.for_view(wo);
+    let norm = match filter {
+        EstimateFilter::Constant => 1.0,
+        EstimateFilter::Cone { k } => 1.0 - 2.0 / (3.0 * k),
+    };
+    let inv = 1.0 / (norm * PI * r2);
     let mut sum = Spectrum::ZERO;
     for (i, nb) in found.iter().enumerate() {
         if Some(i) == skip {
@@ -284,12 +306,12 @@ fn radiance_in<P: PhotonRecord>(
             EstimateFilter::Constant => 1.0,
             EstimateFilter::Cone { k } => (1.0 - nb.dist2.sqrt() / (k * r)).max(0.0),
         };
-        sum += bsdf.eval(wo, wi) * ph.power() * w;
+        let c = bsdf.eval(wo, wi) * ph.power() * w;
+        sum += c;
+        if let Some(f) = share.as_mut() {
+            f(group_of(ph.user_flags()), c * inv);
+        }
     }
-    let norm = match filter {
-        EstimateFilter::Constant => 1.0,
-        EstimateFilter::Cone { k } => 1.0 - 2.0 / (3.0 * k),
-    };
     sum / (norm * PI * r2)
 }
 
@@ -339,15 +361,21 @@ fn volume_radiance_in<P: PhotonRecord>(
     k: usize,
     max_r2: f32,
     scratch: &mut KnnScratch,
+    mut share: Option<GroupShare>,
 ) -> Option<(Spectrum, f32)> {
     let (found, r2, skip) = nearest(tree, x, k, max_r2, scratch)?;
+    let inv = 1.0 / (4.0 / 3.0 * PI * r2 * r2.sqrt());
     let mut sum = Spectrum::ZERO;
     for (i, nb) in found.iter().enumerate() {
         if Some(i) == skip {
             continue;
         }
         let ph = tree.get(nb.index);
-        sum += ph.power() * phase.eval(wo, ph.incoming());
+        let c = ph.power() * phase.eval(wo, ph.incoming());
+        sum += c;
+        if let Some(f) = share.as_mut() {
+            f(group_of(ph.user_flags()), c * inv);
+        }
     }
     Some((sum / (4.0 / 3.0 * PI * r2 * r2.sqrt()), r2))
 }
@@ -403,7 +431,7 @@ impl PhotonMap {
     /// Reflected radiance at `p` towards `wo` (Jensen 2001, eq. 7.6):
     /// L = sum_p f(wo, wi_p) Phi_p / (pi r^2), over the `k` nearest photons within `max_r2`,
     /// counting only photons that arrived on the side of `n` (the side `wo` is on) and carry
-    /// the user flags `select` takes.
+    /// the user flags `select` takes. `share` receives each light group's share.
     #[allow(clippy::too_many_arguments)]
     pub fn radiance(
         &self,
@@ -416,15 +444,18 @@ impl PhotonMap {
         filter: EstimateFilter,
         select: Select,
         scratch: &mut KnnScratch,
+        share: Option<GroupShare>,
     ) -> Spectrum {
-        with_tree!(&self.tree, t => radiance_in(t, p, n, wo, bsdf, k, max_r2, filter, select, scratch))
+        with_tree!(&self.tree, t => radiance_in(t, p, n, wo, bsdf, k, max_r2, filter, select, scratch, share))
     }
 
     /// In-scattered radiance at `x` towards `wo` from a volume map (Jensen & Christensen 1998):
     /// sum_p p(wo, wi_p) Phi_p / (4/3 pi r^3), with the k-th photon bounding the sphere, and
     /// the sphere's squared radius r^2; None when no photon is within `max_r2`. The estimate
     /// takes the whole sphere as medium; where part of it is not (past a boundary or inside an
-    /// object), the caller divides by the part that is.
+    /// object), the caller divides by the part that is. `share` receives each light group's
+    /// share.
+    #[allow(clippy::too_many_arguments)]
     pub fn volume_radiance(
         &self,
         x: Vec3,
@@ -433,8 +464,9 @@ impl PhotonMap {
         k: usize,
         max_r2: f32,
         scratch: &mut KnnScratch,
+        share: Option<GroupShare>,
     ) -> Option<(Spectrum, f32)> {
-        with_tree!(&self.tree, t => volume_radiance_in(t, x, wo, phase, k, max_r2, scratch))
+        with_tree!(&self.tree, t => volume_radiance_in(t, x, wo, phase, k, max_r2, scratch, share))
     }
 
     /// Total power of the photons flagged as first hits (for the energy test).

@@ -9,6 +9,7 @@
 use super::irradiance::{self, IrradianceMap};
 use super::map::{
     MapKind, PhotonMap, PhotonTree, Select, FLAG_CAUSTIC_PATH, FLAG_FIRST_HIT, FLAG_FROM_MEDIUM,
+    GROUP_SHIFT,
 };
 use super::{decode_direction, encode_direction, Photon, PhotonError, PhotonF32, PhotonKdTree};
 use crate::geometry::Ray;
@@ -40,6 +41,8 @@ struct RawPhoton {
     /// The map's `FLAG_*` bits: first hit, from a medium, caustic path (every earlier
     /// interaction a specular surface bounce: light -> specular+ -> here).
     flags: u8,
+    /// The light group of the light that emitted it (`Scene::light_group`).
+    group: u8,
 }
 
 pub struct TraceParams<'a> {
@@ -86,7 +89,7 @@ fn trace_path(
     le: LeSample,
     scale: f32,
     start: MediumStack,
-    kind: MapKind,
+    (kind, group): (MapKind, u8),
     max_bounces: u32,
     rng: &mut Rng,
     out: &mut Vec<RawPhoton>,
@@ -137,6 +140,7 @@ fn trace_path(
                             d,
                             n: (0, 0),
                             flags: FLAG_FROM_MEDIUM as u8,
+                            group,
                         });
                     }
                     interactions += 1;
@@ -191,6 +195,7 @@ fn trace_path(
                         last_scatter,
                         interactions > 0 && specular_bounces == interactions,
                     ),
+                    group,
                 }),
                 MapKind::Caustic => {
                     // Light -> specular+ -> here: a caustic photon. Its path goes on only
@@ -203,6 +208,7 @@ fn trace_path(
                             d: ray.d,
                             n,
                             flags: FLAG_CAUSTIC_PATH as u8,
+                            group,
                         });
                     }
                     if bsdf.flags() & (LobeFlags::SPECULAR | LobeFlags::NEAR_SPECULAR) == 0 {
@@ -366,12 +372,13 @@ fn trace_batch(scene: &Scene, params: &TraceParams, b: u64) -> Vec<RawPhoton> {
         if let Some(le) = le {
             if is_finite3(le.weight) && le.weight.max_element() > 0.0 {
                 let start = scene.light_stacks.get(li).copied().unwrap_or_default();
+                let group = scene.light_group.get(li).copied().unwrap_or(0);
                 trace_path(
                     scene,
                     le,
                     1.0 / pmf,
                     start,
-                    params.kind,
+                    (params.kind, group),
                     params.max_bounces,
                     &mut rng,
                     &mut out,
@@ -464,14 +471,11 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
         build_seconds: t.elapsed().as_secs_f64(),
     };
     if let Some((k, max_r2, select)) = params.irradiance {
-        map.irradiance = Some(IrradianceMap::build(
-            &map,
-            &points,
-            k,
-            max_r2,
-            select,
-            params.cancel,
-        )?);
+        let mut irr = IrradianceMap::build(&map, &points, k, max_r2, select, params.cancel)?;
+        if !scene.light_groups.is_empty() {
+            irr.split_groups(&map, scene.light_groups.len(), k, select, params.cancel)?;
+        }
+        map.irradiance = Some(irr);
     }
     Some(map)
 }
@@ -505,7 +509,7 @@ fn records<P>(
     for raw in rounds {
         photons.extend(raw.iter().filter_map(|r| {
             let mut ph = new(r.p, r.power * inv, r.d).ok()?;
-            set_flags(&mut ph, r.flags as u16);
+            set_flags(&mut ph, r.flags as u16 | (r.group as u16) << GROUP_SHIFT);
             Some(ph)
         }));
     }

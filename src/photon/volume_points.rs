@@ -126,7 +126,8 @@ impl VolumePointMap {
                 chunk
                     .iter()
                     .map(|&(i, p)| {
-                        let (l, r2) = volume.volume_radiance(p, Vec3::Z, &iso, k, max_r2, scratch)?;
+                        let (l, r2) =
+                            volume.volume_radiance(p, Vec3::Z, &iso, k, max_r2, scratch, None)?;
                         let r = r2.sqrt();
                         let l = l / reach(i, p, r);
                         Some(VolumePoint {
@@ -159,7 +160,10 @@ impl VolumePointMap {
 
     /// The map of [`VolumePointMap::parts`].
     pub fn from_parts(heap: Vec<VolumePoint>, max_r: f32) -> VolumePointMap {
-        VolumePointMap { tree: PhotonKdTree::from_heap(heap), max_r }
+        VolumePointMap {
+            tree: PhotonKdTree::from_heap(heap),
+            max_r,
+        }
     }
 
     pub fn is_empty(&self) -> bool {
@@ -177,7 +181,9 @@ impl VolumePointMap {
     /// The isotropic in-scattered radiance at `x` from the nearest point whose estimate
     /// reaches it ([`REACH`] of its radius); None where none does.
     pub fn lookup(&self, x: Vec3, scratch: &mut KnnScratch) -> Option<Spectrum> {
-        let found = self.tree.knn(x, CANDIDATES, self.max_r * self.max_r, scratch);
+        let found = self
+            .tree
+            .knn(x, CANDIDATES, self.max_r * self.max_r, scratch);
         let best = found
             .iter()
             .filter(|nb| {
@@ -209,7 +215,10 @@ mod tests {
                 Photon::new(p, Spectrum::splat(power), Vec3::Z).unwrap()
             })
             .collect();
-        PhotonMap::from_tree(MapKind::Volume, PhotonTree::Rgbe(PhotonKdTree::build(photons)))
+        PhotonMap::from_tree(
+            MapKind::Volume,
+            PhotonTree::Rgbe(PhotonKdTree::build(photons)),
+        )
     }
 
     /// In a uniform photon cloud each point's radiance is the cloud's: power density over 4 pi;
@@ -237,7 +246,10 @@ mod tests {
         }
         assert!(count > 1950, "{count} of 2000 interior queries answered");
         let mean = sum / count as f64;
-        assert!((mean / expected as f64 - 1.0).abs() < 0.03, "{mean} against {expected}");
+        assert!(
+            (mean / expected as f64 - 1.0).abs() < 0.03,
+            "{mean} against {expected}"
+        );
         // Half the medium: the reach doubles the points' radiance.
         let half = VolumePointMap::build(&map, 50, 0.04, &|_, _, _| 0.5, None).unwrap();
         let h = half.lookup(Vec3::splat(0.5), &mut scratch).unwrap().x;

@@ -19,7 +19,7 @@ mod pointer;
 use crate::cli::{self, Cli, Command, LoadedScene, SceneRequest};
 use crate::error::Error;
 use crate::io::scene_json;
-use crate::render::aov::Term;
+use crate::render::aov::{AovSpec, Term};
 use crate::render::{ProgressFn, Quality, RenderOutput, RenderSettings};
 use crate::scene::desc::SceneDesc;
 use clap::Parser;
@@ -28,6 +28,7 @@ use pyo3::exceptions::{PyKeyboardInterrupt, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 use std::any::Any;
+use std::collections::BTreeMap;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -442,6 +443,76 @@ fn run_blocking(
     })
 }
 
+/// A spec of the AOV list as a dict: `name`, `pass_name`, `kind`, `channels`, `chan_id`,
+/// `pass_type` (the last two as Blender's `register_pass` takes them).
+fn spec_dict<'py>(py: Python<'py>, spec: &AovSpec) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("name", &spec.name)?;
+    d.set_item("pass_name", &spec.pass_name)?;
+    d.set_item(
+        "kind",
+        serde_json::to_value(spec.kind)
+            .ok()
+            .and_then(|v| v.as_str().map(str::to_string))
+            .unwrap_or_default(),
+    )?;
+    d.set_item("channels", spec.channels().to_vec())?;
+    d.set_item("chan_id", spec.kind.chan_id())?;
+    d.set_item("pass_type", spec.kind.pass_type())?;
+    Ok(d)
+}
+
+/// Every image of the film beside the terms, in the list's order: spec dicts with `data`,
+/// float32 little-endian bytes, the channels of each pixel together, rows top to bottom.
+fn aov_list<'py>(
+    py: Python<'py>,
+    film: &crate::render::film::Film,
+) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    film.extra_images()
+        .iter()
+        .map(|(spec, data)| {
+            let d = spec_dict(py, spec)?;
+            let mut v = Vec::with_capacity(data.len() * 4);
+            for x in data.iter() {
+                v.extend_from_slice(&x.to_le_bytes());
+            }
+            d.set_item("data", PyBytes::new(py, &v))?;
+            Ok(d)
+        })
+        .collect()
+}
+
+/// The AOVs beside the terms that a render with `settings` (the `render` keywords as JSON)
+/// writes, for a scene whose IR names the light groups `light_groups` (the `default` group
+/// is added as the scene build adds it), in output order, as spec dicts (see `spec_dict`):
+/// Blender registers its passes from it.
+#[pyfunction]
+#[pyo3(signature = (settings="{}", light_groups=Vec::new()))]
+fn aov_specs<'py>(
+    py: Python<'py>,
+    settings: &str,
+    light_groups: Vec<String>,
+) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    let options = crate::render::RenderOptions::from_json(settings).map_err(to_py)?;
+    options
+        .settings()
+        .aovs
+        .aovs(&crate::render::aov::light_group_names(&light_groups))
+        .iter()
+        .map(|spec| spec_dict(py, spec))
+        .collect()
+}
+
+/// The EXR header attributes of Cryptomatte manifests (`{type name: [names]}` as JSON), each
+/// layer named `prefix` + type name: `{"cryptomatte/<key>/name": ..., ...}`.
+#[pyfunction]
+#[pyo3(signature = (manifests, prefix=""))]
+fn cryptomatte_header(manifests: &str, prefix: &str) -> PyResult<BTreeMap<String, String>> {
+    let m: BTreeMap<String, Vec<String>> =
+        serde_json::from_str(manifests).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    Ok(crate::render::compositing::cryptomatte_header(&m, prefix))
+}
+
 fn image_bytes<'py>(py: Python<'py>, img: &crate::render::film::Image) -> Bound<'py, PyBytes> {
     let mut v = Vec::with_capacity(img.data.len() * 12);
     for p in &img.data {
@@ -551,7 +622,8 @@ fn add_partials<'py>(py: Python<'py>, partials: Vec<Vec<u8>>) -> PyResult<Bound<
     Ok(PyBytes::new(py, &bytes))
 }
 
-/// `{"width", "height", "terms": {name: bytes}, "error": bytes, "combined": bytes}`.
+/// `{"width", "height", "terms": {name: bytes}, "error": bytes, "aovs": [...],
+/// "cryptomatte": json, "combined": bytes}`.
 fn film_dict<'py>(
     py: Python<'py>,
     film: &crate::render::film::Film,
@@ -565,21 +637,88 @@ fn film_dict<'py>(
     }
     d.set_item("terms", terms)?;
     d.set_item(crate::render::aov::ERROR_AOV, image_bytes(py, &film.error))?;
+    d.set_item("aovs", aov_list(py, film)?)?;
+    d.set_item(
+        "cryptomatte",
+        serde_json::to_string(&film.cryptomatte)
+            .map_err(|e| PhotonmapError::new_err(e.to_string()))?,
+    )?;
     d.set_item("combined", image_bytes(py, &film.combined()))?;
     Ok(d)
+}
+
+/// Denoises a render's terms through the Python `denoiser` (see `run_cli`): the terms it
+/// returns replace the film's, and what it reports goes into the stats.
+fn denoise_film(
+    py: Python<'_>,
+    denoiser: &Bound<'_, PyAny>,
+    out: &mut RenderOutput,
+) -> PyResult<()> {
+    let film = &mut out.film;
+    let (Some(albedo), Some(normal)) = (
+        film.aov(crate::render::aov::ALBEDO_AOV),
+        film.aov(crate::render::aov::NORMAL_AOV),
+    ) else {
+        return Err(PhotonmapError::new_err(
+            "internal error: denoising without the albedo and normal guides",
+        ));
+    };
+    let floats = |v: &[f32]| {
+        let mut b = Vec::with_capacity(v.len() * 4);
+        for x in v {
+            b.extend_from_slice(&x.to_le_bytes());
+        }
+        PyBytes::new(py, &b)
+    };
+    let terms = PyDict::new(py);
+    for t in crate::render::aov::DENOISED_TERMS {
+        terms.set_item(t.name(), image_bytes(py, film.term(t)))?;
+    }
+    let (albedo, normal) = (floats(&albedo.data), floats(&normal.data));
+    let (den, info): (BTreeMap<String, Vec<u8>>, BTreeMap<String, String>) = denoiser
+        .call1((film.width, film.height, terms, albedo, normal))?
+        .extract()?;
+    for t in crate::render::aov::DENOISED_TERMS {
+        let Some(b) = den.get(t.name()) else {
+            return Err(PhotonmapError::new_err(format!(
+                "the denoiser returned no `{}`",
+                t.name()
+            )));
+        };
+        let img = &mut film.terms[t.index()];
+        if b.len() != img.data.len() * 12 {
+            return Err(PhotonmapError::new_err(format!(
+                "the denoiser returned {} bytes for `{}`, expected {}",
+                b.len(),
+                t.name(),
+                img.data.len() * 12
+            )));
+        }
+        for (px, c) in img.data.iter_mut().zip(b.chunks_exact(12)) {
+            for k in 0..3 {
+                px[k] = f32::from_le_bytes([c[4 * k], c[4 * k + 1], c[4 * k + 2], c[4 * k + 3]]);
+            }
+        }
+    }
+    out.stats.denoise = serde_json::to_value(info).ok();
+    Ok(())
 }
 
 /// The `photonmap` command: parses `argv` (without the program name) with the core's clap
 /// definition, reads USD stages through `usd_loader(path, frame, camera, purposes, strict)`
 /// (which returns `(ir_json, import_stats_json)`), renders each frame with the progress bar on
-/// stderr, and writes the EXR, PNG and stats. Returns the exit status; errors of the loader are
-/// raised as they are.
+/// stderr, and writes the EXR, PNG and stats. With `--denoise`, `denoiser.check()` runs first
+/// (it raises when the denoiser is missing), and after each render `denoiser(width, height,
+/// {term: bytes}, albedo, normal)` returns the denoised terms (`{term: bytes}`) and what
+/// denoised them (`{key: text}`, into the stats and the EXR metadata). Returns the exit
+/// status; errors of the loader are raised as they are.
 #[pyfunction]
-#[pyo3(signature = (argv, usd_loader=None))]
+#[pyo3(signature = (argv, usd_loader=None, denoiser=None))]
 fn run_cli(
     py: Python<'_>,
     argv: Vec<String>,
     usd_loader: Option<Bound<'_, PyAny>>,
+    denoiser: Option<Bound<'_, PyAny>>,
 ) -> PyResult<i32> {
     let cli = match Cli::try_parse_from(std::iter::once("photonmap".to_string()).chain(argv)) {
         Ok(c) => c,
@@ -625,6 +764,16 @@ fn run_cli(
     if let Err(e) = args.check() {
         return fail(e);
     }
+    if args.options.denoise {
+        let ready = match &denoiser {
+            Some(d) => d.call_method0("check").map(|_| ()),
+            None => Err(PyValueError::new_err("no denoiser available")),
+        };
+        if let Err(e) = ready {
+            eprintln!("photonmap: error: --denoise: {}", e.value(py));
+            return Ok(2);
+        }
+    }
     let frames = match args.frame_list() {
         Ok(f) => f,
         Err(e) => return fail(e),
@@ -669,6 +818,12 @@ fn run_cli(
             }
         };
         bar.finish_and_clear();
+        if let (true, Some(d)) = (a.options.denoise && !a.photon_maps_only, &denoiser) {
+            if let Err(e) = denoise_film(py, d, &mut out) {
+                eprintln!("photonmap: error: --denoise: {}", e.value(py));
+                return Ok(1);
+            }
+        }
         if let Err(e) = caught(|| cli::write_outputs_with(&a, &out, loaded.import_stats.as_ref())) {
             return fail(e);
         }
@@ -781,6 +936,15 @@ fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run_cli, m)?)?;
     m.add_function(wrap_pyfunction!(preset, m)?)?;
     m.add_function(wrap_pyfunction!(settings_schema, m)?)?;
+    m.add_function(wrap_pyfunction!(aov_specs, m)?)?;
+    m.add_function(wrap_pyfunction!(cryptomatte_header, m)?)?;
+    m.add(
+        "DENOISED_TERMS",
+        crate::render::aov::DENOISED_TERMS
+            .map(|t| t.name())
+            .to_vec(),
+    )?;
+    m.add("NOISY_SUFFIX", crate::render::aov::NOISY_SUFFIX)?;
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
     Ok(())
 }

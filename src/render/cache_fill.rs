@@ -6,11 +6,13 @@
 
 use super::eye::EyeCtx;
 use super::irradiance_cache::{IrradianceCache, Record};
+use super::lightgroups::{fractions, Split};
 use super::settings::RenderSettings;
 use super::terms::indirect::gather_hemisphere;
 use super::terms::specular::{self, Follow};
 use crate::error::{Error, Result};
 use crate::geometry::{Ray, SurfaceInteraction};
+use crate::math::Spectrum;
 use crate::photon::KnnScratch;
 use crate::sampling::Rng;
 use crate::scene::SceneHit;
@@ -123,7 +125,10 @@ pub fn extend(
                 let idx = y * w + x;
                 let mut rng = Rng::derive(s.seed, 0x1C, idx as u64);
                 let (si, n, len) = first_diffuse(ctx, x, y, &mut rng)?;
-                cache.lookup(si.p, n).is_none().then_some((idx, si, n, len))
+                cache
+                    .lookup(si.p, n, None)
+                    .is_none()
+                    .then_some((idx, si, n, len))
             })
             .collect();
         // The cancel flag is read before every record (a record can take many gather rays).
@@ -135,11 +140,26 @@ pub fn extend(
                 }
                 let mut rng = Rng::derive(s.seed, 0x1D, *idx as u64);
                 let stack = scene.medium_stack_at(si.p + *n * (1e-4 * scene.radius));
-                let g = gather_hemisphere(scene, ctx.maps, si, *n, rays, &stack, &mut rng, scratch);
+                // With light groups, each group's share of the record's irradiance.
+                let mut parts = vec![Spectrum::ZERO; scene.light_groups.len()];
+                let mut split = Split::new(&mut parts);
+                let g = gather_hemisphere(
+                    scene,
+                    ctx.maps,
+                    si,
+                    *n,
+                    rays,
+                    &stack,
+                    &mut rng,
+                    scratch,
+                    (!split.is_empty()).then_some(&mut split),
+                );
                 let fp = (len * pixel_angle).max(1e-6);
                 let r_min = (R_MIN_PIXELS * fp / a).min(r_cap);
                 let r_max = (R_MAX_PIXELS * fp / a).min(r_cap).max(r_min);
-                Some(Record::new(si.p, *n, &g, r_min, r_max))
+                let mut rec = Record::new(si.p, *n, &g, r_min, r_max);
+                rec.groups = fractions(&parts, g.irradiance);
+                Some(rec)
             })
             .collect();
         for r in records.ok_or(Error::Cancelled)? {

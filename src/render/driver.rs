@@ -12,6 +12,7 @@
 use super::adaptive::{self, Adaptive, AdaptiveStats};
 use super::aov::Term;
 use super::budget;
+use super::compositing::{AovLayout, PixelAovs, SampleAovs};
 use super::error_aov::{replicate_of, Replicates, Shifts, REPLICATES};
 use super::eye;
 use super::film::{Film, Filter, TermRadiance};
@@ -44,6 +45,8 @@ pub struct Pixel<X> {
     pub acc: TermRadiance,
     /// Batch means of each sample's value of the combined image (the `error` AOV).
     pub batches: Replicates,
+    /// Sums of the compositing AOVs (`render::compositing`), when asked for.
+    pub aovs: PixelAovs,
     pub extra: X,
 }
 
@@ -53,6 +56,7 @@ impl<X: Default> Pixel<X> {
             rng,
             acc: TermRadiance::default(),
             batches: Replicates::default(),
+            aovs: PixelAovs::default(),
             extra: X::default(),
         }
     }
@@ -136,7 +140,9 @@ pub trait Integrator: Sync {
 
     /// Sample `k` of a pixel along `ray`: the terms estimated at the eye, which the driver
     /// adds to the pixel where finite, and this sample's further share of the combined image
-    /// (which the integrator keeps in `extra`; zero if none).
+    /// (which the integrator keeps in `extra`; zero if none). What the sample gives the
+    /// compositing AOVs goes into `aovs` (those it asks for).
+    #[allow(clippy::too_many_arguments)]
     fn sample(
         &self,
         pass: &Self::Pass,
@@ -145,12 +151,17 @@ pub trait Integrator: Sync {
         extra: &mut Self::Extra,
         k: u32,
         scratch: &mut Self::Scratch,
+        aovs: &mut SampleAovs,
     ) -> (TermRadiance, Spectrum);
 
     /// The pixel's terms and `error` after `samples` samples.
     fn resolve(&self, px: &Pixel<Self::Extra>, samples: u32) -> (TermRadiance, Spectrum) {
         (px.mean(samples), px.batches.standard_error())
     }
+
+    /// Adds to the pixel's light groups (the means of its samples' shares, one entry per
+    /// group) what the integrator keeps apart from its samples.
+    fn resolve_groups(&self, _px: &Pixel<Self::Extra>, _samples: u32, _groups: &mut [Spectrum]) {}
 }
 
 /// When a progressive camera pass stops.
@@ -230,6 +241,8 @@ pub struct CameraPass<'a> {
     pub output_time: Option<&'a OutputTimeFn>,
     /// Non-finite term estimates dropped by the firewall.
     pub non_finite: AtomicUsize,
+    /// The compositing AOVs of the render.
+    pub aovs: &'a AovLayout,
 }
 
 impl<'a> CameraPass<'a> {
@@ -244,6 +257,7 @@ impl<'a> CameraPass<'a> {
             preview: None,
             output_time: None,
             non_finite: AtomicUsize::new(0),
+            aovs: &super::compositing::NO_AOVS,
         }
     }
 
@@ -261,6 +275,12 @@ impl<'a> CameraPass<'a> {
         self.non_finite.load(Ordering::Relaxed) as u64
     }
 
+    /// A worker's scratch space: the integrator's, and a sample's record of the compositing
+    /// AOVs.
+    fn scratch<I: Integrator>(&self, it: &I) -> (I::Scratch, SampleAovs) {
+        (it.scratch(), self.aovs.sample())
+    }
+
     /// One camera sample of pixel (x, y) at film position `u`, through the firewall.
     #[allow(clippy::too_many_arguments)]
     fn sample<I: Integrator>(
@@ -272,10 +292,11 @@ impl<'a> CameraPass<'a> {
         y: usize,
         u: Vec2,
         k: u32,
-        scratch: &mut I::Scratch,
+        (scratch, aovs): &mut (I::Scratch, SampleAovs),
     ) {
         let ray = eye::camera_ray(self.scene, self.filter, x, y, u, &mut px.rng);
-        let (l, further) = it.sample(pass, ray, &mut px.rng, &mut px.extra, k, scratch);
+        let (l, further) = it.sample(pass, ray, &mut px.rng, &mut px.extra, k, scratch, aovs);
+        self.aovs.add(&mut px.aovs, aovs);
         let mut total = Spectrum::ZERO;
         for t in Term::ALL {
             let v = l.0[t.index()];
@@ -290,14 +311,39 @@ impl<'a> CameraPass<'a> {
     }
 
     fn film_of<I: Integrator>(&self, it: &I, pixels: &[Pixel<I::Extra>], samples: u32) -> Film {
-        let (w, h) = (self.scene.width, self.scene.height);
-        let mut film = Film::new(w, h);
+        let mut film = self.new_film(self.scene.width, self.scene.height);
         for (i, px) in pixels.iter().enumerate() {
-            let (v, err) = it.resolve(px, samples);
-            film.set_pixel(i % w, i / w, &v);
-            film.error.data[i] = err.to_array();
+            self.resolve(it, &mut film, px, samples, i);
         }
         film
+    }
+
+    /// An empty film of `w` x `h` pixels (the image, or a tile of it) with this render's
+    /// compositing AOVs.
+    fn new_film(&self, w: usize, h: usize) -> Film {
+        let mut film = Film::new(w, h);
+        film.aovs = self.aovs.images(w, h);
+        film.cryptomatte = self.aovs.manifests();
+        film
+    }
+
+    /// Pixel `i` after `samples` samples, into the film.
+    fn resolve<I: Integrator>(
+        &self,
+        it: &I,
+        film: &mut Film,
+        px: &Pixel<I::Extra>,
+        samples: u32,
+        i: usize,
+    ) {
+        let w = film.width;
+        let (v, err) = it.resolve(px, samples);
+        film.set_pixel(i % w, i / w, &v);
+        film.error.data[i] = err.to_array();
+        self.aovs
+            .resolve(&px.aovs, samples, &v, &mut film.aovs, i, |g| {
+                it.resolve_groups(px, samples, g)
+            });
     }
 
     /// All `spp` samples of a pixel at once, one pass, rows in parallel. Sample `i` belongs
@@ -365,7 +411,7 @@ impl<'a> CameraPass<'a> {
         let rows: Vec<Option<Vec<Pixel<I::Extra>>>> = (rect.y..rect.y + rect.height)
             .into_par_iter()
             .map_init(
-                || it.scratch(),
+                || self.scratch(it),
                 |scratch, y| {
                     let mut row = Vec::with_capacity(rect.width);
                     for x in rect.x..rect.x + rect.width {
@@ -426,7 +472,7 @@ impl<'a> CameraPass<'a> {
             .zip(rounds.par_chunks(rw))
             .enumerate()
             .for_each_init(
-                || it.scratch(),
+                || self.scratch(it),
                 |scratch, (ry, (row, row_rounds))| {
                     let mut n = 0usize;
                     for (rx, (px, &r)) in row.iter_mut().zip(row_rounds).enumerate() {
@@ -461,11 +507,9 @@ impl<'a> CameraPass<'a> {
         rounds: &[u32],
         spp: u32,
     ) -> Film {
-        let mut film = Film::new(rect.width, rect.height);
+        let mut film = self.new_film(rect.width, rect.height);
         for (i, (px, &r)) in pixels.iter().zip(rounds).enumerate() {
-            let (v, err) = it.resolve(px, r * spp);
-            film.set_pixel(i % rect.width, i / rect.width, &v);
-            film.error.data[i] = err.to_array();
+            self.resolve(it, &mut film, px, r * spp, i);
         }
         film
     }
@@ -524,7 +568,7 @@ impl<'a> CameraPass<'a> {
                 .zip(shifts.par_chunks(w.max(1)))
                 .enumerate()
                 .for_each_init(
-                    || it_ref.scratch(),
+                    || self.scratch(it_ref),
                     |scratch, (y, (row, row_shifts))| {
                         for (x, (px, sh)) in row.iter_mut().zip(row_shifts.iter()).enumerate() {
                             if self.cancelled() {

@@ -47,6 +47,7 @@ impl Integrator for Toy {
         extra: &mut u32,
         k: u32,
         _: &mut (),
+        _: &mut SampleAovs,
     ) -> (TermRadiance, Spectrum) {
         assert_eq!(*pass, k.min(*pass), "a sample reads its own pass");
         *extra += 1;
@@ -300,6 +301,7 @@ impl Integrator for Rare {
         extra: &mut u32,
         _: u32,
         _: &mut (),
+        _: &mut SampleAovs,
     ) -> (TermRadiance, Spectrum) {
         *extra += 1;
         let mut l = TermRadiance::default();

@@ -3,8 +3,10 @@
 //! `direct`, `caustic` and `indirect` terms run (routed to `specular` after a bounce).
 
 use super::aov::{Term, TermMask};
+use super::compositing::{Guides, SampleAovs};
 use super::film::TermRadiance;
 use super::irradiance_cache::IrradianceCache;
+use super::lightgroups::Split;
 use super::photons::PhotonMaps;
 use super::terms::specular::Follow;
 use super::terms::volume::{self, MarchSettings};
@@ -74,8 +76,32 @@ pub struct VisiblePoint {
 }
 
 /// Radiance along `ray`, per term. Non-finite estimates are dropped (counted by the caller).
-pub fn trace(ctx: &EyeCtx, ray: Ray, rng: &mut Rng, scratch: &mut KnnScratch) -> TermRadiance {
-    trace_split(ctx, ray, rng, scratch, None)
+/// What the path gives the compositing AOVs that `aovs` asks for goes into it.
+pub fn trace(
+    ctx: &EyeCtx,
+    ray: Ray,
+    rng: &mut Rng,
+    scratch: &mut KnnScratch,
+    aovs: &mut SampleAovs,
+) -> TermRadiance {
+    trace_split(ctx, ray, rng, scratch, None, aovs)
+}
+
+/// The denoising guides at the non-specular surface `si` that a path reaches through
+/// specular bounces of tint `tint` (their weights, without Russian roulette): the surface's
+/// directional albedo (every lobe's, as Open Image Denoise defines it) times the tint, and
+/// its shading normal turned towards the path.
+fn guides(si: &crate::geometry::SurfaceInteraction, bsdf: &Bsdf, tint: Spectrum) -> Guides {
+    let (d, s, t) = bsdf.rr_reflectivities(si.wo);
+    let n = if si.ns.dot(si.wo) < 0.0 {
+        -si.ns
+    } else {
+        si.ns
+    };
+    Guides {
+        albedo: tint * (d + s + t).min(Spectrum::ONE),
+        normal: n,
+    }
 }
 
 /// As [`trace`]; with `visible` given, the caustic and indirect estimators do not run at the
@@ -87,11 +113,27 @@ pub fn trace_split(
     rng: &mut Rng,
     scratch: &mut KnnScratch,
     mut visible: Option<&mut dyn FnMut(VisiblePoint)>,
+    aovs: &mut SampleAovs,
 ) -> TermRadiance {
     let scene = ctx.scene;
     let s = &ctx.settings;
     let mut out = TermRadiance::default();
     let mut beta = Spectrum::ONE;
+    // The tint of the specular bounces so far, for the denoising guides; `None` once they
+    // are recorded (or not asked for).
+    let mut guide_tint = aovs.want_guides.then_some(Spectrum::ONE);
+    let want_first_hit = aovs.want_first_hit;
+    let (rec_guides, first_hit) = (&mut aovs.guides, &mut aovs.first_hit);
+    // With light groups, each group's share of what the path adds.
+    let mut split = (!aovs.groups.is_empty()).then(|| Split::new(&mut aovs.groups));
+    // An emitter's share, seen along the path (where finite, as `add` takes it).
+    let share = |split: &mut Option<Split>, light: u32, l: Spectrum| {
+        if let Some(sp) = split.as_mut() {
+            if is_finite3(l) {
+                sp.add_light(scene, light, l);
+            }
+        }
+    };
     let mut bounces = 0u32;
     let wants = |term: Term, bounces: u32| s.terms.contains(specular::route(term, bounces));
     let add = |out: &mut TermRadiance, term: Term, bounces: u32, l: Spectrum| {
@@ -123,12 +165,9 @@ pub fn trace_split(
                     }
                     None => Spectrum::ONE,
                 };
-                add(
-                    &mut out,
-                    Term::Emission,
-                    bounces,
-                    beta * tr * scene.light_le(lh.index, ray.d),
-                );
+                let l = beta * tr * scene.light_le(lh.index, ray.d);
+                add(&mut out, Term::Emission, bounces, l);
+                share(&mut split, lh.index, l);
             });
         }
         // Participating medium between the ray origin and the hit: in-scattered light, and
@@ -136,6 +175,7 @@ pub fn trace_split(
         if let Some(m) = stack.current(scene.world_medium) {
             let dist = t_end * len;
             let tr = if wants(Term::Volume, bounces) {
+                let mut sp = split.as_mut().map(|sp| sp.scaled(beta));
                 let mr = volume::march(
                     scene,
                     ctx.maps,
@@ -147,8 +187,10 @@ pub fn trace_split(
                     &ctx.march,
                     rng,
                     scratch,
+                    sp.as_mut(),
                 );
-                ctx.work.march(mr.steps, mr.volume_lookups, mr.volume_point_reads);
+                ctx.work
+                    .march(mr.steps, mr.volume_lookups, mr.volume_point_reads);
                 add(&mut out, Term::Volume, bounces, beta * mr.radiance);
                 mr.transmittance
             } else {
@@ -168,6 +210,11 @@ pub fn trace_split(
                         bounces,
                         beta * emission::background(scene, ray.d),
                     );
+                    if wants(Term::Emission, bounces) {
+                        for &i in &scene.infinite_lights {
+                            share(&mut split, i, beta * scene.infinite_le(i, ray.d));
+                        }
+                    }
                 }
                 break;
             }
@@ -185,16 +232,28 @@ pub fn trace_split(
                     ray = si.spawn_ray(ray.d);
                     continue;
                 }
+                if want_first_hit && bounces == 0 && first_hit.is_none() {
+                    *first_hit = Some((si.instance, si.material));
+                }
                 if !skip_emission {
-                    add(
-                        &mut out,
-                        Term::Emission,
-                        bounces,
-                        beta * emission::surface_emission(scene, &si),
-                    );
+                    let l = beta * emission::surface_emission(scene, &si);
+                    add(&mut out, Term::Emission, bounces, l);
+                    if wants(Term::Emission, bounces) && l.max_element() > 0.0 {
+                        if let Some(&light) = scene.emissive.get(&(si.instance, si.prim)) {
+                            share(&mut split, light, l);
+                        }
+                    }
                 }
                 let bsdf = scene.shading_bsdf(mat, &mut si);
                 let passes = bsdf.passes_through();
+                if let Some(tint) = guide_tint {
+                    if bsdf.has_non_delta() || bsdf.is_black() {
+                        *rec_guides = Some(guides(&si, &bsdf, tint));
+                        guide_tint = None;
+                    }
+                }
+                // The estimates below add their groups' shares times the path's throughput.
+                let mut sp = split.as_mut().map(|sp| sp.scaled(beta));
                 if bsdf.has_non_delta() {
                     if wants(Term::Direct, bounces) {
                         add(
@@ -208,6 +267,7 @@ pub fn trace_split(
                                 &stack,
                                 EYE_LIGHT_SAMPLES,
                                 rng,
+                                sp.as_mut(),
                             ),
                         );
                     }
@@ -231,7 +291,7 @@ pub fn trace_split(
                             &mut out,
                             Term::Caustic,
                             bounces,
-                            beta * caustic::estimate(ctx.maps, &si, &bsdf, scratch),
+                            beta * caustic::estimate(ctx.maps, &si, &bsdf, scratch, sp.as_mut()),
                         );
                     }
                     if !passes && visible.is_none() && wants(Term::Indirect, bounces) {
@@ -239,7 +299,15 @@ pub fn trace_split(
                             &mut out,
                             Term::Indirect,
                             bounces,
-                            beta * indirect::estimate(ctx, &si, &bsdf, &stack, rng, scratch),
+                            beta * indirect::estimate(
+                                ctx,
+                                &si,
+                                &bsdf,
+                                &stack,
+                                rng,
+                                scratch,
+                                sp.as_mut(),
+                            ),
                         );
                     }
                 }
@@ -254,6 +322,9 @@ pub fn trace_split(
                 // vertex's direct estimate (light and BSDF samples, MIS).
                 skip_emission = !bs.is_delta();
                 beta *= bs.weight;
+                if let Some(tint) = guide_tint.as_mut() {
+                    *tint *= bs.weight;
+                }
                 bounces += 1;
                 match specular::continue_chain(beta, bounces, rng.f32()) {
                     Some(b) => beta = b,

@@ -4,10 +4,12 @@
 //! pixel centre is drawn from the filter, and every sample of a pixel has weight 1. Pixels are
 //! thus independent, which keeps the output bit-identical whatever the thread count.
 
-use super::aov::Term;
+use super::aov::{AovSpec, Term};
+pub use super::compositing::AovImage;
 use crate::math::Spectrum;
 use crate::sampling::Distribution1D;
 use glam::Vec2;
+use std::collections::BTreeMap;
 
 /// Pixel reconstruction filter.
 #[derive(Clone, Debug)]
@@ -132,6 +134,13 @@ pub struct Film {
     /// The `error` AOV: the estimated standard error of each pixel of the combined image,
     /// per channel (see `render::error_aov`); not a term, not part of the sum.
     pub error: Image,
+    /// The compositing AOVs the render was asked for, in the order of
+    /// `aov::AovRequest::aovs` (after `error`): denoising guides, noisy terms, light
+    /// groups, Cryptomatte (`render::compositing`). Empty unless asked for.
+    pub aovs: Vec<AovImage>,
+    /// Each Cryptomatte type's manifest: type name -> names (`compositing::cryptomatte_header`
+    /// makes the EXR metadata of it).
+    pub cryptomatte: BTreeMap<String, Vec<String>>,
 }
 
 impl Film {
@@ -143,7 +152,33 @@ impl Film {
                 .map(|_| Image::new(width, height))
                 .collect(),
             error: Image::new(width, height),
+            aovs: Vec::new(),
+            cryptomatte: BTreeMap::new(),
         }
+    }
+
+    /// The compositing AOV named `name` (`albedo`, `lightgroup.key`, ...).
+    pub fn aov(&self, name: &str) -> Option<&AovImage> {
+        self.aovs.iter().find(|a| a.spec.name == name)
+    }
+
+    /// Every image beside the terms, in the order of `aov::AovRequest::aovs`: `error` first,
+    /// then the compositing AOVs, each as (spec, channels of each pixel together).
+    pub fn extra_images(&self) -> Vec<(AovSpec, std::borrow::Cow<'_, [f32]>)> {
+        let error: Vec<f32> = self.error.data.iter().flatten().copied().collect();
+        let spec = AovSpec {
+            name: super::aov::ERROR_AOV.to_string(),
+            pass_name: super::aov::ERROR_PASS.to_string(),
+            kind: super::aov::AovKind::Color,
+        };
+        std::iter::once((spec, std::borrow::Cow::Owned(error)))
+            .chain(self.aovs.iter().map(|a| {
+                (
+                    a.spec.clone(),
+                    std::borrow::Cow::Borrowed(a.data.as_slice()),
+                )
+            }))
+            .collect()
     }
 
     pub fn set_pixel(&mut self, x: usize, y: usize, value: &TermRadiance) {

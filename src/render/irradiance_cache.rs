@@ -11,6 +11,7 @@
 //! images do not depend on the thread count.
 
 use crate::math::Spectrum;
+use crate::render::lightgroups::Split;
 use crate::render::terms::indirect::HemisphereGather;
 use glam::Vec3;
 use std::collections::HashMap;
@@ -24,6 +25,9 @@ pub struct Record {
     pub r: f32,
     pub grad_r: [Vec3; 3],
     pub grad_t: [Vec3; 3],
+    /// With light groups: each group's fraction of `irradiance`, per channel (empty
+    /// without groups).
+    pub groups: Vec<Spectrum>,
 }
 
 impl Record {
@@ -51,6 +55,7 @@ impl Record {
             r,
             grad_r: g.grad_r,
             grad_t: g.grad_t.map(|v| v * scale),
+            groups: Vec::new(),
         }
     }
 }
@@ -111,29 +116,37 @@ impl IrradianceCache {
         self.records.push(rec);
     }
 
-    /// Interpolated irradiance at `p` with normal `n`, or None when no record is close enough.
-    pub fn lookup(&self, p: Vec3, n: Vec3) -> Option<Spectrum> {
+    /// The weight of record `rec` at `p` with normal `n` (Ward's 1 / error, capped at 1e6),
+    /// or None when it does not apply there.
+    #[inline]
+    fn weight(&self, rec: &Record, p: Vec3, n: Vec3) -> Option<f32> {
+        let d = p - rec.p;
+        // A record in front of the point does not see the same surroundings.
+        if d.dot((n + rec.n) * 0.5) < -0.05 * rec.r {
+            return None;
+        }
+        let cos = n.dot(rec.n);
+        if cos <= 0.0 {
+            return None;
+        }
+        let err = d.length() / rec.r + (1.0 - cos).max(0.0).sqrt();
+        let w = if err > 0.0 { 1.0 / err } else { f32::INFINITY };
+        (w > 1.0 / self.tolerance).then(|| w.min(1e6))
+    }
+
+    /// Interpolated irradiance at `p` with normal `n`, or None when no record is close
+    /// enough. With `split`, each light group's share goes to it: the irradiance split by
+    /// the records' group fractions, interpolated with the same weights.
+    pub fn lookup(&self, p: Vec3, n: Vec3, split: Option<&mut Split>) -> Option<Spectrum> {
         let list = self.grid.get(&self.key(p))?;
-        let min_w = 1.0 / self.tolerance;
         let mut sum = Spectrum::ZERO;
         let mut wsum = 0.0f32;
         for &i in list {
             let rec = &self.records[i as usize];
+            let Some(w) = self.weight(rec, p, n) else {
+                continue;
+            };
             let d = p - rec.p;
-            // A record in front of the point does not see the same surroundings.
-            if d.dot((n + rec.n) * 0.5) < -0.05 * rec.r {
-                continue;
-            }
-            let cos = n.dot(rec.n);
-            if cos <= 0.0 {
-                continue;
-            }
-            let err = d.length() / rec.r + (1.0 - cos).max(0.0).sqrt();
-            let w = if err > 0.0 { 1.0 / err } else { f32::INFINITY };
-            if w <= min_w {
-                continue;
-            }
-            let w = w.min(1e6);
             let rot = rec.n.cross(n);
             let mut e = rec.irradiance;
             for c in 0..3 {
@@ -142,6 +155,18 @@ impl IrradianceCache {
             sum += e.max(Spectrum::ZERO) * w;
             wsum += w;
         }
-        (wsum > 0.0).then(|| sum / wsum)
+        if !(wsum > 0.0) {
+            return None;
+        }
+        let e = sum / wsum;
+        if let Some(sp) = split {
+            for &i in list {
+                let rec = &self.records[i as usize];
+                if let Some(w) = self.weight(rec, p, n) {
+                    sp.add_fractions(e * (w / wsum), &rec.groups);
+                }
+            }
+        }
+        Some(e)
     }
 }

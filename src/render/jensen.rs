@@ -6,6 +6,7 @@
 use super::adaptive::{Adaptive, AdaptiveStats};
 use super::budget::BudgetStats;
 use super::cache_fill;
+use super::compositing::SampleAovs;
 use super::driver::{first_round_noise, Integrator, Rect, Schedule};
 use super::eye::{self, EyeCtx, EyeSettings};
 use super::film::{Film, TermRadiance};
@@ -54,8 +55,12 @@ impl Integrator for Jensen<'_> {
         _extra: &mut (),
         _k: u32,
         scratch: &mut KnnScratch,
+        aovs: &mut SampleAovs,
     ) -> (TermRadiance, Spectrum) {
-        (eye::trace(&self.ctx, ray, rng, scratch), Spectrum::ZERO)
+        (
+            eye::trace(&self.ctx, ray, rng, scratch, aovs),
+            Spectrum::ZERO,
+        )
     }
 }
 

@@ -11,7 +11,7 @@
 //! any order, on any machine, to the same bits.
 //!
 //! **The key.** A set is keyed by a hash (64-bit FNV-1a, [`keys`]) of the geometry (meshes,
-//! instances), materials and textures, lights and environment, media, the photon settings
+//! instances), materials and textures, lights and environment (and light groups), media, the photon settings
 //! (counts, gather, radius, final gathering and cache, bounces, power encoding, mode, terms,
 //! specular depth), the seed and the version of the renderer and of the file format. Not the
 //! camera nor the film. Each part's own hash is stored too, so that a mismatch says what
@@ -195,6 +195,8 @@ pub fn key_parts(desc: &SceneDesc, s: &RenderSettings) -> KeyParts {
         lights: part(&|h| {
             json(h, &desc.lights);
             json(h, &desc.environment);
+            // Photons carry their light's group.
+            json(h, &desc.lightgroups);
         }),
         media: part(&|h| {
             json(h, &desc.media);
@@ -333,6 +335,9 @@ fn write_map(w: &mut Writer, map: &Option<PhotonMap>) {
             for p in points {
                 w.buf.extend_from_slice(&p.to_le_bytes());
             }
+            let (groups, fractions) = irr.group_parts();
+            w.u64(groups as u64);
+            write_spectra(w, fractions);
         }
         None => w.u8(0),
     }
@@ -375,12 +380,16 @@ fn read_map(r: &mut Reader) -> Result<Option<PhotonMap>> {
         let max_r2 = r.f32("irradiance radius")?;
         let n = r.count(20, "irradiance points")?;
         let b = r.take(n * 20, "irradiance points")?;
-        Some(IrradianceMap::from_parts(
-            b.chunks_exact(20)
-                .map(IrradiancePoint::from_le_bytes)
-                .collect(),
-            max_r2,
-        ))
+        let points: Vec<IrradiancePoint> = b
+            .chunks_exact(20)
+            .map(IrradiancePoint::from_le_bytes)
+            .collect();
+        let groups = r.u64("irradiance light groups")? as usize;
+        let fractions = read_spectra(r, "irradiance light-group fractions")?;
+        if fractions.len() != points.len().saturating_mul(groups) {
+            return Err(r.corrupt("the irradiance points' light-group fractions do not match"));
+        }
+        Some(IrradianceMap::from_parts(points, max_r2, groups, fractions))
     } else {
         None
     };
@@ -393,7 +402,8 @@ fn read_map(r: &mut Reader) -> Result<Option<PhotonMap>> {
     }))
 }
 
-/// Floats per irradiance-cache record: position, normal, irradiance, radius, gradients.
+/// Floats per irradiance-cache record: position, normal, irradiance, radius, gradients
+/// (then its light groups' fractions, counted).
 const RECORD_FLOATS: usize = 3 + 3 + 3 + 1 + 9 + 9;
 
 fn write_record(w: &mut Writer, rec: &Record) {
@@ -409,6 +419,26 @@ fn write_record(w: &mut Writer, rec: &Record) {
     for g in rec.grad_r.iter().chain(&rec.grad_t) {
         v3(w, *g);
     }
+    write_spectra(w, &rec.groups);
+}
+
+/// A count, then RGB `f32`s.
+fn write_spectra(w: &mut Writer, v: &[Spectrum]) {
+    w.u64(v.len() as u64);
+    for s in v {
+        w.f32(s.x);
+        w.f32(s.y);
+        w.f32(s.z);
+    }
+}
+
+fn read_spectra(r: &mut Reader, field: &str) -> Result<Vec<Spectrum>> {
+    let n = r.count(12, field)?;
+    let b = r.take(n * 12, field)?;
+    let f = |c: &[u8]| f32::from_le_bytes([c[0], c[1], c[2], c[3]]);
+    Ok(b.chunks_exact(12)
+        .map(|c| Spectrum::new(f(&c[0..4]), f(&c[4..8]), f(&c[8..12])))
+        .collect())
 }
 
 fn read_record(r: &mut Reader) -> Result<Record> {
@@ -434,6 +464,7 @@ fn read_record(r: &mut Reader) -> Result<Record> {
         r: radius,
         grad_r: [g[0], g[1], g[2]],
         grad_t: [g[3], g[4], g[5]],
+        groups: read_spectra(r, "cache record light groups")?,
     })
 }
 

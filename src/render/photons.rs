@@ -258,7 +258,8 @@ pub fn build_volume_points(
     const SALT: u64 = 0x766f_6c5f_7074;
     let t0 = std::time::Instant::now();
     let isotropic = scene.media.iter().any(|m| m.phase().g == 0.0);
-    if !s.volume_points {
+    // Points hold the total radiance only; a render split by light group reads the map.
+    if !s.volume_points || !scene.light_groups.is_empty() {
         return 0.0;
     }
     let Some(vm) = maps.volume.as_ref().filter(|_| isotropic) else {

@@ -38,6 +38,7 @@
 //! pixel on its own stream, so the sums are bit-identical for any thread count too.
 
 use super::aov::Term;
+use super::compositing::NO_AOVS;
 use super::error_aov::{Shifts, REPLICATES};
 use super::eye::{self, EyeCtx, EyeSettings, VisiblePoint};
 use super::film::{Film, TermRadiance};
@@ -639,7 +640,14 @@ impl Renderer<'_> {
                     );
                     vps.clear();
                     let mut record = |vp: VisiblePoint| vps.push(vp);
-                    eye::trace_split(&ctx, ray, &mut rng, scratch, Some(&mut record));
+                    eye::trace_split(
+                        &ctx,
+                        ray,
+                        &mut rng,
+                        scratch,
+                        Some(&mut record),
+                        &mut NO_AOVS.sample(),
+                    );
                     let vp = vps.first()?;
                     let found = global.tree.knn(vp.p, k, max_r2, scratch);
                     (found.len() >= k)
@@ -777,8 +785,14 @@ impl Renderer<'_> {
                             eye::camera_ray(self.scene, &s.filter, x, y, shifts.point(k), &mut rng);
                         vps.clear();
                         let mut record = |vp: VisiblePoint| vps.push(vp);
-                        let mut l =
-                            eye::trace_split(&ctx, ray, &mut rng, scratch, Some(&mut record));
+                        let mut l = eye::trace_split(
+                            &ctx,
+                            ray,
+                            &mut rng,
+                            scratch,
+                            Some(&mut record),
+                            &mut NO_AOVS.sample(),
+                        );
                         if let Some(global) = &maps.global {
                             let p = gather(global, vps, r2, &ctx);
                             for t in Term::ALL {
@@ -822,6 +836,7 @@ impl Renderer<'_> {
         start: Instant,
     ) -> Result<RenderOutput> {
         let s = &self.settings;
+        super::compositing::require_none(self.scene, s, "pppm's passes")?;
         let t0 = Instant::now();
         let (r1, source) = match s.pppm_initial_radius {
             Some(r) => (r, "given"),

@@ -6,6 +6,7 @@
 
 use super::aov::Term;
 use super::budget;
+use super::compositing::AovLayout;
 use super::driver::CameraPass;
 use super::film::Film;
 use super::memory::MemoryEstimate;
@@ -68,6 +69,8 @@ pub struct Renderer<'a> {
     pub(super) key_parts: Option<super::map_file::KeyParts>,
     /// Jensen's mode: build the photon maps and the irradiance cache only.
     pub(super) maps_only: bool,
+    /// The compositing AOVs of the render (set when it starts, from the settings).
+    pub(super) aovs: AovLayout,
 }
 
 impl<'a> Renderer<'a> {
@@ -85,6 +88,7 @@ impl<'a> Renderer<'a> {
             keep_maps: false,
             key_parts: None,
             maps_only: false,
+            aovs: AovLayout::none(),
         }
     }
     /// The parts of the photon-map key, stored with kept maps (see `map_file::KeyParts`).
@@ -166,6 +170,7 @@ impl<'a> Renderer<'a> {
         driver.cancel = self.cancel();
         driver.preview = self.preview.as_deref();
         driver.output_time = self.output_time.as_deref();
+        driver.aovs = &self.aovs;
         driver
     }
 
@@ -195,8 +200,9 @@ impl<'a> Renderer<'a> {
         [need_global, need_caustic, need_volume]
     }
 
-    pub fn render(self) -> Result<RenderOutput> {
+    pub fn render(mut self) -> Result<RenderOutput> {
         let start = Instant::now();
+        self.aovs = AovLayout::new(self.scene, &self.settings, &self.scene.light_groups);
         let s = &self.settings;
         if let Some(b) = s.time_budget {
             budget::check_budget(b).map_err(|message| Error::InvalidSetting {

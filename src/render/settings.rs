@@ -1,6 +1,6 @@
 //! Render settings and the quality presets shared by the CLI, the Python API and Blender.
 
-use super::aov::TermMask;
+use super::aov::{AovRequest, TermMask};
 use super::film::Filter;
 use serde::{Deserialize, Serialize};
 
@@ -223,6 +223,9 @@ pub const SPPM_ALPHA: f32 = 0.7;
 /// 35% less error than 100 at equal time.
 pub const SPPM_INITIAL_PHOTONS: usize = 20;
 
+/// Cryptomatte ranks per pixel by default: the specification's suggested 6 (three layers).
+pub const CRYPTOMATTE_LEVELS: u32 = 6;
+
 /// Everything a render is asked to do. The stats of a render record it (`settings`).
 #[derive(Clone, Debug, Serialize)]
 pub struct RenderSettings {
@@ -270,6 +273,8 @@ pub struct RenderSettings {
     pub pass_range: Option<(u32, u32)>,
     /// Jensen's mode: photon maps saved to and loaded from files (`render::map_file`).
     pub photon_map_files: super::map_file::MapFiles,
+    /// The optional AOVs: denoising guides, noisy terms, Cryptomatte (`aov::AovRequest`).
+    pub aovs: AovRequest,
 }
 
 impl Default for RenderSettings {
@@ -296,6 +301,10 @@ impl Default for RenderSettings {
             pppm_initial_radius: None,
             pass_range: None,
             photon_map_files: Default::default(),
+            aovs: AovRequest {
+                cryptomatte_levels: CRYPTOMATTE_LEVELS,
+                ..AovRequest::default()
+            },
         }
     }
 }

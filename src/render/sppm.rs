@@ -38,6 +38,7 @@
 
 use super::aov::Term;
 use super::budget::BudgetStats;
+use super::compositing::SampleAovs;
 use super::driver::{Integrator, Pixel, Schedule};
 use super::error_aov::Replicates;
 use super::eye::{self, EyeCtx, EyeSettings, VisiblePoint};
@@ -52,7 +53,7 @@ use super::terms::volume::MarchSettings;
 use crate::error::{Error, Result};
 use crate::geometry::Ray;
 use crate::math::{is_finite3, Spectrum, PI};
-use crate::photon::map::PhotonMap;
+use crate::photon::map::{group_of, PhotonMap};
 use crate::photon::KnnScratch;
 use crate::sampling::{mix64, Rng};
 use serde::Serialize;
@@ -82,6 +83,8 @@ pub struct SppmStats {
 struct Radius {
     /// Accumulated photon flux per term (τ), at the current radius.
     tau: TermRadiance,
+    /// With light groups, the same flux per group (the photons' groups); empty without.
+    tau_groups: Vec<Spectrum>,
     /// Squared search radius; 0 until the pixel first reaches a visible point.
     r2: f32,
     initial_r2: f32,
@@ -161,6 +164,7 @@ impl Integrator for Sppm<'_> {
         px: &mut Radius,
         k: u32,
         (scratch, vps): &mut Self::Scratch,
+        aovs: &mut SampleAovs,
     ) -> (TermRadiance, Spectrum) {
         let r = self.renderer;
         let s = &r.settings;
@@ -179,9 +183,18 @@ impl Integrator for Sppm<'_> {
         };
         vps.clear();
         let mut record = |vp: VisiblePoint| vps.push(vp);
-        let l = eye::trace_split(&ctx, ray, rng, scratch, Some(&mut record));
+        let l = eye::trace_split(&ctx, ray, rng, scratch, Some(&mut record), aovs);
         let photons = match &pass.maps.global {
-            Some(global) => gather(k, global, &pass.maps, vps, px, s, scratch),
+            Some(global) => gather(
+                k,
+                global,
+                &pass.maps,
+                vps,
+                px,
+                s,
+                scratch,
+                r.scene.light_groups.len(),
+            ),
             None => Spectrum::ZERO,
         };
         (l, photons)
@@ -201,6 +214,17 @@ impl Integrator for Sppm<'_> {
             v.0[t.index()] = px.acc.0[t.index()] / k + photon;
         }
         (v, total_error(&px.batches, &x.bias))
+    }
+
+    /// Each light group's photon flux, τ_g / (π R² K), beside the means of its eye terms.
+    fn resolve_groups(&self, px: &Pixel<Radius>, passes: u32, groups: &mut [Spectrum]) {
+        let x = &px.extra;
+        if x.r2 > 0.0 {
+            let k = passes.max(1) as f32;
+            for (g, tau) in groups.iter_mut().zip(&x.tau_groups) {
+                *g += *tau / (PI * x.r2 * k);
+            }
+        }
     }
 }
 
@@ -297,6 +321,7 @@ fn gather(
     px: &mut Radius,
     s: &RenderSettings,
     scratch: &mut KnnScratch,
+    groups: usize,
 ) -> Spectrum {
     let Some(first) = vps.first() else {
         return Spectrum::ZERO;
@@ -313,6 +338,7 @@ fn gather(
     }
     let r2 = px.r2;
     let mut phi = TermRadiance::default();
+    let mut phi_groups = vec![Spectrum::ZERO; groups];
     let mut phi_inner = Spectrum::ZERO;
     let mut m = 0u32;
     for vp in vps {
@@ -327,6 +353,9 @@ fn gather(
             let c = vp.beta * vp.bsdf.eval(vp.wo, wi) * ph.power();
             if is_finite3(c) {
                 phi.add(t, c);
+                if let Some(g) = phi_groups.get_mut(group_of(ph.user_flags())) {
+                    *g += c;
+                }
                 m += 1;
                 if 2.0 * d2 <= r2 {
                     phi_inner += c;
@@ -349,6 +378,10 @@ fn gather(
         for t in Term::ALL {
             let i = t.index();
             px.tau.0[i] = (px.tau.0[i] + phi.0[i]) * ratio;
+        }
+        px.tau_groups.resize(groups, Spectrum::ZERO);
+        for (tau, p) in px.tau_groups.iter_mut().zip(&phi_groups) {
+            *tau = (*tau + *p) * ratio;
         }
     }
     pass_estimate

@@ -41,6 +41,9 @@ pub struct RenderStats {
     pub non_finite_samples: u64,
     /// Approximate bytes held by the render (film and scene geometry).
     pub memory_bytes: u64,
+    /// Of `memory_bytes`, the compositing AOVs (`render::compositing`): their images and
+    /// each pixel's sums; 0 when none were asked for.
+    pub aov_memory_bytes: u64,
     /// The estimate checked against the memory limit before the photon pass.
     pub memory_estimate: MemoryEstimate,
     /// Bytes per stored photon in the estimate.
@@ -68,6 +71,10 @@ pub struct RenderStats {
     pub adaptive: Option<AdaptiveStats>,
     /// Work done per kind (march steps, volume and caustic map lookups).
     pub work: crate::render::work::WorkStats,
+    /// What denoised the terms (filter, version, binding, terms, seconds), set by the front
+    /// end that ran the denoiser; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub denoise: Option<serde_json::Value>,
     /// The settings the render was given (a budgeted render's plan is under `time_budget`).
     pub settings: RenderSettings,
     /// The same settings as the render keywords and flags name them (`render::options`):
@@ -161,10 +168,14 @@ impl Renderer<'_> {
             irradiance_cache_records: p.irradiance_cache_records,
             skipped: p.skipped,
             non_finite_samples: p.non_finite_samples,
-            // The film: one image per term and the error AOV, RGB f32.
+            // The film: one image per term and the error AOV, RGB f32, and the compositing
+            // AOVs.
             memory_bytes: (p.width * p.height * (Term::COUNT + 1) * 12) as u64
                 + self.scene.triangle_count as u64 * 64
-                + photon_bytes,
+                + photon_bytes
+                + self.aovs.memory_bytes(p.width, p.height),
+            aov_memory_bytes: self.aovs.memory_bytes(p.width, p.height),
+            denoise: None,
             memory_estimate: p.estimate,
             bytes_per_photon: s.photons.bytes_per_photon(),
             bytes_per_triangle: BYTES_PER_TRIANGLE,

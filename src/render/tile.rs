@@ -112,6 +112,7 @@ pub fn decode_pixels(bytes: &[u8], n: usize) -> Result<Vec<Pixel<()>>> {
             rng,
             acc,
             batches: Replicates::from_parts(sums, counts),
+            aovs: Default::default(),
             extra: (),
         });
     }
@@ -240,6 +241,7 @@ impl Renderer<'_> {
                     .into(),
             });
         }
+        super::compositing::require_none(self.scene, s, "tiles")?;
         if !rect.fits(self.scene.width, self.scene.height) {
             return Err(Error::InvalidSetting {
                 setting: "tile".into(),

@@ -44,6 +44,16 @@ pub struct Scene {
     /// Media containing the camera, and each light's position (lights at infinity: none).
     pub camera_stack: crate::media::MediumStack,
     pub light_stacks: Vec<crate::media::MediumStack>,
+    /// The object name of each instance of the acceleration structure (Cryptomatte object
+    /// mattes): its `object`, else its `name`, else `mesh<i>` / `instance<i>`.
+    pub instance_names: Vec<String>,
+    /// Each material's name (Cryptomatte material mattes), else `material<i>`.
+    pub material_names: Vec<String>,
+    /// The light groups' names (`SceneDesc::lightgroups`, then `default` when some emitter
+    /// is in none); empty without groups.
+    pub light_groups: Vec<String>,
+    /// Per light, the index of its group in `light_groups` (all 0 without groups).
+    pub light_group: Vec<u8>,
 }
 
 /// What a ray found first. Analytic lights are not surfaces: they never occlude, and rays
@@ -92,6 +102,30 @@ impl Scene {
         let mut meshes = Vec::with_capacity(desc.meshes.len());
         let mut instances = Vec::new();
         let mut instance_medium = Vec::new();
+        let mut instance_names = Vec::new();
+        // The light group of each instance's emissive triangles.
+        let mut instance_group: Vec<Option<u8>> = Vec::new();
+        let group_of = |kind: &str, index: usize| -> Option<u8> {
+            desc.lightgroups
+                .iter()
+                .position(|g| {
+                    let list = match kind {
+                        "lights" => &g.lights,
+                        "meshes" => &g.meshes,
+                        _ => &g.instances,
+                    };
+                    list.contains(&(index as u32))
+                })
+                .map(|i| i as u8)
+        };
+        let named = |object: &Option<String>, name: &str, fallback: String| match object
+            .as_deref()
+            .filter(|o| !o.is_empty())
+        {
+            Some(o) => o.to_string(),
+            None if !name.is_empty() => name.to_string(),
+            None => fallback,
+        };
         for (i, m) in desc.meshes.iter().enumerate() {
             meshes.push(mesh_geom(m));
             let t = Transform::from_rows(&m.transform).unwrap_or_default();
@@ -101,9 +135,14 @@ impl Scene {
                     transform: t,
                 });
                 instance_medium.push(m.interior_medium);
+                instance_names.push(named(&m.object, &m.name, format!("mesh{i}")));
+                instance_group.push(group_of("meshes", i));
             }
         }
-        for inst in &desc.instances {
+        for (j, inst) in desc.instances.iter().enumerate() {
+            instance_names.push(named(&inst.object, &inst.name, format!("instance{j}")));
+            instance_group
+                .push(group_of("instances", j).or_else(|| group_of("meshes", inst.mesh as usize)));
             instance_medium.push(desc.meshes[inst.mesh as usize].interior_medium);
             let mesh_t = Transform::from_rows(&desc.meshes[inst.mesh as usize].transform)
                 .unwrap_or_default();
@@ -124,8 +163,11 @@ impl Scene {
         let mut bounds = accel.bounds();
 
         let mut lights = Vec::new();
-        for l in &desc.lights {
+        // Each light's group; `None` = the default group.
+        let mut groups: Vec<Option<u8>> = Vec::new();
+        for (i, l) in desc.lights.iter().enumerate() {
             lights.push(light_from_desc(l));
+            groups.push(group_of("lights", i));
         }
         for l in &lights {
             match l {
@@ -156,6 +198,7 @@ impl Scene {
                     None => [Vec2::ZERO, Vec2::X, Vec2::Y],
                 };
                 emissive.insert((ii as u32, prim as u32), lights.len() as u32);
+                groups.push(instance_group[ii]);
                 lights.push(Light::Triangle(TriangleLight::new(
                     v,
                     uv,
@@ -170,6 +213,12 @@ impl Scene {
             let scale = Vec3::from(env.color) * env.strength;
             let t = Transform::from_rows(&env.transform).unwrap_or_default();
             lights.push(Light::Environment(EnvironmentLight::new(scale, tex, t)));
+            groups.push(
+                desc.lightgroups
+                    .iter()
+                    .position(|g| g.environment)
+                    .map(|i| i as u8),
+            );
         }
         let ctx = LightCtx {
             materials: &materials,
@@ -224,7 +273,20 @@ impl Scene {
             instance_medium,
             camera_stack: Default::default(),
             light_stacks: Vec::new(),
+            instance_names,
+            light_groups: Vec::new(),
+            light_group: Vec::new(),
+            material_names: desc
+                .materials
+                .iter()
+                .enumerate()
+                .map(|(i, m)| match m.name() {
+                    "" => format!("material{i}"),
+                    n => n.to_string(),
+                })
+                .collect(),
         };
+        (scene.light_groups, scene.light_group) = light_groups(desc, &groups);
         scene.camera_stack = scene.medium_stack_at(scene.camera.position());
         scene.light_stacks = scene
             .lights
@@ -291,12 +353,18 @@ impl Scene {
     pub fn background(&self, d: Vec3) -> Spectrum {
         self.infinite_lights
             .iter()
-            .map(|&i| match &self.lights[i as usize] {
-                Light::Environment(e) => e.le(d),
-                Light::Distant(l) => l.le(d),
-                _ => Spectrum::ZERO,
-            })
+            .map(|&i| self.infinite_le(i, d))
             .sum()
+    }
+
+    /// Radiance arriving along an escaping ray of direction `d` from the light at infinity
+    /// `index` (one of `infinite_lights`).
+    pub fn infinite_le(&self, index: u32, d: Vec3) -> Spectrum {
+        match &self.lights[index as usize] {
+            Light::Environment(e) => e.le(d),
+            Light::Distant(l) => l.le(d),
+            _ => Spectrum::ZERO,
+        }
     }
 
     /// Whether any ray can travel through a participating medium.
@@ -304,6 +372,18 @@ impl Scene {
         !self.media.is_empty()
             && (self.world_medium.is_some() || self.instance_medium.iter().any(Option::is_some))
     }
+}
+
+/// The group names and each light's group index: the IR's groups in order, then `default`
+/// for the emitters in none (`aov::light_group_names`). Without groups: no names, every
+/// light 0.
+fn light_groups(desc: &SceneDesc, groups: &[Option<u8>]) -> (Vec<String>, Vec<u8>) {
+    let given: Vec<String> = desc.lightgroups.iter().map(|g| g.name.clone()).collect();
+    let names = crate::render::aov::light_group_names(&given);
+    let default = crate::render::aov::DEFAULT_LIGHTGROUP;
+    let fallback = names.iter().position(|n| n == default).unwrap_or(0);
+    let index = groups.iter().map(|g| g.unwrap_or(fallback as u8)).collect();
+    (names, index)
 }
 
 fn medium_from_desc(m: &MediumDesc) -> Medium {

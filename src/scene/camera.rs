@@ -110,6 +110,13 @@ impl Camera {
     pub fn position(&self) -> Vec3 {
         self.to_world.point(Vec3::ZERO)
     }
+
+    /// World directions to camera space as Cycles writes its denoising normals: x right,
+    /// y up, z away from the camera (a surface facing the camera has z < 0).
+    pub fn world_to_camera(&self) -> glam::Mat3 {
+        let axis = |a: Vec3| self.to_world.vector(a).normalize_or_zero();
+        glam::Mat3::from_cols(axis(Vec3::X), axis(Vec3::Y), -axis(Vec3::Z)).transpose()
+    }
 }
 
 #[cfg(test)]

@@ -72,6 +72,36 @@ pub struct SceneDesc {
     /// Medium filling all space outside mesh media (world fog); the camera starts in it.
     #[serde(default)]
     pub world_medium: Option<u32>,
+    /// Light groups: the render writes one image per group (`lightgroup.<name>`), the light
+    /// of its members alone; the groups sum to the beauty. Emitters in no group form the
+    /// group `default` (when any group is given).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub lightgroups: Vec<LightGroupDesc>,
+}
+
+/// A light group: the emitters whose light its image holds.
+///
+/// | field | meaning |
+/// |---|---|
+/// | `name` | letters, digits, `_` and `-` (it names an EXR layer and a Blender pass) |
+/// | `lights` | indices into `lights` |
+/// | `meshes` | indices into `meshes`: their emissive triangles (every placement of a prototype not named by its instances) |
+/// | `instances` | indices into `instances`: an instance's emissive triangles |
+/// | `environment` | the environment (and distant lights, which are `lights`) |
+///
+/// An emitter belongs to one group at most.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct LightGroupDesc {
+    pub name: String,
+    #[serde(default)]
+    pub lights: Vec<u32>,
+    #[serde(default)]
+    pub meshes: Vec<u32>,
+    #[serde(default)]
+    pub instances: Vec<u32>,
+    #[serde(default)]
+    pub environment: bool,
 }
 
 /// A participating medium (coefficients per unit length of scene units), homogeneous or
@@ -226,6 +256,7 @@ pub enum SensorFit {
 /// | `material` | material of every triangle (index into `materials`) |
 /// | `material_indices` | optional per-triangle material, overrides `material` |
 /// | `transform` | object-to-world |
+/// | `object` | optional object name for Cryptomatte (default `name`) |
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct MeshDesc {
@@ -247,6 +278,10 @@ pub struct MeshDesc {
     /// triangle winding) must point outwards.
     #[serde(default)]
     pub interior_medium: Option<u32>,
+    /// The object's name where compositing names it (Cryptomatte object mattes); default
+    /// `name`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub object: Option<String>,
 }
 
 impl Default for MeshDesc {
@@ -261,6 +296,7 @@ impl Default for MeshDesc {
             material_indices: None,
             transform: IDENTITY,
             interior_medium: None,
+            object: None,
         }
     }
 }
@@ -274,6 +310,21 @@ pub struct InstanceDesc {
     pub mesh: u32,
     #[serde(default = "identity")]
     pub transform: Matrix,
+    /// The object's name where compositing names it (Cryptomatte object mattes); default
+    /// `name`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub object: Option<String>,
+}
+
+impl Default for InstanceDesc {
+    fn default() -> Self {
+        InstanceDesc {
+            name: String::new(),
+            mesh: 0,
+            transform: IDENTITY,
+            object: None,
+        }
+    }
 }
 
 /// Float RGB(A) image, rows from top to bottom, looked up bilinearly by UV

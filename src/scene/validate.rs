@@ -206,6 +206,82 @@ pub fn validate(scene: &SceneDesc) -> Result<()> {
             c.texture_ref("texture", t, scene)?;
         }
     }
+    validate_lightgroups(scene)
+}
+
+/// The most light groups a scene may have (a photon carries its group in 8 bits), the
+/// `default` group included.
+pub const MAX_LIGHTGROUPS: usize = 255;
+
+fn validate_lightgroups(scene: &SceneDesc) -> Result<()> {
+    if scene.lightgroups.len() >= MAX_LIGHTGROUPS {
+        return Err(Error::scene(
+            "/lightgroups",
+            "",
+            format!(
+                "{} light groups, at most {} are supported",
+                scene.lightgroups.len(),
+                MAX_LIGHTGROUPS - 1
+            ),
+        ));
+    }
+    // Which group each member is in so far: (kind, index) -> group.
+    let mut owner: std::collections::HashMap<(&str, u32), usize> = Default::default();
+    for (i, g) in scene.lightgroups.iter().enumerate() {
+        let c = Ctx::new(format!("/lightgroups/{i}"), &g.name);
+        let ok = |ch: char| ch.is_ascii_alphanumeric() || ch == '_' || ch == '-';
+        if g.name.is_empty() || !g.name.chars().all(ok) {
+            return Err(c.err(
+                "name",
+                format!(
+                    "`{}` is not a light group name: letters, digits, `_` and `-` only",
+                    g.name
+                ),
+            ));
+        }
+        if let Some(j) = scene.lightgroups[..i].iter().position(|o| o.name == g.name) {
+            return Err(c.err("name", format!("the same name as /lightgroups/{j}")));
+        }
+        for (kind, list, len) in [
+            ("lights", &g.lights, scene.lights.len()),
+            ("meshes", &g.meshes, scene.meshes.len()),
+            ("instances", &g.instances, scene.instances.len()),
+        ] {
+            for (k, &m) in list.iter().enumerate() {
+                if m as usize >= len {
+                    return Err(c.err(
+                        &format!("{kind}/{k}"),
+                        format!("index {m} out of range ({len} {kind})"),
+                    ));
+                }
+                if let Some(&j) = owner.get(&(kind, m)) {
+                    if j != i {
+                        return Err(c.err(
+                            &format!("{kind}/{k}"),
+                            format!(
+                                "{kind} {m} is already in light group `{}` (/lightgroups/{j}); \
+                                 an emitter belongs to one group at most",
+                                scene.lightgroups[j].name
+                            ),
+                        ));
+                    }
+                }
+                owner.insert((kind, m), i);
+            }
+        }
+        if g.environment {
+            if let Some(&j) = owner.get(&("environment", 0)) {
+                return Err(c.err(
+                    "environment",
+                    format!(
+                        "the environment is already in light group `{}` (/lightgroups/{j})",
+                        scene.lightgroups[j].name
+                    ),
+                ));
+            }
+            owner.insert(("environment", 0), i);
+        }
+    }
     Ok(())
 }
 

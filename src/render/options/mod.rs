@@ -11,11 +11,13 @@
 //! takes its default: for the preset fields (`preset: true`) the quality preset's value.
 
 use crate::error::{Error, Result};
+use crate::render::aov::AovRequest;
 use crate::render::budget::check_budget;
 use crate::render::film::Filter;
 use crate::render::map_file::OnMismatch;
 use crate::render::settings::{
-    available_memory, Quality, RenderMode, RenderSettings, SPPM_ALPHA, SPPM_INITIAL_PHOTONS,
+    available_memory, Quality, RenderMode, RenderSettings, CRYPTOMATTE_LEVELS, SPPM_ALPHA,
+    SPPM_INITIAL_PHOTONS,
 };
 use clap::{Args, FromArgMatches};
 use serde::{Deserialize, Serialize};
@@ -245,6 +247,29 @@ render_options! {
     #[arg(long, value_enum, default_value_t = OnMismatch::Error)]
     #[schema(label: "On Mismatch", group: Group::Photons, modes: &[RenderMode::Jensen])]
     pub photon_maps_mismatch: OnMismatch,
+    /// Write the denoising guides: `albedo` (the reflectance of the first non-specular
+    /// surface, seen through perfect mirrors and glass) and `normal` (its normal, in camera
+    /// space), as Open Image Denoise and Blender's Denoise node expect them.
+    #[arg(long)]
+    #[schema(label: "Denoising Data", group: Group::Passes)]
+    pub denoising_data: bool,
+    /// Denoise with Open Image Denoise (the Python package with its `denoise` extra: pip
+    /// install photonmap[denoise]), guided by `albedo` and `normal`: each noisy term on its
+    /// own, the beauty their sum; the noisy terms are kept as `<term>_noisy`.
+    #[arg(long)]
+    #[schema(label: "Denoise", group: Group::Passes)]
+    pub denoise: bool,
+    /// Cryptomatte mattes to write: off, object, material or both (`CryptoObject00`, ...,
+    /// with the manifest in the EXR metadata).
+    #[arg(long, value_enum, default_value_t = Cryptomatte::Off)]
+    #[schema(label: "Cryptomatte", group: Group::Passes)]
+    pub cryptomatte: Cryptomatte,
+    /// Cryptomatte ranks per pixel: the most objects (or materials) a pixel's matte tells
+    /// apart; two per layer.
+    #[arg(long, default_value_t = CRYPTOMATTE_LEVELS)]
+    #[schema(label: "Cryptomatte Levels", group: Group::Passes, min: Some(1.0),
+             max: Some(16.0))]
+    pub cryptomatte_levels: u32,
 }
 
 /// The progressive modes.
@@ -328,6 +353,10 @@ impl RenderOptions {
             save_photon_maps: s.photon_map_files.save.clone(),
             load_photon_maps: s.photon_map_files.load.clone(),
             photon_maps_mismatch: s.photon_map_files.on_mismatch,
+            denoising_data: s.aovs.denoising_data,
+            denoise: s.aovs.denoise,
+            cryptomatte: s.aovs.cryptomatte,
+            cryptomatte_levels: s.aovs.cryptomatte_levels,
         }
     }
 
@@ -429,6 +458,12 @@ impl RenderOptions {
                 .clone()
                 .filter(|p| !p.as_os_str().is_empty()),
             on_mismatch: self.photon_maps_mismatch,
+        };
+        s.aovs = AovRequest {
+            denoising_data: self.denoising_data,
+            denoise: self.denoise,
+            cryptomatte: self.cryptomatte,
+            cryptomatte_levels: self.cryptomatte_levels,
         };
         s
     }

@@ -1,6 +1,7 @@
 //! The schema's vocabulary: what kind of value a setting takes, its choices, its range and
 //! panel ([`Spec`]), and the value types of the settings that are not plain numbers.
 
+pub use crate::render::aov::Cryptomatte;
 use crate::render::budget::check_budget;
 use crate::render::film::Filter;
 use crate::render::map_file::OnMismatch;
@@ -117,7 +118,14 @@ macro_rules! enumerated {
         }
     )*};
 }
-enumerated!(Quality, RenderMode, FilterName, PhotonPower, OnMismatch);
+enumerated!(
+    Quality,
+    RenderMode,
+    FilterName,
+    PhotonPower,
+    OnMismatch,
+    Cryptomatte
+);
 
 /// Pixel reconstruction filters by name (their widths are the core's).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, ValueEnum)]
@@ -207,6 +215,8 @@ pub enum Group {
     Quality,
     Photons,
     Gathering,
+    /// The optional AOVs (compositing passes) and denoising.
+    Passes,
 }
 
 /// What the schema says of one setting besides its type, documentation and default.

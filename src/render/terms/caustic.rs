@@ -4,31 +4,39 @@
 use crate::geometry::SurfaceInteraction;
 use crate::materials::bsdf::Bsdf;
 use crate::math::Spectrum;
-use crate::photon::map::{EstimateFilter, Select};
+use crate::photon::map::{EstimateFilter, GroupShare, Select};
 use crate::photon::KnnScratch;
+use crate::render::lightgroups::Split;
 use crate::render::photons::PhotonMaps;
 
 /// Jensen's cone-filter constant.
 pub const CONE_K: f32 = 1.1;
 
+/// The caustic radiance at `si`; each light group's share (the photons' groups) goes to
+/// `split`.
 pub fn estimate(
     maps: &PhotonMaps,
     si: &SurfaceInteraction,
     bsdf: &Bsdf,
     scratch: &mut KnnScratch,
+    split: Option<&mut Split>,
 ) -> Spectrum {
     match &maps.caustic {
-        Some(m) => m.radiance(
-            si.p,
-            si.ng,
-            si.wo,
-            bsdf,
-            maps.gather,
-            maps.caustic_r2,
-            EstimateFilter::Cone { k: CONE_K },
-            Select::ALL,
-            scratch,
-        ),
+        Some(m) => {
+            let mut share = split.map(|sp| move |g: usize, v: Spectrum| sp.add(g, v));
+            m.radiance(
+                si.p,
+                si.ng,
+                si.wo,
+                bsdf,
+                maps.gather,
+                maps.caustic_r2,
+                EstimateFilter::Cone { k: CONE_K },
+                Select::ALL,
+                scratch,
+                share.as_mut().map(|f| f as GroupShare),
+            )
+        }
         None => Spectrum::ZERO,
     }
 }
@@ -92,7 +100,7 @@ mod tests {
 
     fn at(sc: &Scene, maps: &PhotonMaps, x: f32) -> f32 {
         let (si, bsdf) = testing::hit_below(sc, x);
-        estimate(maps, &si, &bsdf, &mut KnnScratch::default()).x
+        estimate(maps, &si, &bsdf, &mut KnnScratch::default(), None).x
     }
 
     #[test]

@@ -8,6 +8,7 @@ use crate::geometry::SurfaceInteraction;
 use crate::materials::bsdf::{Bsdf, LobeFlags};
 use crate::math::Spectrum;
 use crate::media::MediumStack;
+use crate::render::lightgroups::Split;
 use crate::sampling::Rng;
 use crate::scene::{LightHit, Scene, SceneHit};
 
@@ -23,15 +24,17 @@ fn power_heuristic(a: f32, b: f32) -> f32 {
     }
 }
 
-/// Direct light reflected at `si` towards `si.wo`, with one sample of each light.
+/// Direct light reflected at `si` towards `si.wo`, with one sample of each light; each light
+/// group's share goes to `split`.
 pub fn estimate(
     scene: &Scene,
     si: &SurfaceInteraction,
     bsdf: &Bsdf,
     stack: &MediumStack,
     rng: &mut Rng,
+    split: Option<&mut Split>,
 ) -> Spectrum {
-    estimate_with(scene, si, bsdf, stack, 1, rng)
+    estimate_with(scene, si, bsdf, stack, 1, rng, split)
 }
 
 /// As [`estimate`], with `samples` samples of the environment (other lights take one);
@@ -47,6 +50,7 @@ pub fn estimate_with(
     stack: &MediumStack,
     samples: u32,
     rng: &mut Rng,
+    mut split: Option<&mut Split>,
 ) -> Spectrum {
     let samples = samples.max(1);
     let samples_of = |i: usize| {
@@ -105,7 +109,11 @@ pub fn estimate_with(
                 } else {
                     power_heuristic(pdf, bsdf.pdf(wo, ls.wi))
                 };
-                l += f * ls.li * tr * (w / pdf);
+                let c = f * ls.li * tr * (w / pdf);
+                l += c;
+                if let Some(sp) = split.as_mut() {
+                    sp.add_light(scene, li_idx as u32, c);
+                }
             }
         }
     });
@@ -130,13 +138,20 @@ pub fn estimate_with(
                         * samples_of(lh.index as usize)
                         * light.pdf_li(si.p, n_ref, bs.wi, lh.p, lh.n);
                     let le = scene.light_le(lh.index, bs.wi);
-                    from_lights += le * tr * power_heuristic(bs.pdf, pdf);
+                    let c = le * tr * power_heuristic(bs.pdf, pdf);
+                    from_lights += c;
+                    if let Some(sp) = split.as_mut() {
+                        sp.add_light(scene, lh.index, bs.weight * c);
+                    }
                 }),
             );
             l += bs.weight * from_lights;
+            // The emitter the ray reached: a triangle light, or the lights at infinity.
+            let mut reached = None;
             let (le, light_pdf) = match hit {
                 SceneHit::Surface(hit) => match scene.emissive.get(&(hit.instance, hit.prim)) {
                     Some(&index) => {
+                        reached = Some(index);
                         let light = &scene.lights[index as usize];
                         let pdf = scene.light_sampler.next_event_pmf(index as usize)
                             * samples_of(index as usize)
@@ -161,7 +176,18 @@ pub fn estimate_with(
                 }
             };
             if le.max_element() > 0.0 {
-                l += bs.weight * le * tr * power_heuristic(bs.pdf, light_pdf);
+                let w = bs.weight * tr * power_heuristic(bs.pdf, light_pdf);
+                l += w * le;
+                if let Some(sp) = split.as_mut() {
+                    match reached {
+                        Some(index) => sp.add_light(scene, index, w * le),
+                        None => {
+                            for &i in &scene.infinite_lights {
+                                sp.add_light(scene, i, w * scene.infinite_le(i, bs.wi));
+                            }
+                        }
+                    }
+                }
             }
         }
     }
@@ -208,7 +234,7 @@ mod tests {
         let n = 64;
         let mut sum = Spectrum::ZERO;
         for _ in 0..n {
-            sum += estimate(scene, &si, &bsdf, &stack, &mut rng);
+            sum += estimate(scene, &si, &bsdf, &stack, &mut rng, None);
         }
         sum / n as f32
     }
@@ -273,7 +299,7 @@ mod tests {
         let expected = bulbs_closed_form(2, 40.0, 0.3);
         let mut rng = Rng::new(4, 0);
         for _ in 0..16 {
-            let got = estimate(&sc, &si, &bsdf, &sc.camera_stack, &mut rng).x;
+            let got = estimate(&sc, &si, &bsdf, &sc.camera_stack, &mut rng, None).x;
             assert!(
                 (got / expected - 1.0).abs() < 1e-4,
                 "{got} against {expected}"
@@ -289,7 +315,7 @@ mod tests {
         let expected = bulbs_closed_form(n, 40.0, 0.3);
         let mut rng = Rng::new(4, 0);
         let samples: Vec<f32> = (0..20_000)
-            .map(|_| estimate(&sc, &si, &bsdf, &sc.camera_stack, &mut rng).x)
+            .map(|_| estimate(&sc, &si, &bsdf, &sc.camera_stack, &mut rng, None).x)
             .collect();
         let mean = samples.iter().sum::<f32>() / samples.len() as f32;
         let distinct = samples
@@ -329,7 +355,8 @@ mod tests {
         let mut rng = Rng::new(5, 0);
         for samples in [1, 4] {
             for _ in 0..64 {
-                let got = estimate_with(&sc, &si, &bsdf, &sc.camera_stack, samples, &mut rng).x;
+                let got =
+                    estimate_with(&sc, &si, &bsdf, &sc.camera_stack, samples, &mut rng, None).x;
                 assert!(
                     (got - 1.0).abs() < 1e-4,
                     "{samples} samples: {got} against 1"
@@ -345,7 +372,8 @@ mod tests {
             let n = 100_000;
             let v: Vec<f64> = (0..n)
                 .map(|_| {
-                    estimate_with(&sc, &si, &bsdf, &sc.camera_stack, samples, &mut rng).x as f64
+                    estimate_with(&sc, &si, &bsdf, &sc.camera_stack, samples, &mut rng, None).x
+                        as f64
                 })
                 .collect();
             let mean = v.iter().sum::<f64>() / n as f64;

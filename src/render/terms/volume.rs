@@ -13,7 +13,9 @@
 use crate::geometry::Ray;
 use crate::math::Spectrum;
 use crate::media::MediumStack;
+use crate::photon::map::GroupShare;
 use crate::photon::KnnScratch;
+use crate::render::lightgroups::{scaled, Split};
 use crate::render::photons::PhotonMaps;
 use crate::sampling::Rng;
 use crate::scene::Scene;
@@ -87,7 +89,7 @@ pub struct March {
 }
 
 /// Light scattered towards `-dir` along `[0, dist)` from `o` inside `medium`, and the
-/// transmittance over the segment.
+/// transmittance over the segment. Each light group's share of the light goes to `split`.
 #[allow(clippy::too_many_arguments)]
 pub fn march(
     scene: &Scene,
@@ -100,6 +102,7 @@ pub fn march(
     s: &MarchSettings,
     rng: &mut Rng,
     scratch: &mut KnnScratch,
+    mut split: Option<&mut Split>,
 ) -> March {
     let med = &scene.media[medium as usize];
     let done = |radiance, transmittance, steps, volume_lookups, volume_point_reads| March {
@@ -143,6 +146,8 @@ pub fn march(
     let mut l = Spectrum::ZERO;
     let mut t_start = Spectrum::ONE;
     let (mut steps, mut lookups, mut point_reads) = (0u64, 0u64, 0u64);
+    // The volume map's group shares at a step, before its reachable fraction is known.
+    let mut shares = vec![Spectrum::ZERO; split.as_ref().map_or(0, |sp| sp.len())];
     for i in 0..n {
         if t_start.max_element() < T_CUTOFF {
             break;
@@ -165,18 +170,36 @@ pub fn march(
         let weight = t_start * exp_neg(sigma_t, s_in) * inv_pdf;
         let mut inscatter = Spectrum::ZERO;
         if sigma_s.max_element() > 0.0 {
-            inscatter += sigma_s * single_scattering(scene, stack, x, wo, &phase, rng);
+            let mut sp = scaled(&mut split, weight * sigma_s);
+            inscatter += sigma_s * single_scattering(scene, stack, x, wo, &phase, rng, sp.as_mut());
         }
         if let Some(vm) = &maps.volume {
+            shares.iter_mut().for_each(|v| *v = Spectrum::ZERO);
+            let mut share = |g: usize, v: Spectrum| {
+                if let Some(a) = shares.get_mut(g) {
+                    *a += v;
+                }
+            };
+            let share: Option<GroupShare> = split.is_some().then_some(&mut share);
             // In an isotropic medium the nearest precomputed point answers where one reaches.
-            let points = maps.volume_points.as_ref().filter(|_| phase.g == 0.0);
+            // Points hold the total only, so a render split by light group reads the map.
+            let points = maps
+                .volume_points
+                .as_ref()
+                .filter(|_| phase.g == 0.0 && share.is_none());
             if let Some(l_vol) = points.and_then(|vp| vp.lookup(x, scratch)) {
                 inscatter += l_vol;
                 point_reads += 1;
             } else if let Some((l_vol, r2)) =
-                vm.volume_radiance(x, wo, &phase, s.gather, s.max_r2, scratch)
+                vm.volume_radiance(x, wo, &phase, s.gather, s.max_r2, scratch, share)
             {
-                inscatter += l_vol / reachable_fraction(scene, x, r2.sqrt(), rng);
+                let reach = reachable_fraction(scene, x, r2.sqrt(), rng);
+                inscatter += l_vol / reach;
+                if let Some(sp) = split.as_mut() {
+                    for (g, v) in shares.iter().enumerate() {
+                        sp.add(g, weight * *v / reach);
+                    }
+                }
             }
             lookups += 1;
         }
@@ -239,6 +262,7 @@ fn single_scattering(
     wo: Vec3,
     phase: &crate::media::HenyeyGreenstein,
     rng: &mut Rng,
+    mut split: Option<&mut Split>,
 ) -> Spectrum {
     let ctx = scene.light_ctx();
     let mut l = Spectrum::ZERO;
@@ -264,7 +288,11 @@ fn single_scattering(
             }
         };
         let tr = scene.transmittance(&shadow, stack);
-        l += ls.li * tr * (p / (pmf * ls.pdf));
+        let c = ls.li * tr * (p / (pmf * ls.pdf));
+        l += c;
+        if let Some(sp) = split.as_mut() {
+            sp.add_light(scene, li as u32, c);
+        }
     });
     l
 }
@@ -330,6 +358,7 @@ mod tests {
                 &s,
                 &mut rng,
                 &mut scratch,
+                None,
             );
             l += m.radiance.x;
             t = m.transmittance.x;

@@ -6,8 +6,9 @@ use crate::geometry::{Ray, SurfaceInteraction};
 use crate::materials::bsdf::{Bsdf, LobeFlags};
 use crate::math::{Frame, Spectrum, PI};
 use crate::media::MediumStack;
-use crate::photon::map::{EstimateFilter, Select, FLAG_FIRST_HIT};
+use crate::photon::map::{EstimateFilter, GroupShare, Select, FLAG_FIRST_HIT};
 use crate::photon::KnnScratch;
+use crate::render::lightgroups::{scaled, Split};
 use crate::render::photons::PhotonMaps;
 use crate::render::terms::specular::{self, Follow};
 use crate::sampling::Rng;
@@ -35,7 +36,9 @@ pub enum GlossyAtHit {
 }
 
 /// Radiance arriving at the gather point along `ray` from the global map, and the distance to
-/// the first surface (infinite when the ray escapes).
+/// the first surface (infinite when the ray escapes); each light group's share goes to
+/// `split`.
+#[allow(clippy::too_many_arguments)]
 pub fn gather_radiance(
     scene: &Scene,
     maps: &PhotonMaps,
@@ -44,6 +47,7 @@ pub fn gather_radiance(
     stack: &MediumStack,
     rng: &mut Rng,
     scratch: &mut KnnScratch,
+    mut split: Option<&mut Split>,
 ) -> (Spectrum, f32) {
     let mut stack = *stack;
     let Some(global) = &maps.global else {
@@ -91,7 +95,8 @@ pub fn gather_radiance(
                     near,
                     glossy,
                 };
-                acc += beta * hit_radiance(scene, global, &hit, maps, rng, scratch);
+                let mut sp = scaled(&mut split, beta);
+                acc += beta * hit_radiance(scene, global, &hit, maps, rng, scratch, sp.as_mut());
             }
         }
         // The specular and near-specular part of the surface, sampled alone (the rest is
@@ -140,10 +145,19 @@ fn hit_radiance(
     maps: &PhotonMaps,
     rng: &mut Rng,
     scratch: &mut KnnScratch,
+    mut split: Option<&mut Split>,
 ) -> Spectrum {
     let (si, bsdf) = (hit.si, hit.bsdf);
-    let direct = crate::render::terms::direct::estimate(scene, si, bsdf, hit.stack, rng);
-    let photons = |bsdf: &Bsdf, scratch: &mut KnnScratch| {
+    let direct = crate::render::terms::direct::estimate(
+        scene,
+        si,
+        bsdf,
+        hit.stack,
+        rng,
+        split.as_deref_mut(),
+    );
+    let photons = |bsdf: &Bsdf, scratch: &mut KnnScratch, split: Option<&mut Split>| {
+        let mut share = split.map(|sp| move |g: usize, v: Spectrum| sp.add(g, v));
         global.radiance(
             si.p,
             si.ng,
@@ -154,10 +168,11 @@ fn hit_radiance(
             EstimateFilter::Constant,
             GATHER_PHOTONS,
             scratch,
+            share.as_mut().map(|f| f as GroupShare),
         )
     };
     if !hit.near && bsdf.flags() & LobeFlags::TRANSMISSION == 0 {
-        if let Some(pt) = global
+        if let Some((pt, fractions)) = global
             .irradiance
             .as_ref()
             .and_then(|m| m.lookup(si.p, si.ng, scratch))
@@ -166,6 +181,9 @@ fn hit_radiance(
             let mut l = bsdf
                 .diffuse_response(si.wo)
                 .map_or(Spectrum::ZERO, |r| r * e);
+            if let Some(sp) = split.as_mut() {
+                sp.add_fractions(l, fractions);
+            }
             if bsdf.has_glossy() {
                 // The glossy lobes see the photons' directions: a highlight of a lamp or of a
                 // bright wall is not uniform light (reflecting E / pi instead measured 1.5%
@@ -178,13 +196,14 @@ fn hit_radiance(
                     GlossyAtHit::Roulette => share.max(MIN_GLOSSY_ESTIMATE_PROBABILITY),
                 };
                 if q >= 1.0 || rng.f32() < q {
-                    l += photons(&bsdf.glossy_part(), scratch) / q;
+                    let mut sp = scaled(&mut split, Spectrum::splat(1.0 / q));
+                    l += photons(&bsdf.glossy_part(), scratch, sp.as_mut()) / q;
                 }
             }
             return direct + l;
         }
     }
-    direct + photons(bsdf, scratch)
+    direct + photons(bsdf, scratch, split)
 }
 
 /// The least probability of a gather hit's glossy estimate: its weight stays at most 16.
@@ -209,6 +228,7 @@ pub const IRRADIANCE_POINT_PHOTONS: Select = GATHER_PHOTONS;
 
 /// Final gathering of the glossy lobes alone (the diffuse part is the irradiance cache's):
 /// the reflected indirect radiance through them, by sampling them.
+#[allow(clippy::too_many_arguments)]
 pub fn gather_glossy(
     scene: &Scene,
     maps: &PhotonMaps,
@@ -218,12 +238,14 @@ pub fn gather_glossy(
     stack: &MediumStack,
     rng: &mut Rng,
     scratch: &mut KnnScratch,
+    mut split: Option<&mut Split>,
 ) -> Spectrum {
     let mut sum = Spectrum::ZERO;
     for _ in 0..rays {
         let Some(bs) = bsdf.sample_glossy(si.wo, rng.f32(), rng.vec2()) else {
             continue;
         };
+        let mut sp = scaled(&mut split, bs.weight / rays.max(1) as f32);
         let (l, _) = gather_radiance(
             scene,
             maps,
@@ -232,6 +254,7 @@ pub fn gather_glossy(
             stack,
             rng,
             scratch,
+            sp.as_mut(),
         );
         sum += bs.weight * l;
     }
@@ -258,6 +281,8 @@ pub fn strata(rays: u32) -> (usize, usize) {
 /// Irradiance at `si` by a stratified cosine-weighted gather over the hemisphere of `n`, with
 /// the rotational and translational gradients of Ward and Heckbert (1992), in the form given
 /// by Křivánek et al., "Practical Global Illumination with Irradiance Caching" (2009), §2.
+/// Each light group's share of the irradiance goes to `split`.
+#[allow(clippy::too_many_arguments)]
 pub fn gather_hemisphere(
     scene: &Scene,
     maps: &PhotonMaps,
@@ -267,8 +292,11 @@ pub fn gather_hemisphere(
     stack: &MediumStack,
     rng: &mut Rng,
     scratch: &mut KnnScratch,
+    mut split: Option<&mut Split>,
 ) -> HemisphereGather {
     let (m, nn) = strata(rays);
+    let norm = PI / (m * nn) as f32;
+    let mut split = scaled(&mut split, Spectrum::splat(norm));
     let frame = Frame::from_normal(n);
     let mut l = vec![Spectrum::ZERO; m * nn];
     let mut r = vec![f32::INFINITY; m * nn];
@@ -289,13 +317,13 @@ pub fn gather_hemisphere(
                 stack,
                 rng,
                 scratch,
+                split.as_mut(),
             );
             l[j * nn + k] = li;
             r[j * nn + k] = t;
             theta[j * nn + k] = sin_t.asin();
         }
     }
-    let norm = PI / (m * nn) as f32;
     let irradiance: Spectrum = l.iter().copied().sum::<Spectrum>() * norm;
     let inv_sum: f32 = r
         .iter()
@@ -410,6 +438,7 @@ mod tests {
             &stack,
             &mut rng,
             &mut scratch,
+            None,
         );
         let (estimate_again, _) = gather_radiance(
             &sc,
@@ -419,6 +448,7 @@ mod tests {
             &stack,
             &mut rng,
             &mut scratch,
+            None,
         );
         let n = 20_000;
         let (mut sum, mut sum2, mut skipped) = (0.0f64, 0.0f64, 0);
@@ -431,6 +461,7 @@ mod tests {
                 &stack,
                 &mut rng,
                 &mut scratch,
+                None,
             );
             let y = l.y as f64;
             sum += y;

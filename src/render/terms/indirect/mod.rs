@@ -21,14 +21,16 @@ use crate::geometry::SurfaceInteraction;
 use crate::materials::bsdf::Bsdf;
 use crate::math::Spectrum;
 use crate::media::MediumStack;
-use crate::photon::map::{EstimateFilter, Select, FLAG_FROM_MEDIUM};
+use crate::photon::map::{EstimateFilter, GroupShare, Select, FLAG_FROM_MEDIUM};
 use crate::photon::KnnScratch;
 use crate::render::eye::EyeCtx;
+use crate::render::lightgroups::{scaled, Split};
 use crate::sampling::Rng;
 
 /// Indirect light reflected at a non-specular point: the diffuse part from the irradiance
 /// cache (or a hemisphere gather where no record covers the point) times the diffuse lobes'
-/// response; the glossy part by sampling the glossy lobes.
+/// response; the glossy part by sampling the glossy lobes. Each light group's share goes to
+/// `split`.
 pub fn estimate(
     ctx: &EyeCtx,
     si: &SurfaceInteraction,
@@ -36,19 +38,36 @@ pub fn estimate(
     stack: &MediumStack,
     rng: &mut Rng,
     scratch: &mut KnnScratch,
+    mut split: Option<&mut Split>,
 ) -> Spectrum {
     let rays = ctx.settings.gather_rays_per_sample;
     if ctx.maps.global.is_none() || rays == 0 {
         return Spectrum::ZERO;
     }
-    let mut l = from_media(ctx, si, bsdf, scratch);
+    let mut l = from_media(ctx, si, bsdf, scratch, split.as_deref_mut());
     let response = bsdf.diffuse_response(si.wo);
     if let Some(response) = response {
         let n = si.ng.dot(si.ns).signum() * si.ns;
-        let e = match ctx.cache.and_then(|c| c.lookup(si.p, n)) {
+        let mut sp = scaled(&mut split, response);
+        let cached = match ctx.cache {
+            Some(c) => c.lookup(si.p, n, sp.as_mut()),
+            None => None,
+        };
+        let e = match cached {
             Some(e) => e,
             None => {
-                gather_hemisphere(ctx.scene, ctx.maps, si, n, rays, stack, rng, scratch).irradiance
+                gather_hemisphere(
+                    ctx.scene,
+                    ctx.maps,
+                    si,
+                    n,
+                    rays,
+                    stack,
+                    rng,
+                    scratch,
+                    sp.as_mut(),
+                )
+                .irradiance
             }
         };
         l += response * e;
@@ -62,7 +81,18 @@ pub fn estimate(
         // probability a multiple of the share, and weighted by its inverse.
         let q = (share * rays as f32 * GLOSSY_GATHER_ROULETTE).clamp(MIN_GLOSSY_GATHER, 1.0);
         if q >= 1.0 || rng.f32() < q {
-            l += gather_glossy(ctx.scene, ctx.maps, si, bsdf, n, stack, rng, scratch) / q;
+            let mut sp = scaled(&mut split, Spectrum::splat(1.0 / q));
+            l += gather_glossy(
+                ctx.scene,
+                ctx.maps,
+                si,
+                bsdf,
+                n,
+                stack,
+                rng,
+                scratch,
+                sp.as_mut(),
+            ) / q;
         }
     }
     l
@@ -87,19 +117,24 @@ fn from_media(
     si: &SurfaceInteraction,
     bsdf: &Bsdf,
     scratch: &mut KnnScratch,
+    split: Option<&mut Split>,
 ) -> Spectrum {
     match &ctx.maps.global {
-        Some(g) if ctx.scene.has_media() => g.radiance(
-            si.p,
-            si.ng,
-            si.wo,
-            bsdf,
-            ctx.maps.gather,
-            ctx.maps.global_r2,
-            EstimateFilter::Constant,
-            Select::with(FLAG_FROM_MEDIUM),
-            scratch,
-        ),
+        Some(g) if ctx.scene.has_media() => {
+            let mut share = split.map(|sp| move |g: usize, v: Spectrum| sp.add(g, v));
+            g.radiance(
+                si.p,
+                si.ng,
+                si.wo,
+                bsdf,
+                ctx.maps.gather,
+                ctx.maps.global_r2,
+                EstimateFilter::Constant,
+                Select::with(FLAG_FROM_MEDIUM),
+                scratch,
+                share.as_mut().map(|f| f as GroupShare),
+            )
+        }
         _ => Spectrum::ZERO,
     }
 }
