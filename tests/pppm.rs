@@ -243,3 +243,29 @@ fn convergence_figures() {
         }
     }
 }
+
+/// pppm carries no compositing passes: asking for one is an error naming the setting.
+#[test]
+fn compositing_passes_are_refused_by_name() {
+    use photonmap::render::aov::Cryptomatte;
+    let desc = small_scene("cornell_spheres");
+    let scene = Scene::build(&desc).unwrap();
+    let mut s = settings(2, 1000, 1, 1);
+    s.aovs.denoising_data = true;
+    let e = Renderer::new(&scene)
+        .settings(s.clone())
+        .render()
+        .err()
+        .expect("refused");
+    assert!(e.to_string().contains("denoising_data"), "{e}");
+    s.aovs.denoising_data = false;
+    s.aovs.cryptomatte = Cryptomatte::Object;
+    let e = Renderer::new(&scene)
+        .settings(s.clone())
+        .render()
+        .err()
+        .expect("refused");
+    assert!(e.to_string().contains("cryptomatte"), "{e}");
+    s.aovs.cryptomatte = Cryptomatte::Off;
+    assert!(Renderer::new(&scene).settings(s).render().is_ok());
+}
