@@ -23,7 +23,11 @@ def stats_line(stats: dict) -> str:
     secs = ", ".join(f"{k} {v:.2f}s" for k, v in (stats.get("seconds") or {}).items())
     mem = stats.get("memory_bytes", 0) + sum(m.get("memory_bytes", 0)
                                              for m in stats.get("photon_maps") or [])
-    parts = [p for p in (f"photons stored: {stored}" if stored else "", secs, _mib(mem)) if p]
+    reuse = stats.get("photon_map_reuse") or {}
+    maps = {"loaded": "photon maps loaded", "reused": "photon maps reused"}.get(reuse.get("maps"), "")
+    if reuse.get("saved_to"):
+        maps = "photon maps saved"
+    parts = [p for p in (maps, f"photons stored: {stored}" if stored else "", secs, _mib(mem)) if p]
     return " | ".join(parts)
 
 

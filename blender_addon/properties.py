@@ -34,8 +34,8 @@ def _update_passes(_self, context):
 
 
 def _unset_means_none(f: dict) -> bool:
-    """True when 0 or "" stands for "not set": an optional number or size."""
-    return f["optional"] and f["type"] in ("int", "float", "size")
+    """True when 0 or "" stands for "not set": an optional number, size or path."""
+    return f["optional"] and f["type"] in ("int", "float", "size", "path")
 
 
 def _limits(f: dict, integer: bool) -> dict:
@@ -74,6 +74,9 @@ def _property(f: dict):
                              **_limits(f, False), **common)
     if kind == "size":
         return StringProperty(default="" if default is None else str(default), **common)
+    if kind == "path":
+        return StringProperty(default="" if default is None else str(default),
+                              subtype="FILE_PATH", **common)
     raise TypeError(f"setting {f['name']}: no Blender property for type {kind!r}")
 
 
@@ -95,6 +98,8 @@ def render_settings(s) -> dict:
             v = v.strip()
         if _unset_means_none(f) and not v:
             v = None
+        elif f["type"] == "path":
+            v = bpy.path.abspath(v)  # Blender's "//" is relative to the .blend file
         out[f["name"]] = v
     return out
 

@@ -36,7 +36,7 @@ def draw_group(layout, s, group: str) -> None:
     hidden, one whose switch is off is greyed out."""
     layout.use_property_split = True
     for f in SCHEMA:
-        if f["group"] != group or (f["mode"] and f["mode"] != s.mode):
+        if f["group"] != group or (f["modes"] and s.mode not in f["modes"]):
             continue
         row = layout.row()
         if f["requires"]:

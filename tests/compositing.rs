@@ -166,7 +166,11 @@ fn guides_are_deterministic_for_any_thread_count() {
 fn matte(film: &Film, type_name: &str, name: &str) -> Vec<f32> {
     let id = photonmap::render::cryptomatte::name_id(name);
     let mut out = vec![0.0f32; film.width * film.height];
-    for layer in film.aovs.iter().filter(|a| a.spec.name.starts_with(type_name)) {
+    for layer in film
+        .aovs
+        .iter()
+        .filter(|a| a.spec.name.starts_with(type_name))
+    {
         for (i, px) in layer.data.chunks_exact(4).enumerate() {
             for pair in px.chunks_exact(2) {
                 if pair[0] == id {
@@ -188,7 +192,12 @@ fn card_scene() -> (SceneDesc, impl Fn(usize, usize) -> f32) {
     // Card edges in pixels from the left/top: x in [7.3, 20.6], y in [10.25, 25.8].
     let (x0, x1, y0, y1) = (7.3f32, 20.6f32, 10.25f32, 25.8f32);
     let to_world = |x: f32, y: f32| [(x - 16.0) * px, (16.0 - y) * px, -depth];
-    let c = [to_world(x0, y1), to_world(x1, y1), to_world(x1, y0), to_world(x0, y0)];
+    let c = [
+        to_world(x0, y1),
+        to_world(x1, y1),
+        to_world(x1, y0),
+        to_world(x0, y0),
+    ];
     let d = desc(serde_json::json!({
         "camera": {"fov": 0.5},
         "film": {"width": w, "height": w},

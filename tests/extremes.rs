@@ -1033,6 +1033,7 @@ fn memory_limit_flag_parses_sizes() {
         Cli::try_parse_from(["photonmap", "render", "-o", "x.exr", "--memory-limit", v]).map(|c| {
             match c.command {
                 Command::Render(a) => a,
+                Command::Merge(_) => unreachable!("`render` parses as the render command"),
             }
         })
     };

@@ -7,7 +7,7 @@ use common::*;
 use photonmap::render::film::{Film, Image};
 use photonmap::render::settings::RenderMode;
 use photonmap::render::RenderSettings;
-use photonmap::scene::desc::{LightGroupDesc, LightDesc};
+use photonmap::scene::desc::{LightDesc, LightGroupDesc};
 use photonmap::scene::SceneDesc;
 
 /// The diffuse Cornell box with its ceiling light (`key`) and a warm point light low by the
@@ -122,8 +122,12 @@ fn check_mode(mode: RenderMode) {
     let out2 = render_settings(&d, settings(4, mode));
     for (name, keep) in [("key", 0), ("fill", 1)] {
         let g = group(&out.film, name);
-        let alone = render_settings(&only(&d, keep), settings(2, mode)).film.combined();
-        let again = render_settings(&only(&d, keep), settings(3, mode)).film.combined();
+        let alone = render_settings(&only(&d, keep), settings(2, mode))
+            .film
+            .combined();
+        let again = render_settings(&only(&d, keep), settings(3, mode))
+            .film
+            .combined();
         // Noise: two seeds of each render against each other hold twice its relMSE; the
         // group against the lone light, the sum of both renders' (when unbiased).
         let floor_alone = block_rel_mse_trimmed(&alone, &again, 4, 3);
@@ -135,10 +139,15 @@ fn check_mode(mode: RenderMode) {
             "{mode:?} {name}: block relMSE {err:.2e} (noise {noise:.2e}: seeds {floor_alone:.2e} \
              alone, {floor_group:.2e} grouped), mean {m:.4} vs {ma:.4}"
         );
-        assert!(err < 1.5 * noise, "{name}: {err:.3e} against the noise {noise:.3e}");
+        assert!(
+            err < 1.5 * noise,
+            "{name}: {err:.3e} against the noise {noise:.3e}"
+        );
         assert!((m / ma - 1.0).abs() < 0.02, "{name}: mean {m} against {ma}");
         // The other light's render is far off: the comparison tells groups apart.
-        let other = render_settings(&only(&d, 1 - keep), settings(2, mode)).film.combined();
+        let other = render_settings(&only(&d, 1 - keep), settings(2, mode))
+            .film
+            .combined();
         assert!(block_rel_mse(&g, &other, 4) > 30.0 * noise);
     }
 }
@@ -164,7 +173,8 @@ fn meshes_the_environment_and_the_default_group() {
         environment: true,
         ..Default::default()
     }];
-    d.environment = Some(serde_json::from_value(serde_json::json!({"color": [0.2, 0.3, 0.5]})).unwrap());
+    d.environment =
+        Some(serde_json::from_value(serde_json::json!({"color": [0.2, 0.3, 0.5]})).unwrap());
     // Open the box's front: drop nothing, the camera sees the world through the open side.
     d.materials.push(
         serde_json::from_value(serde_json::json!(
@@ -217,7 +227,10 @@ fn bad_groups_are_named() {
     let mut d = two_lights();
     d.lightgroups[1].lights = vec![0];
     let e = err(&d);
-    assert!(e.contains("/lightgroups/1/lights/0") && e.contains("`key`"), "{e}");
+    assert!(
+        e.contains("/lightgroups/1/lights/0") && e.contains("`key`"),
+        "{e}"
+    );
     let mut d = two_lights();
     d.lightgroups[0].name = "key light".into();
     let e = err(&d);
@@ -225,7 +238,10 @@ fn bad_groups_are_named() {
     let mut d = two_lights();
     d.lightgroups[0].meshes = vec![99];
     let e = err(&d);
-    assert!(e.contains("/lightgroups/0/meshes/0") && e.contains("out of range"), "{e}");
+    assert!(
+        e.contains("/lightgroups/0/meshes/0") && e.contains("out of range"),
+        "{e}"
+    );
     let mut d = two_lights();
     d.lightgroups[1].name = "key".into();
     assert!(err(&d).contains("/lightgroups/1/name"));

@@ -439,7 +439,10 @@ fn volume_points_match_the_k_nearest_march() {
     };
     let (block, ratio) = judge(1.0);
     eprintln!("volume points vs k-nearest: 8x8-block relMSE {block:.3e} (two k-nearest seeds: {floor:.3e}), mean ratio {ratio:.4}");
-    assert!(block < 3.0 * floor, "block relMSE {block:.3e} against {floor:.3e}");
+    assert!(
+        block < 3.0 * floor,
+        "block relMSE {block:.3e} against {floor:.3e}"
+    );
     assert!((ratio - 1.0).abs() < 0.015, "mean ratio {ratio}");
     let (block5, ratio5) = judge(1.05);
     assert!(

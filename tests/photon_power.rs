@@ -151,6 +151,7 @@ fn cli_photon_power_flag() {
             .copied();
         Cli::try_parse_from(argv).map(|c| match c.command {
             Command::Render(a) => a.settings().photons.f32_power,
+            Command::Merge(_) => unreachable!("`render` parses as the render command"),
         })
     };
     use clap::Parser;

@@ -66,6 +66,7 @@ __all__ = [
     "preset",
     "defaults",
     "settings_schema",
+    "merge_partials",
 ]
 
 _MESH_ARRAYS = ("positions", "indices", "normals", "uvs", "material_indices")
@@ -233,6 +234,7 @@ def render(
     progress: Callable[[float, str], Any] | None = None,
     preview: Callable[[np.ndarray, int], Any] | None = None,
     cancel: CancelToken | None = None,
+    pass_range: tuple[int, int] | None = None,
     **settings: Any,
 ) -> dict:
     """Renders ``scene`` (a Scene, an IR dict, JSON text, or a .json/.usd path).
@@ -265,6 +267,12 @@ def render(
     most every 0.25 s between, and the calling thread hands on the latest one every 50 ms, and
     the last one at the end. ``memory_limit`` stops the render up front, with ``ValueError``
     naming ``memory_limit`` and the estimate, when its photon maps and BVH would need more.
+
+    With ``mode="pppm"``, ``pass_range=(a, b)`` renders passes a..b only (of ``spp``);
+    ``out["partial"]`` then holds their partial sums (the bytes of a ``.ppart`` file), which
+    ``merge_partials`` merges with the other blocks' into the image of all the passes, the
+    same bits as one render of them. ``save_photon_maps=``/``load_photon_maps=`` save and
+    load Jensen's photon maps and irradiance cache (``stats["photon_map_reuse"]``).
     """
     text = _settings_json(settings)
     if settings.get("denoise"):
@@ -277,7 +285,18 @@ def render(
         preview(np.frombuffer(b, dtype="<f4").reshape(h, w, 3).copy(), passes)
 
     raw = _core.render(s, text, progress=progress,
-                       preview=show if preview is not None else None, cancel=cancel)
+                       preview=show if preview is not None else None, cancel=cancel,
+                       pass_range=None if pass_range is None else tuple(pass_range))
+    out = _images(raw)
+    if settings.get("denoise"):
+        from . import denoise
+
+        denoise.apply(out)
+    return out
+
+
+def _images(raw: dict) -> dict:
+    """The core's result as float32 (H, W, 3) arrays, stats as a dict."""
     h, w = raw["height"], raw["width"]
 
     def img(b: bytes) -> np.ndarray:
@@ -295,11 +314,17 @@ def render(
     out["aovs"] = specs
     out["cryptomatte"] = json.loads(raw["cryptomatte"])
     out["stats"] = json.loads(raw["stats"])
-    if settings.get("denoise"):
-        from . import denoise
-
-        denoise.apply(out)
+    if "partial" in raw:
+        out["partial"] = raw["partial"]
     return out
+
+
+def merge_partials(partials) -> dict:
+    """Merges the partial sums of blocks of pppm passes (``render(..., pass_range=...)``'s
+    ``out["partial"]``, or the bytes of ``.ppart`` files), in any order, into the image of
+    all of them: the dict ``render`` returns, ``partial`` the merged sums. Partials of
+    different renders, a pass in two partials, or missing passes raise ValueError."""
+    return _images(_core.merge_partials([bytes(p) for p in partials]))
 
 
 def aov_specs(light_groups: list[str] | tuple[str, ...] = (), **settings: Any) -> list[dict]:

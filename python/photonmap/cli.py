@@ -1,6 +1,7 @@
 """The ``photonmap`` command. Arguments are parsed by the core's one clap definition
 (``photonmap render --help``); USD stages are read here, by ``usd_delegate``.
-``photonmap trade`` (speed against accuracy, ``photonmap.trade``) is Python's own."""
+``photonmap trade`` (speed against accuracy, ``photonmap.trade``) is Python's own;
+``photonmap render ... --cluster`` renders on Dask (``photonmap.distributed``)."""
 
 from __future__ import annotations
 
@@ -30,6 +31,15 @@ def main(argv: list[str] | None = None) -> int:
 
         try:
             return trade_main(argv[1:])
+        except KeyboardInterrupt:
+            print("photonmap: interrupted", file=sys.stderr)
+            return 130
+    if argv[:1] == ["render"] and any(a == "--cluster" or a.startswith("--cluster=")
+                                      for a in argv):
+        from .distributed import main as distributed_main
+
+        try:
+            return distributed_main(argv)
         except KeyboardInterrupt:
             print("photonmap: interrupted", file=sys.stderr)
             return 130

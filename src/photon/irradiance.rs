@@ -54,6 +54,31 @@ impl KdRecord for IrradiancePoint {
 }
 
 impl IrradiancePoint {
+    /// The record as little-endian bytes (the layout of the struct), for saved maps.
+    pub fn to_le_bytes(&self) -> [u8; 20] {
+        let mut b = [0u8; 20];
+        for (i, v) in self.pos.iter().enumerate() {
+            b[4 * i..4 * i + 4].copy_from_slice(&v.to_le_bytes());
+        }
+        b[12..16].copy_from_slice(&self.rgbe);
+        b[16] = self.normal.0;
+        b[17] = self.normal.1;
+        b[18] = self.axis;
+        b
+    }
+
+    /// The record of [`IrradiancePoint::to_le_bytes`].
+    pub fn from_le_bytes(b: &[u8]) -> IrradiancePoint {
+        let f = |i: usize| f32::from_le_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
+        IrradiancePoint {
+            pos: [f(0), f(4), f(8)],
+            rgbe: [b[12], b[13], b[14], b[15]],
+            normal: (b[16], b[17]),
+            axis: b[18],
+            _pad: 0,
+        }
+    }
+
     fn new(p: Vec3, n: Vec3, est: &IrradianceEstimate) -> Option<Self> {
         let rgbe = rgbe_encode(est.irradiance).ok()?;
         Some(IrradiancePoint {
@@ -155,7 +180,10 @@ impl IrradianceMap {
                     parts.iter_mut().for_each(|v| *v = Spectrum::ZERO);
                     let est = global
                         .irradiance_estimate_split(p, n, k, max_r2, select, scratch, &mut parts);
-                    out.extend(crate::render::lightgroups::fractions(&parts, est.irradiance));
+                    out.extend(crate::render::lightgroups::fractions(
+                        &parts,
+                        est.irradiance,
+                    ));
                 }
                 out
             })
@@ -177,6 +205,32 @@ impl IrradianceMap {
 
     pub fn len(&self) -> usize {
         self.tree.len()
+    }
+
+    /// The points in heap order, and the search radius²: what a saved map keeps.
+    pub fn parts(&self) -> (&[IrradiancePoint], f32) {
+        (self.tree.photons(), self.max_r2)
+    }
+
+    /// The light groups per point and every point's fractions, in heap order (empty
+    /// without groups): what a saved map keeps with its points.
+    pub fn group_parts(&self) -> (usize, &[Spectrum]) {
+        (self.groups, &self.fractions)
+    }
+
+    /// The map of [`IrradianceMap::parts`] and [`IrradianceMap::group_parts`].
+    pub fn from_parts(
+        points: Vec<IrradiancePoint>,
+        max_r2: f32,
+        groups: usize,
+        fractions: Vec<Spectrum>,
+    ) -> IrradianceMap {
+        IrradianceMap {
+            tree: PhotonKdTree::from_heap(points),
+            max_r2,
+            groups,
+            fractions,
+        }
     }
 
     pub fn is_empty(&self) -> bool {

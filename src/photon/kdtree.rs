@@ -312,6 +312,12 @@ impl<P: KdRecord> PhotonKdTree<P> {
         Some(PhotonKdTree { nodes })
     }
 
+    /// A tree of records already in heap order with their split axes set, as
+    /// [`PhotonKdTree::photons`] gives them (a saved tree read back).
+    pub fn from_heap(nodes: Vec<P>) -> Self {
+        PhotonKdTree { nodes }
+    }
+
     /// Number of photons.
     #[inline]
     pub fn len(&self) -> usize {

@@ -78,6 +78,35 @@ const _: () = assert!(std::mem::size_of::<Photon>() == 20);
 const _: () = assert!(std::mem::align_of::<Photon>() == 4);
 
 impl Photon {
+    /// Bytes of [`Photon::to_le_bytes`].
+    pub const BYTES: usize = 20;
+
+    /// The record as little-endian bytes: position, RGBE, direction, flag (the layout of
+    /// the struct), for saved photon maps.
+    pub fn to_le_bytes(&self) -> [u8; 20] {
+        let mut b = [0u8; 20];
+        for (i, v) in self.pos.iter().enumerate() {
+            b[4 * i..4 * i + 4].copy_from_slice(&v.to_le_bytes());
+        }
+        b[12..16].copy_from_slice(&self.rgbe);
+        b[16] = self.phi;
+        b[17] = self.theta;
+        b[18..20].copy_from_slice(&self.flag.to_le_bytes());
+        b
+    }
+
+    /// The record of [`Photon::to_le_bytes`].
+    pub fn from_le_bytes(b: &[u8]) -> Photon {
+        let f = |i: usize| f32::from_le_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
+        Photon {
+            pos: [f(0), f(4), f(8)],
+            rgbe: [b[12], b[13], b[14], b[15]],
+            phi: b[16],
+            theta: b[17],
+            flag: u16::from_le_bytes([b[18], b[19]]),
+        }
+    }
+
     /// Creates a photon at `pos` carrying `power`, which was travelling along
     /// `travel_dir` when it hit the surface (the ray direction; it need not be
     /// normalised). The stored direction is `-travel_dir`, returned by
@@ -199,6 +228,33 @@ pub struct PhotonF32 {
 const _: () = assert!(std::mem::size_of::<PhotonF32>() == 28);
 
 impl PhotonF32 {
+    /// Bytes of [`PhotonF32::to_le_bytes`].
+    pub const BYTES: usize = 28;
+
+    /// The record as little-endian bytes (the layout of the struct), for saved photon maps.
+    pub fn to_le_bytes(&self) -> [u8; 28] {
+        let mut b = [0u8; 28];
+        for (i, v) in self.pos.iter().chain(&self.power).enumerate() {
+            b[4 * i..4 * i + 4].copy_from_slice(&v.to_le_bytes());
+        }
+        b[24] = self.phi;
+        b[25] = self.theta;
+        b[26..28].copy_from_slice(&self.flag.to_le_bytes());
+        b
+    }
+
+    /// The record of [`PhotonF32::to_le_bytes`].
+    pub fn from_le_bytes(b: &[u8]) -> PhotonF32 {
+        let f = |i: usize| f32::from_le_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
+        PhotonF32 {
+            pos: [f(0), f(4), f(8)],
+            power: [f(12), f(16), f(20)],
+            phi: b[24],
+            theta: b[25],
+            flag: u16::from_le_bytes([b[26], b[27]]),
+        }
+    }
+
     /// Same contract as [`Photon::new`]; the power is stored unquantised.
     pub fn new(pos: Vec3, power: Vec3, travel_dir: Vec3) -> Result<PhotonF32, PhotonError> {
         let pos = check_position(pos)?;

@@ -58,8 +58,34 @@ impl KdRecord for VolumePoint {
 }
 
 impl VolumePoint {
+    pub const BYTES: usize = 20;
+
     pub fn radiance(&self) -> Spectrum {
         rgbe_decode(self.rgbe)
+    }
+
+    /// The record as little-endian bytes (photon-map files).
+    pub fn to_le_bytes(&self) -> [u8; 20] {
+        let mut b = [0u8; 20];
+        for (i, v) in self.pos.iter().enumerate() {
+            b[4 * i..4 * i + 4].copy_from_slice(&v.to_le_bytes());
+        }
+        b[12..16].copy_from_slice(&self.rgbe);
+        b[16..18].copy_from_slice(&self.radius.to_le_bytes());
+        b[18] = self.axis;
+        b
+    }
+
+    /// The record of [`VolumePoint::to_le_bytes`].
+    pub fn from_le_bytes(b: &[u8]) -> VolumePoint {
+        let f = |i: usize| f32::from_le_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
+        VolumePoint {
+            pos: [f(0), f(4), f(8)],
+            rgbe: [b[12], b[13], b[14], b[15]],
+            radius: u16::from_le_bytes([b[16], b[17]]),
+            axis: b[18],
+            _pad: 0,
+        }
     }
 }
 
@@ -100,7 +126,8 @@ impl VolumePointMap {
                 chunk
                     .iter()
                     .map(|&(i, p)| {
-                        let (l, r2) = volume.volume_radiance(p, Vec3::Z, &iso, k, max_r2, scratch, None)?;
+                        let (l, r2) =
+                            volume.volume_radiance(p, Vec3::Z, &iso, k, max_r2, scratch, None)?;
                         let r = r2.sqrt();
                         let l = l / reach(i, p, r);
                         Some(VolumePoint {
@@ -126,6 +153,19 @@ impl VolumePointMap {
         self.tree.len()
     }
 
+    /// The balanced records and the largest radius (photon-map files).
+    pub fn parts(&self) -> (&[VolumePoint], f32) {
+        (self.tree.photons(), self.max_r)
+    }
+
+    /// The map of [`VolumePointMap::parts`].
+    pub fn from_parts(heap: Vec<VolumePoint>, max_r: f32) -> VolumePointMap {
+        VolumePointMap {
+            tree: PhotonKdTree::from_heap(heap),
+            max_r,
+        }
+    }
+
     pub fn is_empty(&self) -> bool {
         self.tree.is_empty()
     }
@@ -141,7 +181,9 @@ impl VolumePointMap {
     /// The isotropic in-scattered radiance at `x` from the nearest point whose estimate
     /// reaches it ([`REACH`] of its radius); None where none does.
     pub fn lookup(&self, x: Vec3, scratch: &mut KnnScratch) -> Option<Spectrum> {
-        let found = self.tree.knn(x, CANDIDATES, self.max_r * self.max_r, scratch);
+        let found = self
+            .tree
+            .knn(x, CANDIDATES, self.max_r * self.max_r, scratch);
         let best = found
             .iter()
             .filter(|nb| {
@@ -173,7 +215,10 @@ mod tests {
                 Photon::new(p, Spectrum::splat(power), Vec3::Z).unwrap()
             })
             .collect();
-        PhotonMap::from_tree(MapKind::Volume, PhotonTree::Rgbe(PhotonKdTree::build(photons)))
+        PhotonMap::from_tree(
+            MapKind::Volume,
+            PhotonTree::Rgbe(PhotonKdTree::build(photons)),
+        )
     }
 
     /// In a uniform photon cloud each point's radiance is the cloud's: power density over 4 pi;
@@ -201,7 +246,10 @@ mod tests {
         }
         assert!(count > 1950, "{count} of 2000 interior queries answered");
         let mean = sum / count as f64;
-        assert!((mean / expected as f64 - 1.0).abs() < 0.03, "{mean} against {expected}");
+        assert!(
+            (mean / expected as f64 - 1.0).abs() < 0.03,
+            "{mean} against {expected}"
+        );
         // Half the medium: the reach doubles the points' radiance.
         let half = VolumePointMap::build(&map, 50, 0.04, &|_, _, _| 0.5, None).unwrap();
         let h = half.lookup(Vec3::splat(0.5), &mut scratch).unwrap().x;

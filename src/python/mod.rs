@@ -13,13 +13,13 @@
 //! `photonmap.PhotonmapError` ("internal error: the renderer panicked: ..."), an ordinary
 //! `Exception`, where pyo3 alone would raise `PanicException`, a `BaseException`.
 
+mod job;
 mod pointer;
 
 use crate::cli::{self, Cli, Command, LoadedScene, SceneRequest};
 use crate::error::Error;
 use crate::io::scene_json;
 use crate::render::aov::{AovSpec, Term};
-use std::collections::BTreeMap;
 use crate::render::{ProgressFn, Quality, RenderOutput, RenderSettings};
 use crate::scene::desc::SceneDesc;
 use clap::Parser;
@@ -28,6 +28,7 @@ use pyo3::exceptions::{PyKeyboardInterrupt, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 use std::any::Any;
+use std::collections::BTreeMap;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -310,6 +311,31 @@ fn render_blocking(
     map_err: fn(Error) -> PyErr,
     output_time: Option<Arc<crate::render::OutputTimeFn>>,
 ) -> PyResult<RenderOutput> {
+    run_blocking(
+        py,
+        cli::RenderRequest {
+            output_time,
+            ..cli::RenderRequest::new(desc, settings)
+        },
+        direct,
+        callback,
+        preview,
+        cancel,
+        map_err,
+    )
+}
+
+/// As [`render_blocking`], for a whole request (photon maps to reuse or keep).
+#[allow(clippy::too_many_arguments)]
+fn run_blocking(
+    py: Python<'_>,
+    request: cli::RenderRequest<'_>,
+    direct: Option<Arc<ProgressFn>>,
+    callback: Option<&Bound<'_, PyAny>>,
+    preview: Option<&Bound<'_, PyAny>>,
+    cancel: Arc<AtomicBool>,
+    map_err: fn(Error) -> PyErr,
+) -> PyResult<RenderOutput> {
     // The latest preview of a progressive render (beauty, passes), handed to `preview` by the
     // calling thread as `preview(bytes, width, height, passes)`.
     type Preview = (crate::render::film::Image, u32);
@@ -355,14 +381,12 @@ fn render_blocking(
         let done_ref = &done;
         s.spawn(move || {
             let r = catch_unwind(AssertUnwindSafe(|| {
-                cli::render_desc_with_preview(
-                    desc,
-                    settings,
-                    Some(progress),
-                    Some(flag),
-                    preview_fn,
-                    output_time,
-                )
+                cli::render_request(cli::RenderRequest {
+                    progress: Some(progress),
+                    cancel: Some(flag),
+                    preview: preview_fn,
+                    ..request
+                })
             }));
             if let Ok(mut g) = done_ref.0.lock() {
                 *g = Some(r);
@@ -503,7 +527,7 @@ fn image_bytes<'py>(py: Python<'py>, img: &crate::render::film::Image) -> Bound<
 /// "stats": json}`, images as float32 RGB rows top to bottom. `settings` is a JSON object of
 /// render settings named as the schema names them (`settings_schema`); `null` is a default.
 #[pyfunction]
-#[pyo3(signature = (scene, settings="{}", *, progress=None, preview=None, cancel=None))]
+#[pyo3(signature = (scene, settings="{}", *, progress=None, preview=None, cancel=None, pass_range=None))]
 fn render<'py>(
     py: Python<'py>,
     scene: &PyScene,
@@ -511,12 +535,22 @@ fn render<'py>(
     progress: Option<Bound<'py, PyAny>>,
     preview: Option<Bound<'py, PyAny>>,
     cancel: Option<&CancelToken>,
+    pass_range: Option<(u32, u32)>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let options = crate::render::RenderOptions::from_json(settings).map_err(to_py)?;
     let flag = cancel
         .map(|c| c.flag.clone())
         .unwrap_or_else(|| Arc::new(AtomicBool::new(false)));
-    let settings = options.settings();
+    let mut settings = options.settings();
+    if let Some((a, b)) = pass_range {
+        if settings.mode != crate::render::settings::RenderMode::Pppm || a >= b {
+            return Err(PyValueError::new_err(format!(
+                "invalid render setting `pass_range`: ({a}, {b}) must be passes a < b of the \
+                 pppm mode (mode=\"pppm\")"
+            )));
+        }
+        settings.pass_range = Some((a, b));
+    }
     let out = render_blocking(
         py,
         &scene.desc,
@@ -528,34 +562,98 @@ fn render<'py>(
         to_py,
         None,
     )?;
-    let d = PyDict::new(py);
-    d.set_item("width", out.film.width)?;
-    d.set_item("height", out.film.height)?;
-    let terms = PyDict::new(py);
-    for t in Term::ALL {
-        terms.set_item(t.name(), image_bytes(py, out.film.term(t)))?;
-    }
-    d.set_item("terms", terms)?;
-    d.set_item(
-        crate::render::aov::ERROR_AOV,
-        image_bytes(py, &out.film.error),
-    )?;
-    d.set_item("aovs", aov_list(py, &out.film)?)?;
-    d.set_item(
-        "cryptomatte",
-        serde_json::to_string(&out.film.cryptomatte)
-            .map_err(|e| PhotonmapError::new_err(e.to_string()))?,
-    )?;
-    d.set_item("combined", image_bytes(py, &out.film.combined()))?;
+    let d = film_dict(py, &out.film)?;
     let stats =
         serde_json::to_string(&out.stats).map_err(|e| PhotonmapError::new_err(e.to_string()))?;
     d.set_item("stats", stats)?;
+    if let Some(p) = &out.partial {
+        d.set_item("partial", PyBytes::new(py, &p.to_bytes()))?;
+    }
+    Ok(d)
+}
+
+/// Merges partial sums of pppm passes (the bytes of partial-sum files, every block of one
+/// frame; in any order) into the frame's image: the dict of `render`, with `partial` the
+/// merged sums.
+#[pyfunction]
+fn merge_partials<'py>(py: Python<'py>, partials: Vec<Vec<u8>>) -> PyResult<Bound<'py, PyDict>> {
+    use crate::render::pppm::Partial;
+    let merged = py
+        .detach(|| {
+            caught(|| {
+                let parts: Vec<Partial> = partials
+                    .iter()
+                    .enumerate()
+                    .map(|(i, b)| {
+                        Partial::from_bytes(b, std::path::Path::new(&format!("partial {i}")))
+                    })
+                    .collect::<Result<_, Error>>()?;
+                let m = Partial::merge_all(&parts)?;
+                m.check_complete()?;
+                Ok(m)
+            })
+        })
+        .map_err(to_py)?;
+    let d = film_dict(py, &merged.film())?;
+    d.set_item("stats", cli::merged_stats(&merged).to_string())?;
+    d.set_item("partial", PyBytes::new(py, &merged.to_bytes()))?;
+    Ok(d)
+}
+
+/// The sum of partial sums (bytes of partial-sum files, in any order) as the bytes of one,
+/// without checking that every pass is there: a step of a tree reduction.
+#[pyfunction]
+fn add_partials<'py>(py: Python<'py>, partials: Vec<Vec<u8>>) -> PyResult<Bound<'py, PyBytes>> {
+    use crate::render::pppm::Partial;
+    let bytes = py
+        .detach(|| {
+            caught(|| {
+                let parts: Vec<Partial> = partials
+                    .iter()
+                    .enumerate()
+                    .map(|(i, b)| {
+                        Partial::from_bytes(b, std::path::Path::new(&format!("partial {i}")))
+                    })
+                    .collect::<Result<_, Error>>()?;
+                Ok(Partial::merge_all(&parts)?.to_bytes())
+            })
+        })
+        .map_err(to_py)?;
+    Ok(PyBytes::new(py, &bytes))
+}
+
+/// `{"width", "height", "terms": {name: bytes}, "error": bytes, "aovs": [...],
+/// "cryptomatte": json, "combined": bytes}`.
+fn film_dict<'py>(
+    py: Python<'py>,
+    film: &crate::render::film::Film,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("width", film.width)?;
+    d.set_item("height", film.height)?;
+    let terms = PyDict::new(py);
+    for t in Term::ALL {
+        terms.set_item(t.name(), image_bytes(py, film.term(t)))?;
+    }
+    d.set_item("terms", terms)?;
+    d.set_item(crate::render::aov::ERROR_AOV, image_bytes(py, &film.error))?;
+    d.set_item("aovs", aov_list(py, film)?)?;
+    d.set_item(
+        "cryptomatte",
+        serde_json::to_string(&film.cryptomatte)
+            .map_err(|e| PhotonmapError::new_err(e.to_string()))?,
+    )?;
+    d.set_item("combined", image_bytes(py, &film.combined()))?;
     Ok(d)
 }
 
 /// Denoises a render's terms through the Python `denoiser` (see `run_cli`): the terms it
 /// returns replace the film's, and what it reports goes into the stats.
-fn denoise_film(py: Python<'_>, denoiser: &Bound<'_, PyAny>, out: &mut RenderOutput) -> PyResult<()> {
+fn denoise_film(
+    py: Python<'_>,
+    denoiser: &Bound<'_, PyAny>,
+    out: &mut RenderOutput,
+) -> PyResult<()> {
     let film = &mut out.film;
     let (Some(albedo), Some(normal)) = (
         film.aov(crate::render::aov::ALBEDO_AOV),
@@ -629,7 +727,28 @@ fn run_cli(
             return Ok(e.exit_code());
         }
     };
-    let Command::Render(args) = cli.command;
+    let args = match cli.command {
+        Command::Render(args) => args,
+        Command::Merge(m) => {
+            return match py.detach(|| caught(|| cli::run_merge(&m))) {
+                Ok(p) => {
+                    if !m.quiet {
+                        eprintln!(
+                            "wrote {} ({} passes from {} partial sums)",
+                            m.output.display(),
+                            p.passes(),
+                            m.partials.len()
+                        );
+                    }
+                    Ok(0)
+                }
+                Err(e) => {
+                    eprintln!("photonmap: error: {}", e.for_cli());
+                    Ok(1)
+                }
+            };
+        }
+    };
     // Under --time-budget the command's wall clock runs from here: the USD import, the
     // scene build, the render and the writing of every frame all count.
     let clock = args.wall_clock();
@@ -659,9 +778,76 @@ fn run_cli(
         Ok(f) => f,
         Err(e) => return fail(e),
     };
-    let mut py_err: Option<PyErr> = None;
-    let mut load = |req: &SceneRequest| -> Result<LoadedScene, Error> {
-        let Some(loader) = &usd_loader else {
+    let py_err: std::cell::RefCell<Option<PyErr>> = Default::default();
+    let mut load = usd_load_fn(usd_loader.as_ref(), &py_err);
+    let frame_count = frames.len();
+    let mut reuse = cli::FrameReuse::new(&args, frame_count);
+    for (i, frame) in frames.into_iter().enumerate() {
+        let a = args.for_frame(frame);
+        let loaded = match caught(|| a.load_scene_with(frame, Some(&mut load))) {
+            Ok(l) => l,
+            Err(e) => match py_err.borrow_mut().take() {
+                Some(pe) => return Err(pe),
+                None => return fail(e),
+            },
+        };
+        let (bar, bar_fn) = cli::progress_bar(a.quiet);
+        let cancel = Arc::new(AtomicBool::new(false));
+        let settings = a.settings_within(clock.as_ref(), frame_count - i);
+        let output = clock.map(|_| a.output_time());
+        let request = reuse.request(
+            i,
+            cli::RenderRequest {
+                output_time: output,
+                maps_only: a.photon_maps_only,
+                ..cli::RenderRequest::new(&loaded.desc, settings)
+            },
+        );
+        let out = run_blocking(py, request, Some(bar_fn), None, None, cancel, |e| {
+            to_py(e.for_cli())
+        });
+        let mut out = match out {
+            Ok(o) => o,
+            Err(e) => {
+                bar.abandon();
+                if e.is_instance_of::<PyKeyboardInterrupt>(py) {
+                    return Err(e);
+                }
+                eprintln!("photonmap: error: {}", e.value(py));
+                return Ok(1);
+            }
+        };
+        bar.finish_and_clear();
+        if let (true, Some(d)) = (a.options.denoise && !a.photon_maps_only, &denoiser) {
+            if let Err(e) = denoise_film(py, d, &mut out) {
+                eprintln!("photonmap: error: --denoise: {}", e.value(py));
+                return Ok(1);
+            }
+        }
+        if let Err(e) = caught(|| cli::write_outputs_with(&a, &out, loaded.import_stats.as_ref())) {
+            return fail(e);
+        }
+        reuse.rendered(i, &mut out);
+        if !a.quiet {
+            eprintln!("{}", cli::summary(&a, &out));
+        }
+        if a.photon_maps_only {
+            // The maps of the first frame's view; later frames load them.
+            break;
+        }
+    }
+    Ok(0)
+}
+
+/// The scene reader of the command: USD stages through the Python `usd_loader(path, frame,
+/// camera, purposes, strict)`, which returns `(ir_json, import_stats_json)`. An exception of
+/// the loader is kept in `py_err`, to be raised as it is.
+fn usd_load_fn<'a, 'py>(
+    usd_loader: Option<&'a Bound<'py, PyAny>>,
+    py_err: &'a std::cell::RefCell<Option<PyErr>>,
+) -> impl FnMut(&SceneRequest) -> Result<LoadedScene, Error> + 'a {
+    move |req: &SceneRequest| -> Result<LoadedScene, Error> {
+        let Some(loader) = usd_loader else {
             return Err(Error::io(req.path, "no USD reader available"));
         };
         let r = loader
@@ -681,63 +867,11 @@ fn run_cli(
             }
             Err(e) => {
                 let msg = e.to_string();
-                py_err = Some(e);
+                *py_err.borrow_mut() = Some(e);
                 Err(Error::io(req.path, msg))
             }
         }
-    };
-    let frame_count = frames.len();
-    for (i, frame) in frames.into_iter().enumerate() {
-        let a = args.for_frame(frame);
-        let loaded = match caught(|| a.load_scene_with(frame, Some(&mut load))) {
-            Ok(l) => l,
-            Err(e) => match py_err.take() {
-                Some(pe) => return Err(pe),
-                None => return fail(e),
-            },
-        };
-        let (bar, bar_fn) = cli::progress_bar(a.quiet);
-        let cancel = Arc::new(AtomicBool::new(false));
-        let settings = a.settings_within(clock.as_ref(), frame_count - i);
-        let output = clock.map(|_| a.output_time());
-        let out = render_blocking(
-            py,
-            &loaded.desc,
-            settings,
-            Some(bar_fn),
-            None,
-            None,
-            cancel,
-            |e| to_py(e.for_cli()),
-            output,
-        );
-        let out = match out {
-            Ok(o) => o,
-            Err(e) => {
-                bar.abandon();
-                if e.is_instance_of::<PyKeyboardInterrupt>(py) {
-                    return Err(e);
-                }
-                eprintln!("photonmap: error: {}", e.value(py));
-                return Ok(1);
-            }
-        };
-        bar.finish_and_clear();
-        let mut out = out;
-        if let (true, Some(d)) = (a.options.denoise, &denoiser) {
-            if let Err(e) = denoise_film(py, d, &mut out) {
-                eprintln!("photonmap: error: --denoise: {}", e.value(py));
-                return Ok(1);
-            }
-        }
-        if let Err(e) = caught(|| cli::write_outputs_with(&a, &out, loaded.import_stats.as_ref())) {
-            return fail(e);
-        }
-        if !a.quiet {
-            eprintln!("{}", cli::summary(&a, &out));
-        }
     }
-    Ok(0)
 }
 
 /// The preset fields of a quality preset as JSON, named as the `render` keywords.
@@ -795,13 +929,21 @@ fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("RenderCancelled", py.get_type::<RenderCancelled>())?;
     m.add_class::<PyScene>()?;
     m.add_class::<CancelToken>()?;
+    m.add_class::<job::Job>()?;
+    m.add_function(wrap_pyfunction!(merge_partials, m)?)?;
+    m.add_function(wrap_pyfunction!(add_partials, m)?)?;
     m.add_function(wrap_pyfunction!(render, m)?)?;
     m.add_function(wrap_pyfunction!(run_cli, m)?)?;
     m.add_function(wrap_pyfunction!(preset, m)?)?;
     m.add_function(wrap_pyfunction!(settings_schema, m)?)?;
     m.add_function(wrap_pyfunction!(aov_specs, m)?)?;
     m.add_function(wrap_pyfunction!(cryptomatte_header, m)?)?;
-    m.add("DENOISED_TERMS", crate::render::aov::DENOISED_TERMS.map(|t| t.name()).to_vec())?;
+    m.add(
+        "DENOISED_TERMS",
+        crate::render::aov::DENOISED_TERMS
+            .map(|t| t.name())
+            .to_vec(),
+    )?;
     m.add("NOISY_SUFFIX", crate::render::aov::NOISY_SUFFIX)?;
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
     Ok(())

@@ -58,7 +58,10 @@ pub fn brightness(means: &[f32]) -> f32 {
     if means.is_empty() {
         return 0.0;
     }
-    let mut sorted: Vec<f32> = means.iter().map(|m| if m.is_finite() { m.max(0.0) } else { 0.0 }).collect();
+    let mut sorted: Vec<f32> = means
+        .iter()
+        .map(|m| if m.is_finite() { m.max(0.0) } else { 0.0 })
+        .collect();
     let k = ((sorted.len() - 1) as f64 * 0.99).round() as usize;
     let (_, cap, _) = sorted.select_nth_unstable_by(k, f32::total_cmp);
     let cap = *cap;
@@ -91,6 +94,21 @@ fn noise(mean: f32, standard_error: f32, brightness: f32) -> f32 {
     }
 }
 
+impl AdaptiveStats {
+    /// The stats of adaptive stage `a` that gave `rounds` (one per pixel of the image) of
+    /// `spp` samples, `extra_samples` beyond the first round.
+    pub fn of(a: Adaptive, rounds: &[u32], spp: u32, extra_samples: u64) -> AdaptiveStats {
+        AdaptiveStats {
+            threshold: a.threshold,
+            max_factor: a.max_factor,
+            pixels_refined: rounds.iter().filter(|&&r| r > 1).count() as u64,
+            extra_samples,
+            mean_spp: rounds.iter().map(|&r| (r * spp) as f64).sum::<f64>()
+                / rounds.len().max(1) as f64,
+        }
+    }
+}
+
 impl Adaptive {
     /// The adaptive stage of the settings `s`, if they ask for one: adaptive sampling on, a
     /// threshold above 0 and room for a second round under `max_spp`.
@@ -114,7 +132,11 @@ impl Adaptive {
                 for dy in -1..=1i64 {
                     for dx in -1..=1i64 {
                         let (nx, ny) = (x + dx, y + dy);
-                        if (dx, dy) == (0, 0) || nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64
+                        if (dx, dy) == (0, 0)
+                            || nx < 0
+                            || ny < 0
+                            || nx >= w as i64
+                            || ny >= h as i64
                         {
                             continue;
                         }
@@ -160,7 +182,9 @@ mod tests {
         let d = noise_map(&dark, &errors)[3];
         let b = brightness(&dark.iter().map(|m| luminance(*m)).collect::<Vec<_>>());
         assert!((d - 0.2 / (DARK * b * b).sqrt()).abs() < 1e-3 * d, "{d}");
-        assert!(noise_map(&[Spectrum::ZERO; 4], &[Spectrum::ONE; 4]).iter().all(|&v| v == 0.0));
+        assert!(noise_map(&[Spectrum::ZERO; 4], &[Spectrum::ONE; 4])
+            .iter()
+            .all(|&v| v == 0.0));
     }
 
     /// A light in frame, far brighter than the rest, does not set the brightness.
@@ -188,7 +212,16 @@ mod tests {
         n[2 * w + 2] = 0.2; // one noisy pixel at (2, 2)
         let r = a.rounds(&n, w, h);
         assert_eq!(r[2 * w + 2], 1, "its own noise does not refine it");
-        for (x, y) in [(1, 1), (2, 1), (3, 1), (1, 2), (3, 2), (1, 3), (2, 3), (3, 3)] {
+        for (x, y) in [
+            (1, 1),
+            (2, 1),
+            (3, 1),
+            (1, 2),
+            (3, 2),
+            (1, 3),
+            (2, 3),
+            (3, 3),
+        ] {
             assert_eq!(r[y * w + x], 4, "(0.2 / 0.1)^2 rounds at ({x},{y})");
         }
         assert_eq!(r.iter().filter(|&&v| v > 1).count(), 8);

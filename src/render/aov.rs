@@ -181,7 +181,15 @@ impl AovSpec {
 
 /// Which Cryptomatte layers a render writes.
 #[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize, clap::ValueEnum,
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
 )]
 #[serde(rename_all = "lowercase")]
 pub enum Cryptomatte {
@@ -240,11 +248,7 @@ impl AovRequest {
     pub fn aovs(&self, light_groups: &[String]) -> Vec<AovSpec> {
         let mut out = vec![AovSpec::new(ERROR_AOV, ERROR_PASS, AovKind::Color)];
         if self.guides() {
-            out.push(AovSpec::new(
-                ALBEDO_AOV,
-                "Denoising Albedo",
-                AovKind::Color,
-            ));
+            out.push(AovSpec::new(ALBEDO_AOV, "Denoising Albedo", AovKind::Color));
             out.push(AovSpec::new(
                 NORMAL_AOV,
                 "Denoising Normal",

@@ -74,16 +74,32 @@ fn first_diffuse(
     None
 }
 
+/// A new cache, filled for the view of `ctx`'s scene.
 pub fn fill(
     ctx: &EyeCtx,
     s: &RenderSettings,
     progress: &(dyn Fn(f32) + Sync),
     cancelled: &(dyn Fn() -> bool + Sync),
 ) -> Result<IrradianceCache> {
+    let a = s.photons.cache_tolerance.max(1e-3);
+    let cache = IrradianceCache::new(a, 0.05 * ctx.scene.radius);
+    extend(ctx, s, cache, progress, cancelled)
+}
+
+/// `cache` (records are world-space: one filled for another view of the same scene, with
+/// the same maps and settings) extended for the view of `ctx`'s scene: the same rounds as
+/// [`fill`], where only the points the cache does not cover yet get a record. A cache
+/// filled for this very view gets none.
+pub fn extend(
+    ctx: &EyeCtx,
+    s: &RenderSettings,
+    mut cache: IrradianceCache,
+    progress: &(dyn Fn(f32) + Sync),
+    cancelled: &(dyn Fn() -> bool + Sync),
+) -> Result<IrradianceCache> {
     let scene = ctx.scene;
     let (w, h) = (scene.width, scene.height);
     let a = s.photons.cache_tolerance.max(1e-3);
-    let mut cache = IrradianceCache::new(a, 0.05 * scene.radius);
     let r_cap = 0.25 * scene.radius / a;
     let pixel_angle = scene.camera.pixel_angle();
     let rays = s.photons.final_gather_rays.max(1);
@@ -109,7 +125,10 @@ pub fn fill(
                 let idx = y * w + x;
                 let mut rng = Rng::derive(s.seed, 0x1C, idx as u64);
                 let (si, n, len) = first_diffuse(ctx, x, y, &mut rng)?;
-                cache.lookup(si.p, n, None).is_none().then_some((idx, si, n, len))
+                cache
+                    .lookup(si.p, n, None)
+                    .is_none()
+                    .then_some((idx, si, n, len))
             })
             .collect();
         // The cancel flag is read before every record (a record can take many gather rays).

@@ -325,3 +325,30 @@ pub fn cryptomatte_header(
 pub fn channel_count(kind: AovKind) -> usize {
     kind.channels().len()
 }
+
+/// An error when a render made of separate pieces (`what`: pppm's blocks of passes, Jensen's
+/// tiles) is asked for compositing AOVs, which those pieces do not carry; it names the
+/// setting (or the scene's light groups).
+pub fn require_none(scene: &Scene, s: &RenderSettings, what: &str) -> crate::error::Result<()> {
+    let asked = if s.aovs.denoise {
+        Some("denoise")
+    } else if s.aovs.denoising_data {
+        Some("denoising_data")
+    } else if s.aovs.cryptomatte != super::aov::Cryptomatte::Off {
+        Some("cryptomatte")
+    } else if !scene.light_groups.is_empty() {
+        Some("lightgroups")
+    } else {
+        None
+    };
+    match asked {
+        Some(setting) => Err(crate::error::Error::InvalidSetting {
+            setting: setting.into(),
+            message: format!(
+                "{what} carry no compositing AOVs (denoising data, Cryptomatte, light groups): \
+                 render the frame whole in the jensen or sppm mode"
+            ),
+        }),
+        None => Ok(()),
+    }
+}

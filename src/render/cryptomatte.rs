@@ -168,7 +168,10 @@ mod tests {
 
     #[test]
     fn the_header_names_its_type_and_lists_the_manifest() {
-        let h = header("CryptoObject", &["bunny".to_string(), "default".to_string()]);
+        let h = header(
+            "CryptoObject",
+            &["bunny".to_string(), "default".to_string()],
+        );
         let key = metadata_key("CryptoObject");
         assert_eq!(key.len(), 7);
         assert_eq!(h[&format!("cryptomatte/{key}/name")], "CryptoObject");

@@ -72,6 +72,55 @@ impl<X: Default> Pixel<X> {
     }
 }
 
+/// A rectangle of the image, in pixels: columns `x..x + width`, rows `y..y + height`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Rect {
+    pub x: usize,
+    pub y: usize,
+    pub width: usize,
+    pub height: usize,
+}
+
+impl Rect {
+    /// The whole `width`-by-`height` image.
+    pub fn full(width: usize, height: usize) -> Rect {
+        Rect {
+            x: 0,
+            y: 0,
+            width,
+            height,
+        }
+    }
+
+    /// Pixels in the rectangle.
+    pub fn len(&self) -> usize {
+        self.width * self.height
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Whether the rectangle lies within a `width`-by-`height` image and is not empty.
+    pub fn fits(&self, width: usize, height: usize) -> bool {
+        !self.is_empty()
+            && self.x.checked_add(self.width).is_some_and(|e| e <= width)
+            && self.y.checked_add(self.height).is_some_and(|e| e <= height)
+    }
+}
+
+/// Each pixel's mean and standard error of the combined image after its first round: what
+/// adaptive sampling decides the further rounds from (`adaptive::noise_map`).
+pub fn first_round_noise<X>(pixels: &[Pixel<X>]) -> (Vec<Spectrum>, Vec<Spectrum>) {
+    (
+        pixels.iter().map(|px| px.batches.mean()).collect(),
+        pixels
+            .iter()
+            .map(|px| px.batches.standard_error())
+            .collect(),
+    )
+}
+
 /// What a render mode supplies to the driver.
 pub trait Integrator: Sync {
     /// Per-pixel state beyond the driver's.
@@ -262,16 +311,16 @@ impl<'a> CameraPass<'a> {
     }
 
     fn film_of<I: Integrator>(&self, it: &I, pixels: &[Pixel<I::Extra>], samples: u32) -> Film {
-        let mut film = self.new_film();
+        let mut film = self.new_film(self.scene.width, self.scene.height);
         for (i, px) in pixels.iter().enumerate() {
             self.resolve(it, &mut film, px, samples, i);
         }
         film
     }
 
-    /// An empty film with this render's compositing AOVs.
-    fn new_film(&self) -> Film {
-        let (w, h) = (self.scene.width, self.scene.height);
+    /// An empty film of `w` x `h` pixels (the image, or a tile of it) with this render's
+    /// compositing AOVs.
+    fn new_film(&self, w: usize, h: usize) -> Film {
         let mut film = Film::new(w, h);
         film.aovs = self.aovs.images(w, h);
         film.cryptomatte = self.aovs.manifests();
@@ -291,9 +340,10 @@ impl<'a> CameraPass<'a> {
         let (v, err) = it.resolve(px, samples);
         film.set_pixel(i % w, i / w, &v);
         film.error.data[i] = err.to_array();
-        self.aovs.resolve(&px.aovs, samples, &v, &mut film.aovs, i, |g| {
-            it.resolve_groups(px, samples, g)
-        });
+        self.aovs
+            .resolve(&px.aovs, samples, &v, &mut film.aovs, i, |g| {
+                it.resolve_groups(px, samples, g)
+            });
     }
 
     /// All `spp` samples of a pixel at once, one pass, rows in parallel. Sample `i` belongs
@@ -309,33 +359,75 @@ impl<'a> CameraPass<'a> {
         spp: u32,
         adaptive: Option<Adaptive>,
     ) -> Result<(Film, Option<AdaptiveStats>)> {
-        use rayon::prelude::*;
-        let (w, h) = (self.scene.width, self.scene.height);
+        let full = Rect::full(self.scene.width, self.scene.height);
         self.report(0.0, self.phase);
         let pass = it.begin_pass(0)?;
-        let grids = replicate_grids(spp);
-        let first_share = if adaptive.is_some() { 0.8 } else { 1.0 };
-        let rows_done = AtomicUsize::new(0);
         let it_ref: &I = it;
-        let rows: Vec<Option<Vec<Pixel<I::Extra>>>> = (0..h)
+        let first_share = if adaptive.is_some() { 0.8 } else { 1.0 };
+        let mut pixels = self.first_round(it_ref, &pass, spp, full, (0.0, first_share))?;
+
+        // Further rounds, decided once from the first round's noise.
+        let rounds: Vec<u32> = match adaptive {
+            Some(a) => {
+                let (means, errors) = first_round_noise(&pixels);
+                a.rounds(
+                    &adaptive::noise_map(&means, &errors),
+                    full.width,
+                    full.height,
+                )
+            }
+            None => vec![1; full.len()],
+        };
+        let extra_total = self.more_rounds(
+            it_ref,
+            &pass,
+            spp,
+            full,
+            &mut pixels,
+            &rounds,
+            (first_share, 1.0),
+        )?;
+        self.report(1.0, self.phase);
+        let film = self.rect_film(it_ref, full, &pixels, &rounds, spp);
+        it.end_pass(pass, 0.0);
+        let stats = adaptive.map(|a| AdaptiveStats::of(a, &rounds, spp, extra_total));
+        Ok((film, stats))
+    }
+
+    /// The first round of a stratified camera pass over the pixels of `rect`: `spp` samples
+    /// each, rows in parallel. Progress goes from `share.0` to `share.1`.
+    pub fn first_round<I: Integrator>(
+        &self,
+        it: &I,
+        pass: &I::Pass,
+        spp: u32,
+        rect: Rect,
+        share: (f32, f32),
+    ) -> Result<Vec<Pixel<I::Extra>>> {
+        use rayon::prelude::*;
+        let w = self.scene.width;
+        let grids = replicate_grids(spp);
+        let rows_done = AtomicUsize::new(0);
+        let rows: Vec<Option<Vec<Pixel<I::Extra>>>> = (rect.y..rect.y + rect.height)
             .into_par_iter()
             .map_init(
-                || self.scratch(it_ref),
+                || self.scratch(it),
                 |scratch, y| {
-                    let mut row = Vec::with_capacity(w);
-                    for x in 0..w {
+                    let mut row = Vec::with_capacity(rect.width);
+                    for x in rect.x..rect.x + rect.width {
                         if self.cancelled() {
                             return None;
                         }
                         let mut px = Pixel::new(Rng::new(self.seed, (y * w + x) as u64));
                         for i in 0..spp {
                             let u = stratified_point(&grids, i, px.rng.vec2());
-                            self.sample(it_ref, &pass, &mut px, x, y, u, i, scratch);
+                            self.sample(it, pass, &mut px, x, y, u, i, scratch);
                         }
                         row.push(px);
                     }
                     let done = rows_done.fetch_add(1, Ordering::Relaxed) + 1;
-                    self.report(first_share * done as f32 / h as f32, self.phase);
+                    let f = done as f32 / rect.height.max(1) as f32;
+                    self.report(share.0 + (share.1 - share.0) * f, self.phase);
                     Some(row)
                 },
             )
@@ -343,66 +435,83 @@ impl<'a> CameraPass<'a> {
         if self.cancelled() {
             return Err(Error::Cancelled);
         }
-        let mut pixels = Vec::with_capacity(w * h);
+        let mut pixels = Vec::with_capacity(rect.len());
         for row in rows {
             pixels.extend(row.ok_or(Error::Cancelled)?);
         }
+        Ok(pixels)
+    }
 
-        // Further rounds, decided once from the first round's noise.
-        let rounds: Vec<u32> = match adaptive {
-            Some(a) => {
-                let means: Vec<Spectrum> = pixels.iter().map(|px| px.batches.mean()).collect();
-                let errors: Vec<Spectrum> =
-                    pixels.iter().map(|px| px.batches.standard_error()).collect();
-                a.rounds(&adaptive::noise_map(&means, &errors), w, h)
-            }
-            None => vec![1; w * h],
-        };
-        let extra_total: u64 = rounds.iter().map(|&r| (r - 1) as u64 * spp as u64).sum();
-        if extra_total > 0 {
-            let extra_done = AtomicUsize::new(0);
-            pixels
-                .par_chunks_mut(w.max(1))
-                .zip(rounds.par_chunks(w.max(1)))
-                .enumerate()
-                .for_each_init(
-                    || self.scratch(it_ref),
-                    |scratch, (y, (row, row_rounds))| {
-                        let mut n = 0usize;
-                        for (x, (px, &r)) in row.iter_mut().zip(row_rounds).enumerate() {
-                            if self.cancelled() {
-                                return;
-                            }
-                            for i in spp..r * spp {
-                                let u = stratified_point(&grids, i % spp, px.rng.vec2());
-                                self.sample(it_ref, &pass, px, x, y, u, i, scratch);
-                            }
-                            n += ((r - 1) * spp) as usize;
+    /// The further rounds of adaptive sampling over the pixels of `rect` (`pixels` after
+    /// their first round, row-major in the rect): pixel `i` takes `rounds[i]` rounds of
+    /// `spp` in all. Returns the samples added.
+    #[allow(clippy::too_many_arguments)]
+    pub fn more_rounds<I: Integrator>(
+        &self,
+        it: &I,
+        pass: &I::Pass,
+        spp: u32,
+        rect: Rect,
+        pixels: &mut [Pixel<I::Extra>],
+        rounds: &[u32],
+        share: (f32, f32),
+    ) -> Result<u64> {
+        use rayon::prelude::*;
+        let grids = replicate_grids(spp);
+        let extra_total: u64 = rounds
+            .iter()
+            .map(|&r| (r.max(1) - 1) as u64 * spp as u64)
+            .sum();
+        if extra_total == 0 {
+            return Ok(0);
+        }
+        let rw = rect.width.max(1);
+        let extra_done = AtomicUsize::new(0);
+        pixels
+            .par_chunks_mut(rw)
+            .zip(rounds.par_chunks(rw))
+            .enumerate()
+            .for_each_init(
+                || self.scratch(it),
+                |scratch, (ry, (row, row_rounds))| {
+                    let mut n = 0usize;
+                    for (rx, (px, &r)) in row.iter_mut().zip(row_rounds).enumerate() {
+                        if self.cancelled() {
+                            return;
                         }
-                        let done = extra_done.fetch_add(n, Ordering::Relaxed) + n;
-                        let f = done as f32 / extra_total as f32;
-                        self.report(first_share + (1.0 - first_share) * f, self.phase);
-                    },
-                );
-            if self.cancelled() {
-                return Err(Error::Cancelled);
-            }
+                        let (x, y) = (rect.x + rx, rect.y + ry);
+                        for i in spp..r * spp {
+                            let u = stratified_point(&grids, i % spp, px.rng.vec2());
+                            self.sample(it, pass, px, x, y, u, i, scratch);
+                        }
+                        n += (r.max(1) - 1) as usize * spp as usize;
+                    }
+                    let done = extra_done.fetch_add(n, Ordering::Relaxed) + n;
+                    let f = done as f32 / extra_total as f32;
+                    self.report(share.0 + (share.1 - share.0) * f, self.phase);
+                },
+            );
+        if self.cancelled() {
+            return Err(Error::Cancelled);
         }
+        Ok(extra_total)
+    }
 
-        self.report(1.0, self.phase);
-        let mut film = self.new_film();
-        for (i, (px, &r)) in pixels.iter().zip(&rounds).enumerate() {
-            self.resolve(it_ref, &mut film, px, r * spp, i);
+    /// The film of `rect` (its size) from its pixels, pixel `i` having taken `rounds[i]`
+    /// rounds of `spp` samples.
+    pub fn rect_film<I: Integrator>(
+        &self,
+        it: &I,
+        rect: Rect,
+        pixels: &[Pixel<I::Extra>],
+        rounds: &[u32],
+        spp: u32,
+    ) -> Film {
+        let mut film = self.new_film(rect.width, rect.height);
+        for (i, (px, &r)) in pixels.iter().zip(rounds).enumerate() {
+            self.resolve(it, &mut film, px, r * spp, i);
         }
-        it.end_pass(pass, 0.0);
-        let stats = adaptive.map(|a| AdaptiveStats {
-            threshold: a.threshold,
-            max_factor: a.max_factor,
-            pixels_refined: rounds.iter().filter(|&&r| r > 1).count() as u64,
-            extra_samples: extra_total,
-            mean_spp: rounds.iter().map(|&r| (r * spp) as f64).sum::<f64>() / (w * h).max(1) as f64,
-        });
-        Ok((film, stats))
+        film
     }
 
     /// Whole passes over the image, one sample per pixel each: sample `k` of a pixel comes

@@ -333,7 +333,14 @@ fn adaptive_rounds_are_deterministic_and_counted() {
     let run = |threads| {
         in_pool(threads, || {
             driver
-                .stratified(&mut Rare { p: 0.05, value: 20.0 }, 8, a)
+                .stratified(
+                    &mut Rare {
+                        p: 0.05,
+                        value: 20.0,
+                    },
+                    8,
+                    a,
+                )
                 .unwrap()
         })
     };
@@ -365,8 +372,8 @@ fn adaptive_sampling_is_unbiased_on_a_rare_bright_path() {
     };
     let truth = (p * value) as f64;
     // Standard error of an image mean of pixels of at least spp samples each.
-    let sigma = ((p * (1.0 - p)) as f64 * (value as f64).powi(2) / (spp as f64 * (w * h) as f64))
-        .sqrt();
+    let sigma =
+        ((p * (1.0 - p)) as f64 * (value as f64).powi(2) / (spp as f64 * (w * h) as f64)).sqrt();
     let z = |m: f64| (m - truth) / sigma;
 
     let scene = wide_scene(w, h);
@@ -377,9 +384,18 @@ fn adaptive_sampling_is_unbiased_on_a_rare_bright_path() {
         .unwrap();
     let stats = stats.unwrap();
     assert!(stats.pixels_refined > 100, "{stats:?}");
-    let mean = film.term(Term::Direct).data.iter().map(|v| v[1] as f64).sum::<f64>()
+    let mean = film
+        .term(Term::Direct)
+        .data
+        .iter()
+        .map(|v| v[1] as f64)
+        .sum::<f64>()
         / (w * h) as f64;
-    assert!(z(mean).abs() < 4.5, "adaptive mean {mean} (z {:.1})", z(mean));
+    assert!(
+        z(mean).abs() < 4.5,
+        "adaptive mean {mean} (z {:.1})",
+        z(mean)
+    );
 
     // The rule that reads a pixel's own noise, on the same kind of samples (the image's
     // brightness taken as the truth).
@@ -406,6 +422,14 @@ fn adaptive_sampling_is_unbiased_on_a_rare_bright_path() {
         own += sum / (rounds * spp) as f64;
     }
     own /= (w * h) as f64;
-    eprintln!("image mean: adaptive {mean:.4} (z {:.2}), own-noise rule {own:.4} (z {:.1})", z(mean), z(own));
-    assert!(z(own) < -4.5, "the own-noise rule's mean {own} (z {:.1})", z(own));
+    eprintln!(
+        "image mean: adaptive {mean:.4} (z {:.2}), own-noise rule {own:.4} (z {:.1})",
+        z(mean),
+        z(own)
+    );
+    assert!(
+        z(own) < -4.5,
+        "the own-noise rule's mean {own} (z {:.1})",
+        z(own)
+    );
 }

@@ -62,6 +62,16 @@ pub struct Replicates {
 }
 
 impl Replicates {
+    /// The running sums and counts (to continue them elsewhere).
+    pub fn to_parts(&self) -> ([Spectrum; REPLICATES], [u32; REPLICATES]) {
+        (self.sums, self.counts)
+    }
+
+    /// The replicates of [`Replicates::to_parts`].
+    pub fn from_parts(sums: [Spectrum; REPLICATES], counts: [u32; REPLICATES]) -> Self {
+        Replicates { sums, counts }
+    }
+
     /// Adds sample `k` of the pixel (its value of the combined image).
     pub fn add(&mut self, k: u32, v: Spectrum) {
         let (r, _) = replicate_of(k);

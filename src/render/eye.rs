@@ -4,9 +4,9 @@
 
 use super::aov::{Term, TermMask};
 use super::compositing::{Guides, SampleAovs};
-use super::lightgroups::Split;
 use super::film::TermRadiance;
 use super::irradiance_cache::IrradianceCache;
+use super::lightgroups::Split;
 use super::photons::PhotonMaps;
 use super::terms::specular::Follow;
 use super::terms::volume::{self, MarchSettings};
@@ -93,7 +93,11 @@ pub fn trace(
 /// its shading normal turned towards the path.
 fn guides(si: &crate::geometry::SurfaceInteraction, bsdf: &Bsdf, tint: Spectrum) -> Guides {
     let (d, s, t) = bsdf.rr_reflectivities(si.wo);
-    let n = if si.ns.dot(si.wo) < 0.0 { -si.ns } else { si.ns };
+    let n = if si.ns.dot(si.wo) < 0.0 {
+        -si.ns
+    } else {
+        si.ns
+    };
     Guides {
         albedo: tint * (d + s + t).min(Spectrum::ONE),
         normal: n,
@@ -185,7 +189,8 @@ pub fn trace_split(
                     scratch,
                     sp.as_mut(),
                 );
-                ctx.work.march(mr.steps, mr.volume_lookups, mr.volume_point_reads);
+                ctx.work
+                    .march(mr.steps, mr.volume_lookups, mr.volume_point_reads);
                 add(&mut out, Term::Volume, bounces, beta * mr.radiance);
                 mr.transmittance
             } else {

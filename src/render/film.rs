@@ -7,9 +7,9 @@
 use super::aov::{AovSpec, Term};
 pub use super::compositing::AovImage;
 use crate::math::Spectrum;
-use std::collections::BTreeMap;
 use crate::sampling::Distribution1D;
 use glam::Vec2;
+use std::collections::BTreeMap;
 
 /// Pixel reconstruction filter.
 #[derive(Clone, Debug)]
@@ -172,11 +172,12 @@ impl Film {
             kind: super::aov::AovKind::Color,
         };
         std::iter::once((spec, std::borrow::Cow::Owned(error)))
-            .chain(
-                self.aovs
-                    .iter()
-                    .map(|a| (a.spec.clone(), std::borrow::Cow::Borrowed(a.data.as_slice()))),
-            )
+            .chain(self.aovs.iter().map(|a| {
+                (
+                    a.spec.clone(),
+                    std::borrow::Cow::Borrowed(a.data.as_slice()),
+                )
+            }))
             .collect()
     }
 

@@ -60,6 +60,7 @@ impl Record {
     }
 }
 
+#[derive(Clone)]
 pub struct IrradianceCache {
     pub tolerance: f32,
     records: Vec<Record>,
@@ -80,6 +81,16 @@ impl IrradianceCache {
 
     pub fn len(&self) -> usize {
         self.records.len()
+    }
+
+    /// The grid's cell size.
+    pub fn cell(&self) -> f32 {
+        self.cell
+    }
+
+    /// The records, in the order they were inserted.
+    pub fn records(&self) -> &[Record] {
+        &self.records
     }
     pub fn is_empty(&self) -> bool {
         self.records.is_empty()

@@ -82,13 +82,14 @@ pub fn scaled<'s>(split: &'s mut Option<&mut Split<'_>>, s: Spectrum) -> Option<
 /// Each group's fraction of `total`, per channel, from the groups' shares `parts` (0 where
 /// the total is 0).
 pub fn fractions(parts: &[Spectrum], total: Spectrum) -> Vec<Spectrum> {
-    let inv = total
-        .to_array()
-        .map(|t| if t > 0.0 && t.is_finite() { 1.0 / t } else { 0.0 });
-    parts
-        .iter()
-        .map(|p| *p * Spectrum::from(inv))
-        .collect()
+    let inv = total.to_array().map(|t| {
+        if t > 0.0 && t.is_finite() {
+            1.0 / t
+        } else {
+            0.0
+        }
+    });
+    parts.iter().map(|p| *p * Spectrum::from(inv)).collect()
 }
 
 #[cfg(test)]

@@ -111,6 +111,19 @@ pub fn build(
     need: [bool; 3],
     cancel: Option<&AtomicBool>,
 ) -> (PhotonMaps, Vec<MapStats>) {
+    build_with(scene, s, seed, need, cancel, true)
+}
+
+/// As [`build`]; `irradiance_points` false leaves out the global map's precomputed
+/// irradiance (which only final gathering reads).
+pub fn build_with(
+    scene: &Scene,
+    s: &PhotonSettings,
+    seed: u64,
+    need: [bool; 3],
+    cancel: Option<&AtomicBool>,
+    irradiance_points: bool,
+) -> (PhotonMaps, Vec<MapStats>) {
     debug_panic_hook();
     let [need_global, need_caustic, need_volume] = need;
     let max_r = s.max_radius.unwrap_or(0.1 * scene.radius);
@@ -160,7 +173,7 @@ pub fn build(
             targets,
             cancel,
             f32_power: s.f32_power,
-            irradiance: (kind == MapKind::Global).then_some((
+            irradiance: (kind == MapKind::Global && irradiance_points).then_some((
                 s.gather,
                 max_r * max_r,
                 super::terms::indirect::IRRADIANCE_POINT_PHOTONS,

@@ -34,6 +34,24 @@ pub type OutputTimeFn = dyn Fn(&Film) -> f64 + Send + Sync;
 pub struct RenderOutput {
     pub film: Film,
     pub stats: RenderStats,
+    /// pppm: the passes' partial sums, to save or merge with other blocks.
+    pub partial: Option<Box<super::pppm::Partial>>,
+    /// Jensen's mode, when asked for ([`Renderer::keep_photon_maps`]): the photon maps and
+    /// irradiance cache of the render, to reuse or save.
+    pub photon_maps: Option<std::sync::Arc<super::map_file::MapSet>>,
+}
+
+/// Hashes that identify what a render's photon maps and partial sums depend on (computed by
+/// the front end from the scene IR, `render::map_file::keys`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RenderKeys {
+    /// Geometry, lights, materials, media, photon settings, seed and version: not the
+    /// camera (the photon maps' key).
+    pub maps: u64,
+    /// The camera and the film (the view an irradiance cache was filled for).
+    pub view: u64,
+    /// Everything a pppm pass depends on: scene, camera, film and settings.
+    pub render: u64,
 }
 
 pub struct Renderer<'a> {
@@ -44,6 +62,13 @@ pub struct Renderer<'a> {
     pub(super) preview: Option<Arc<PreviewFn>>,
     pub(super) output_time: Option<Arc<OutputTimeFn>>,
     pub(super) work: super::work::WorkCounts,
+    pub(super) keys: Option<RenderKeys>,
+    /// Photon maps (and an irradiance cache) to use instead of building them.
+    pub(super) reuse: Option<std::sync::Arc<super::map_file::MapSet>>,
+    pub(super) keep_maps: bool,
+    pub(super) key_parts: Option<super::map_file::KeyParts>,
+    /// Jensen's mode: build the photon maps and the irradiance cache only.
+    pub(super) maps_only: bool,
     /// The compositing AOVs of the render (set when it starts, from the settings).
     pub(super) aovs: AovLayout,
 }
@@ -58,8 +83,41 @@ impl<'a> Renderer<'a> {
             preview: None,
             output_time: None,
             work: Default::default(),
+            keys: None,
+            reuse: None,
+            keep_maps: false,
+            key_parts: None,
+            maps_only: false,
             aovs: AovLayout::none(),
         }
+    }
+    /// The parts of the photon-map key, stored with kept maps (see `map_file::KeyParts`).
+    pub fn key_parts(mut self, parts: super::map_file::KeyParts) -> Self {
+        self.key_parts = Some(parts);
+        self
+    }
+    /// Jensen's mode: build the photon maps and the irradiance cache for the view, and stop
+    /// before the camera pass; the output's film is empty and `photon_maps` holds them.
+    pub fn maps_only(mut self, only: bool) -> Self {
+        self.maps_only = only;
+        self.keep_maps |= only;
+        self
+    }
+    /// The keys of the scene and settings (see [`RenderKeys`]).
+    pub fn keys(mut self, keys: RenderKeys) -> Self {
+        self.keys = Some(keys);
+        self
+    }
+    /// Jensen's mode: render with these photon maps (and their irradiance cache, extended
+    /// for this render's view) instead of building them. Their key must be this render's.
+    pub fn reuse_photon_maps(mut self, maps: std::sync::Arc<super::map_file::MapSet>) -> Self {
+        self.reuse = Some(maps);
+        self
+    }
+    /// Jensen's mode: return the photon maps and irradiance cache in the output.
+    pub fn keep_photon_maps(mut self, keep: bool) -> Self {
+        self.keep_maps = keep;
+        self
     }
     pub fn settings(mut self, s: RenderSettings) -> Self {
         self.settings = s;
@@ -132,7 +190,7 @@ impl<'a> Renderer<'a> {
     pub(super) fn needed_maps(&self) -> [bool; 3] {
         let s = &self.settings;
         let need_volume = s.terms.contains(Term::Volume) && self.scene.has_media();
-        if s.mode == RenderMode::Sppm {
+        if s.mode.is_progressive() {
             // One global map per pass serves both photon terms.
             let terms = s.terms.contains(Term::Caustic) || s.terms.contains(Term::Indirect);
             return [terms, false, need_volume];
@@ -198,6 +256,7 @@ impl<'a> Renderer<'a> {
         match self.settings.mode {
             RenderMode::Jensen => self.render_jensen(threads, estimate, start),
             RenderMode::Sppm => self.render_sppm(threads, estimate, start),
+            RenderMode::Pppm => self.render_pppm(threads, estimate, start),
         }
     }
 }

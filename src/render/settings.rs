@@ -200,6 +200,18 @@ pub enum RenderMode {
     /// passes, each with a fresh map of `photons` stored photons and a shrinking search radius
     /// per pixel, converging to the exact image as passes grow.
     Sppm,
+    /// Progressive (farm): probabilistic progressive photon mapping (Knaus & Zwicker 2011);
+    /// `spp` independent passes, each with a fresh map and a global radius that depends on
+    /// the pass index only, summed so that blocks of passes rendered anywhere merge to the
+    /// same image.
+    Pppm,
+}
+
+impl RenderMode {
+    /// The modes of progressive photon mapping (a fresh photon map per pass).
+    pub fn is_progressive(self) -> bool {
+        matches!(self, RenderMode::Sppm | RenderMode::Pppm)
+    }
 }
 
 /// Default fraction of the new photons a progressive pass keeps (Hachisuka & Jensen 2009, α).
@@ -255,6 +267,12 @@ pub struct RenderSettings {
     /// Progressive photon mapping: a pixel's first radius reaches this many photons (k
     /// nearest around its first visible point).
     pub sppm_initial_photons: usize,
+    /// pppm: the first pass's radius r_1; `None` computes it (`render::pppm`).
+    pub pppm_initial_radius: Option<f32>,
+    /// pppm: render only passes `[first, end)` (a block of a render split into several).
+    pub pass_range: Option<(u32, u32)>,
+    /// Jensen's mode: photon maps saved to and loaded from files (`render::map_file`).
+    pub photon_map_files: super::map_file::MapFiles,
     /// The optional AOVs: denoising guides, noisy terms, Cryptomatte (`aov::AovRequest`).
     pub aovs: AovRequest,
 }
@@ -280,6 +298,9 @@ impl Default for RenderSettings {
             mode: RenderMode::Jensen,
             sppm_alpha: SPPM_ALPHA,
             sppm_initial_photons: SPPM_INITIAL_PHOTONS,
+            pppm_initial_radius: None,
+            pass_range: None,
+            photon_map_files: Default::default(),
             aovs: AovRequest {
                 cryptomatte_levels: CRYPTOMATTE_LEVELS,
                 ..AovRequest::default()

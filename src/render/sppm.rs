@@ -304,6 +304,8 @@ impl Renderer<'_> {
         Ok(RenderOutput {
             film: out.film,
             stats,
+            partial: None,
+            photon_maps: None,
         })
     }
 }

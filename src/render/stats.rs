@@ -58,6 +58,13 @@ pub struct RenderStats {
     /// What a progressive render did; absent in Jensen's mode.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sppm: Option<SppmStats>,
+    /// What a distributable progressive (pppm) render did; absent in the other modes.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pppm: Option<super::pppm::PppmStats>,
+    /// Jensen's mode: where the photon maps and the irradiance cache came from (built,
+    /// reused from an earlier frame, or loaded from a file) and where they were saved.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub photon_map_reuse: Option<super::map_file::ReuseStats>,
     /// What adaptive sampling did (pixels refined, samples added); absent where it was off
     /// or the camera pass ran in whole passes.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -175,6 +182,8 @@ impl Renderer<'_> {
             time_budget: p.time_budget,
             mode: p.mode,
             sppm: p.sppm,
+            pppm: None,
+            photon_map_reuse: None,
             adaptive: p.adaptive,
         }
     }
@@ -264,7 +273,11 @@ mod tests {
             assert_eq!((st.width, st.height, st.spp), (10, 8, 3), "{mode:?}");
             // Jensen's camera pass adds adaptive sampling's rounds; the progressive one has none.
             let extra = st.adaptive.map_or(0, |a| a.extra_samples);
-            assert_eq!(st.adaptive.is_some(), mode == RenderMode::Jensen, "{mode:?}");
+            assert_eq!(
+                st.adaptive.is_some(),
+                mode == RenderMode::Jensen,
+                "{mode:?}"
+            );
             assert_eq!(st.camera_rays, 10 * 8 * 3 + extra);
             assert_eq!(st.mode, mode);
             for m in st.photon_maps.iter().filter(|m| m.built) {

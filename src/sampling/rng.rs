@@ -35,6 +35,17 @@ impl Rng {
         rng
     }
 
+    /// The generator's state (to continue it elsewhere, e.g. a pixel's stream on another
+    /// machine).
+    pub fn to_parts(&self) -> (u64, u64) {
+        (self.state, self.inc)
+    }
+
+    /// The generator of [`Rng::to_parts`].
+    pub fn from_parts(state: u64, inc: u64) -> Self {
+        Rng { state, inc }
+    }
+
     /// Derives a child generator for sub-stream `index` (e.g. a pixel inside a tile).
     pub fn derive(seed: u64, a: u64, b: u64) -> Self {
         Self::new(seed, mix64(a) ^ b.wrapping_mul(0x9E37_79B9_7F4A_7C15))

@@ -118,12 +118,13 @@ impl Scene {
                 })
                 .map(|i| i as u8)
         };
-        let named = |object: &Option<String>, name: &str, fallback: String| {
-            match object.as_deref().filter(|o| !o.is_empty()) {
-                Some(o) => o.to_string(),
-                None if !name.is_empty() => name.to_string(),
-                None => fallback,
-            }
+        let named = |object: &Option<String>, name: &str, fallback: String| match object
+            .as_deref()
+            .filter(|o| !o.is_empty())
+        {
+            Some(o) => o.to_string(),
+            None if !name.is_empty() => name.to_string(),
+            None => fallback,
         };
         for (i, m) in desc.meshes.iter().enumerate() {
             meshes.push(mesh_geom(m));
@@ -140,9 +141,8 @@ impl Scene {
         }
         for (j, inst) in desc.instances.iter().enumerate() {
             instance_names.push(named(&inst.object, &inst.name, format!("instance{j}")));
-            instance_group.push(
-                group_of("instances", j).or_else(|| group_of("meshes", inst.mesh as usize)),
-            );
+            instance_group
+                .push(group_of("instances", j).or_else(|| group_of("meshes", inst.mesh as usize)));
             instance_medium.push(desc.meshes[inst.mesh as usize].interior_medium);
             let mesh_t = Transform::from_rows(&desc.meshes[inst.mesh as usize].transform)
                 .unwrap_or_default();
@@ -382,10 +382,7 @@ fn light_groups(desc: &SceneDesc, groups: &[Option<u8>]) -> (Vec<String>, Vec<u8
     let names = crate::render::aov::light_group_names(&given);
     let default = crate::render::aov::DEFAULT_LIGHTGROUP;
     let fallback = names.iter().position(|n| n == default).unwrap_or(0);
-    let index = groups
-        .iter()
-        .map(|g| g.unwrap_or(fallback as u8))
-        .collect();
+    let index = groups.iter().map(|g| g.unwrap_or(fallback as u8)).collect();
     (names, index)
 }
 

@@ -88,7 +88,7 @@ def test_every_schema_field_is_a_property_with_the_cores_name_and_default(addon,
         if f["type"] in ("int", "float"):
             assert prop.default == pytest.approx(d if d is not None else 0), k
             assert sent[k] == (pytest.approx(d) if d is not None else None), k
-        elif f["type"] == "size":
+        elif f["type"] in ("size", "path"):
             assert prop.default == "" and sent[k] is None, k
         else:
             assert prop.default == d and sent[k] == d, k
@@ -477,3 +477,37 @@ def test_viewport_refines_progressively(photonmap_scene, addon):
     assert all(s == (32, 48) for s, _ in previews), previews
     assert Engine.redraws == 1 + len(previews) + 1  # the draft, each preview, the end
     assert vp.image.shape == (32, 48, 3) and vp.image.mean() > 0.01
+
+
+def test_photon_maps_saved_and_loaded_by_the_addon(photonmap_scene, addon, tmp_path, monkeypatch):
+    """The first frame saves the photon maps (Save Photon Maps), a later frame with the camera
+    moved loads them (Load Photon Maps, On Mismatch: rebuild) and says so; a scene changed
+    beyond its camera rebuilds them: what the Flamenco job type sets on every worker."""
+    sc = photonmap_scene(scenes.cornell_area)
+    seen = []
+    write = addon.passes.write_result
+
+    def spy(engine, out, window, layer_name=""):
+        seen.append(out["stats"])
+        write(engine, out, window, layer_name)
+
+    monkeypatch.setattr(addon.passes, "write_result", spy)
+    sc.render.resolution_x, sc.render.resolution_y = 32, 24
+    sc.photonmap.spp = 2
+    maps = tmp_path / "maps.pmaps"
+    # Blender's "//" paths are relative to the .blend file; an absolute one is kept.
+    sc.photonmap.save_photon_maps = str(maps)
+    bpy.ops.render.render()
+    assert maps.exists() and seen[-1]["photon_map_reuse"]["saved_to"] == str(maps)
+    sc.photonmap.save_photon_maps = ""
+    sc.photonmap.load_photon_maps = str(maps)
+    sc.photonmap.photon_maps_mismatch = "rebuild"
+    sc.camera.location.x += 0.05
+    bpy.ops.render.render()
+    assert seen[-1]["photon_map_reuse"]["maps"] == "loaded", seen[-1]["photon_map_reuse"]
+    assert seen[-1]["photon_map_reuse"]["cache"] == "extended"
+    light = next(o for o in sc.objects if o.type == "LIGHT")
+    light.data.energy *= 1.5
+    bpy.ops.render.render()
+    st = seen[-1]["photon_map_reuse"]
+    assert st["maps"] == "built" and "lights differ" in st["rebuilt_because"], st

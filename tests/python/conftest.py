@@ -58,3 +58,70 @@ def stage_factory(tmp_path):
     def make(name="s.usda", up="Z"):
         return new_stage(tmp_path, name, up)
     return make
+
+
+def _ir_matrix(rows):
+    return Gf.Matrix4d(np.array(rows, dtype=np.float64).T.tolist())
+
+
+def write_scene_usda(path, desc, camera_x=(0.0,), frame_start=1):
+    """A USD stage of a JSON scene IR of triangle meshes, UsdPreviewSurface materials
+    (diffuse, mirror, glass) and rect lights, with the IR's camera moved sideways by
+    ``camera_x[i]`` at frame ``frame_start + i`` (a camera-only animation)."""
+    stage = Usd.Stage.CreateNew(path)
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.y)
+    UsdGeom.SetStageMetersPerUnit(stage, 1.0)
+    mats = []
+    for i, m in enumerate(desc["materials"]):
+        mat = UsdShade.Material.Define(stage, f"/Materials/m{i}")
+        sh = UsdShade.Shader.Define(stage, f"/Materials/m{i}/s")
+        sh.CreateIdAttr("UsdPreviewSurface")
+        inp = lambda n, t, v: sh.CreateInput(n, t).Set(v)  # noqa: E731
+        if m["type"] == "diffuse":
+            inp("diffuseColor", Sdf.ValueTypeNames.Color3f, Gf.Vec3f(*m["color"]))
+            inp("roughness", Sdf.ValueTypeNames.Float, 1.0)
+        elif m["type"] == "mirror":
+            inp("diffuseColor", Sdf.ValueTypeNames.Color3f, Gf.Vec3f(*m["color"]))
+            inp("metallic", Sdf.ValueTypeNames.Float, 1.0)
+            inp("roughness", Sdf.ValueTypeNames.Float, 0.0)
+        else:
+            inp("diffuseColor", Sdf.ValueTypeNames.Color3f, Gf.Vec3f(1, 1, 1))
+            inp("opacity", Sdf.ValueTypeNames.Float, 0.0)
+            inp("ior", Sdf.ValueTypeNames.Float, m.get("ior", 1.5))
+            inp("roughness", Sdf.ValueTypeNames.Float, 0.0)
+        mat.CreateSurfaceOutput().ConnectToSource(sh.ConnectableAPI(), "surface")
+        mats.append(mat)
+    for m in desc["meshes"]:
+        mesh = UsdGeom.Mesh.Define(stage, "/" + m["name"])
+        mesh.CreatePointsAttr([Gf.Vec3f(*p) for p in m["positions"]])
+        mesh.CreateFaceVertexCountsAttr([3] * len(m["indices"]))
+        mesh.CreateFaceVertexIndicesAttr([int(i) for t in m["indices"] for i in t])
+        if m.get("normals"):
+            mesh.CreateNormalsAttr([Gf.Vec3f(*n) for n in m["normals"]])
+            mesh.SetNormalsInterpolation("vertex")
+        mesh.CreateSubdivisionSchemeAttr("none")
+        if "transform" in m:
+            mesh.AddTransformOp().Set(_ir_matrix(m["transform"]))
+        UsdShade.MaterialBindingAPI.Apply(mesh.GetPrim()).Bind(mats[m["material"]])
+    for l in desc["lights"]:
+        L = UsdLux.RectLight.Define(stage, "/" + l["name"])
+        L.CreateWidthAttr(l["width"])
+        L.CreateHeightAttr(l["height"])
+        L.CreateNormalizeAttr(True)
+        L.CreateIntensityAttr(l["power"] / math.pi)
+        L.AddTransformOp().Set(_ir_matrix(l["transform"]))
+    cam = UsdGeom.Camera.Define(stage, "/Camera")
+    cam.CreateFocalLengthAttr(50.0)
+    ap = 2 * 50.0 * math.tan(desc["camera"]["fov"] / 2)
+    cam.CreateHorizontalApertureAttr(ap)
+    cam.CreateVerticalApertureAttr(ap)
+    op = cam.AddTransformOp()
+    base = np.array(desc["camera"]["transform"], dtype=np.float64)
+    for i, dx in enumerate(camera_x):
+        t = base.copy()
+        t[0][3] += dx
+        op.Set(_ir_matrix(t), frame_start + i)
+    stage.SetStartTimeCode(frame_start)
+    stage.SetEndTimeCode(frame_start + len(camera_x) - 1)
+    stage.GetRootLayer().Save()
+    return path

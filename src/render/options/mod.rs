@@ -11,9 +11,10 @@
 //! takes its default: for the preset fields (`preset: true`) the quality preset's value.
 
 use crate::error::{Error, Result};
+use crate::render::aov::AovRequest;
 use crate::render::budget::check_budget;
 use crate::render::film::Filter;
-use crate::render::aov::AovRequest;
+use crate::render::map_file::OnMismatch;
 use crate::render::settings::{
     available_memory, Quality, RenderMode, RenderSettings, CRYPTOMATTE_LEVELS, SPPM_ALPHA,
     SPPM_INITIAL_PHOTONS,
@@ -89,23 +90,34 @@ render_options! {
     #[arg(long, value_enum, default_value_t = Quality::Medium)]
     #[schema(label: "Quality")]
     pub quality: Quality,
-    /// Render mode: `jensen` (photon maps built once, final gathering, irradiance cache) or
+    /// Render mode: `jensen` (photon maps built once, final gathering, irradiance cache),
     /// `sppm` (stochastic progressive photon mapping: `spp` passes, each with a fresh map of
-    /// `photons` stored photons and a shrinking search radius per pixel; consistent).
+    /// `photons` stored photons and a shrinking search radius per pixel; consistent) or
+    /// `pppm` (probabilistic progressive photon mapping: `spp` independent passes with a
+    /// global radius shrinking with the pass index; consistent, and its passes can be
+    /// rendered in blocks on several machines and merged to the same image).
     #[arg(long, value_enum, default_value_t = RenderMode::Jensen)]
     #[schema(label: "Mode")]
     pub mode: RenderMode,
-    /// Progressive mode's radius reduction α in (0, 1): the fraction of each pass's photons a
-    /// pixel keeps (Hachisuka & Jensen 2009).
+    /// Progressive modes' radius reduction α in (0, 1): in sppm the fraction of each pass's
+    /// photons a pixel keeps (Hachisuka & Jensen 2009); in pppm pass i's radius² is
+    /// r_1² i^(α-1) (Knaus & Zwicker 2011).
     #[arg(long, default_value_t = SPPM_ALPHA)]
     #[schema(label: "Alpha", min: Some(0.0), min_open: true, max: Some(1.0), max_open: true,
-             mode: Some(RenderMode::Sppm))]
+             modes: PROGRESSIVE)]
     pub alpha: f32,
-    /// Progressive mode: photons within a pixel's first search radius (the k nearest around
-    /// its first visible point); the radius shrinks from there.
+    /// Progressive modes: photons within the first search radius (sppm: the k nearest around
+    /// each pixel's first visible point; pppm: the median of that distance over the image);
+    /// the radius shrinks from there.
     #[arg(long, default_value_t = SPPM_INITIAL_PHOTONS)]
-    #[schema(label: "Initial Photons", min: Some(1.0), mode: Some(RenderMode::Sppm))]
+    #[schema(label: "Initial Photons", min: Some(1.0), modes: PROGRESSIVE)]
     pub initial_photons: usize,
+    /// pppm: the first pass's search radius r_1, in scene units (default: computed from the
+    /// first pass's photons, see initial_photons; the stats record it under pppm).
+    #[arg(long)]
+    #[schema(label: "Initial Radius", min: Some(0.0), min_open: true, unit: Some("distance"),
+             modes: &[RenderMode::Pppm])]
+    pub initial_radius: Option<f32>,
     /// Camera samples per pixel (default: the preset's).
     #[arg(long)]
     #[schema(label: "Samples", min: Some(1.0), soft_max: Some(4096.0), preset: true)]
@@ -147,7 +159,7 @@ render_options! {
     /// Jensen mode: take the camera samples in whole passes over the image (as a time budget
     /// does), to replay a budgeted render's recorded plan.
     #[arg(long)]
-    #[schema(label: "Whole Passes", mode: Some(RenderMode::Jensen))]
+    #[schema(label: "Whole Passes", modes: &[RenderMode::Jensen])]
     pub progressive: bool,
     /// Random seed; the same seed gives the same image for any thread count.
     #[arg(long, default_value_t = 0)]
@@ -216,6 +228,25 @@ render_options! {
     #[schema(label: "Max Specular Depth", group: Group::Gathering, min: Some(0.0),
              soft_max: Some(128.0), preset: true)]
     pub max_specular_depth: u32,
+    /// Jensen mode: save the photon maps and the irradiance cache to this file (a versioned,
+    /// checksummed file keyed by the scene without its camera, the photon settings and the
+    /// seed), to render other views of the scene from them.
+    #[arg(long, value_name = "FILE")]
+    #[schema(label: "Save Photon Maps", group: Group::Photons, modes: &[RenderMode::Jensen])]
+    pub save_photon_maps: Option<std::path::PathBuf>,
+    /// Jensen mode: load the photon maps and the irradiance cache from this file instead of
+    /// building them (the cache is extended for this view). A file of another scene (the
+    /// camera aside), other photon settings, seed or version is an error, or rebuilt (see
+    /// photon_maps_mismatch).
+    #[arg(long, value_name = "FILE")]
+    #[schema(label: "Load Photon Maps", group: Group::Photons, modes: &[RenderMode::Jensen])]
+    pub load_photon_maps: Option<std::path::PathBuf>,
+    /// Jensen mode: what a photon-map file that does not match the render (or cannot be
+    /// read) does: error, or rebuild (build the maps, and save them where save_photon_maps
+    /// says: with both set to one file, frames build it once and load it after).
+    #[arg(long, value_enum, default_value_t = OnMismatch::Error)]
+    #[schema(label: "On Mismatch", group: Group::Photons, modes: &[RenderMode::Jensen])]
+    pub photon_maps_mismatch: OnMismatch,
     /// Write the denoising guides: `albedo` (the reflectance of the first non-specular
     /// surface, seen through perfect mirrors and glass) and `normal` (its normal, in camera
     /// space), as Open Image Denoise and Blender's Denoise node expect them.
@@ -240,6 +271,9 @@ render_options! {
              max: Some(16.0))]
     pub cryptomatte_levels: u32,
 }
+
+/// The progressive modes.
+const PROGRESSIVE: &[RenderMode] = &[RenderMode::Sppm, RenderMode::Pppm];
 
 impl Default for RenderOptions {
     /// The clap defaults: the same values the flags, the keywords and the properties start at.
@@ -315,6 +349,10 @@ impl RenderOptions {
             cache_tolerance: Some(p.cache_tolerance),
             gather_rays_per_sample: s.gather_rays_per_sample,
             max_specular_depth: s.max_specular_depth,
+            initial_radius: s.pppm_initial_radius,
+            save_photon_maps: s.photon_map_files.save.clone(),
+            load_photon_maps: s.photon_map_files.load.clone(),
+            photon_maps_mismatch: s.photon_map_files.on_mismatch,
             denoising_data: s.aovs.denoising_data,
             denoise: s.aovs.denoise,
             cryptomatte: s.aovs.cryptomatte,
@@ -409,6 +447,18 @@ impl RenderOptions {
         s.sppm_initial_photons = self.initial_photons;
         s.progressive = self.progressive;
         s.gather_rays_per_sample = self.gather_rays_per_sample;
+        s.pppm_initial_radius = self.initial_radius;
+        s.photon_map_files = crate::render::map_file::MapFiles {
+            save: self
+                .save_photon_maps
+                .clone()
+                .filter(|p| !p.as_os_str().is_empty()),
+            load: self
+                .load_photon_maps
+                .clone()
+                .filter(|p| !p.as_os_str().is_empty()),
+            on_mismatch: self.photon_maps_mismatch,
+        };
         s.aovs = AovRequest {
             denoising_data: self.denoising_data,
             denoise: self.denoise,
@@ -443,7 +493,7 @@ impl RenderOptions {
                     "unit": f.spec.unit,
                     "preset": f.spec.preset,
                     "group": f.spec.group,
-                    "mode": f.spec.mode,
+                    "modes": f.spec.modes,
                     "requires": f.spec.requires,
                 })
             })

@@ -1,9 +1,10 @@
 //! The schema's vocabulary: what kind of value a setting takes, its choices, its range and
 //! panel ([`Spec`]), and the value types of the settings that are not plain numbers.
 
-use crate::render::budget::check_budget;
 pub use crate::render::aov::Cryptomatte;
+use crate::render::budget::check_budget;
 use crate::render::film::Filter;
+use crate::render::map_file::OnMismatch;
 use crate::render::settings::{parse_bytes, Quality, RenderMode};
 use clap::ValueEnum;
 use serde::{Deserialize, Serialize};
@@ -19,6 +20,8 @@ pub enum Kind {
     Enum,
     /// A byte count: an integer, or a string with a binary suffix (`512M`, `8G`).
     Size,
+    /// A file path.
+    Path,
 }
 
 /// One choice of an enumerated setting. A variant's doc comment `Label: description` gives
@@ -71,6 +74,12 @@ macro_rules! numeric {
     )*};
 }
 numeric!(Int: u32, u64, usize);
+
+impl OptionValue for std::path::PathBuf {
+    fn kind() -> Kind {
+        Kind::Path
+    }
+}
 numeric!(Float: f32, f64);
 
 impl OptionValue for bool {
@@ -109,7 +118,14 @@ macro_rules! enumerated {
         }
     )*};
 }
-enumerated!(Quality, RenderMode, FilterName, PhotonPower, Cryptomatte);
+enumerated!(
+    Quality,
+    RenderMode,
+    FilterName,
+    PhotonPower,
+    OnMismatch,
+    Cryptomatte
+);
 
 /// Pixel reconstruction filters by name (their widths are the core's).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, ValueEnum)]
@@ -221,8 +237,8 @@ pub struct Spec {
     pub unit: Option<&'static str>,
     /// A quality preset sets this field.
     pub preset: bool,
-    /// The setting applies in this mode only.
-    pub mode: Option<RenderMode>,
+    /// The setting applies in these modes only (empty: in every mode).
+    pub modes: &'static [RenderMode],
     /// The setting applies only while this boolean setting is on.
     pub requires: Option<&'static str>,
 }
@@ -238,7 +254,7 @@ impl Spec {
         soft_max: None,
         unit: None,
         preset: false,
-        mode: None,
+        modes: &[],
         requires: None,
     };
 

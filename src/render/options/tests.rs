@@ -38,7 +38,9 @@ fn every_field_is_a_flag_of_the_same_name_and_default() {
                     &format!("--{}={v}", f.name.replace('_', "-")),
                 ])
                 .unwrap();
-                let crate::cli::Command::Render(a) = cli.command;
+                let crate::cli::Command::Render(a) = cli.command else {
+                    unreachable!("`render` parses as the render command")
+                };
                 assert_eq!(a.options, parsed, "{}", f.name);
             }
             more => panic!("{}: several defaults {more:?}", f.name),
@@ -111,6 +113,8 @@ fn the_schema_lists_every_field_once_with_its_default() {
     assert_eq!(get("spp")["default"], Quality::Medium.spp());
     assert_eq!(get("quality")["choices"].as_array().unwrap().len(), 4);
     assert_eq!(get("memory_limit")["type"], "size");
-    assert_eq!(get("alpha")["mode"], "sppm");
+    assert_eq!(get("alpha")["modes"], serde_json::json!(["sppm", "pppm"]));
+    assert_eq!(get("save_photon_maps")["type"], "path");
+    assert_eq!(get("initial_radius")["modes"], serde_json::json!(["pppm"]));
     assert_eq!(get("radius")["unit"], "distance");
 }

@@ -5,8 +5,8 @@ use crate::geometry::SurfaceInteraction;
 use crate::materials::bsdf::Bsdf;
 use crate::math::Spectrum;
 use crate::photon::map::{EstimateFilter, GroupShare, Select};
-use crate::render::lightgroups::Split;
 use crate::photon::KnnScratch;
+use crate::render::lightgroups::Split;
 use crate::render::photons::PhotonMaps;
 
 /// Jensen's cone-filter constant.

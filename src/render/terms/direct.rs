@@ -8,8 +8,8 @@ use crate::geometry::SurfaceInteraction;
 use crate::materials::bsdf::{Bsdf, LobeFlags};
 use crate::math::Spectrum;
 use crate::media::MediumStack;
-use crate::sampling::Rng;
 use crate::render::lightgroups::Split;
+use crate::sampling::Rng;
 use crate::scene::{LightHit, Scene, SceneHit};
 
 #[inline]
@@ -355,7 +355,8 @@ mod tests {
         let mut rng = Rng::new(5, 0);
         for samples in [1, 4] {
             for _ in 0..64 {
-                let got = estimate_with(&sc, &si, &bsdf, &sc.camera_stack, samples, &mut rng, None).x;
+                let got =
+                    estimate_with(&sc, &si, &bsdf, &sc.camera_stack, samples, &mut rng, None).x;
                 assert!(
                     (got - 1.0).abs() < 1e-4,
                     "{samples} samples: {got} against 1"
@@ -371,7 +372,8 @@ mod tests {
             let n = 100_000;
             let v: Vec<f64> = (0..n)
                 .map(|_| {
-                    estimate_with(&sc, &si, &bsdf, &sc.camera_stack, samples, &mut rng, None).x as f64
+                    estimate_with(&sc, &si, &bsdf, &sc.camera_stack, samples, &mut rng, None).x
+                        as f64
                 })
                 .collect();
             let mean = v.iter().sum::<f64>() / n as f64;

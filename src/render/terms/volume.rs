@@ -183,7 +183,10 @@ pub fn march(
             let share: Option<GroupShare> = split.is_some().then_some(&mut share);
             // In an isotropic medium the nearest precomputed point answers where one reaches.
             // Points hold the total only, so a render split by light group reads the map.
-            let points = maps.volume_points.as_ref().filter(|_| phase.g == 0.0 && share.is_none());
+            let points = maps
+                .volume_points
+                .as_ref()
+                .filter(|_| phase.g == 0.0 && share.is_none());
             if let Some(l_vol) = points.and_then(|vp| vp.lookup(x, scratch)) {
                 inscatter += l_vol;
                 point_reads += 1;

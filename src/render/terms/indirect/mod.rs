@@ -56,8 +56,18 @@ pub fn estimate(
         let e = match cached {
             Some(e) => e,
             None => {
-                gather_hemisphere(ctx.scene, ctx.maps, si, n, rays, stack, rng, scratch, sp.as_mut())
-                    .irradiance
+                gather_hemisphere(
+                    ctx.scene,
+                    ctx.maps,
+                    si,
+                    n,
+                    rays,
+                    stack,
+                    rng,
+                    scratch,
+                    sp.as_mut(),
+                )
+                .irradiance
             }
         };
         l += response * e;
@@ -72,8 +82,17 @@ pub fn estimate(
         let q = (share * rays as f32 * GLOSSY_GATHER_ROULETTE).clamp(MIN_GLOSSY_GATHER, 1.0);
         if q >= 1.0 || rng.f32() < q {
             let mut sp = scaled(&mut split, Spectrum::splat(1.0 / q));
-            l += gather_glossy(ctx.scene, ctx.maps, si, bsdf, n, stack, rng, scratch, sp.as_mut())
-                / q;
+            l += gather_glossy(
+                ctx.scene,
+                ctx.maps,
+                si,
+                bsdf,
+                n,
+                stack,
+                rng,
+                scratch,
+                sp.as_mut(),
+            ) / q;
         }
     }
     l
