@@ -88,25 +88,19 @@ def test_progress_exception_cancels_and_propagates():
 
 
 def test_keyboard_interrupt_cancels():
-    """Ctrl-C during the camera pass: the interrupt arrives from another thread 50 ms after
-    the pass's first report (not at a fixed time from the start, which on a loaded machine
-    can fall before the render has begun), and the render raises KeyboardInterrupt."""
+    """Ctrl-C during a render (SIGINT raised in the main thread from another one) cancels it:
+    the calling thread checks for signals every 50 ms and raises KeyboardInterrupt long before
+    the render would end (2048 samples per pixel take over 20 s here). No progress callback:
+    Python code on the main thread (a callback, or a finalizer the collector runs inside it)
+    may take the signal itself, which is then its exception, not the render's."""
     import _thread
+    import time
 
-    seen = []
-    timer = threading.Timer(0.05, _thread.interrupt_main)
-
-    def progress(f, p):
-        seen.append((f, p))
-        if p == "render" and not timer.is_alive() and not timer.finished.is_set():
-            timer.start()
-
+    threading.Timer(0.3, _thread.interrupt_main).start()
+    t0 = time.monotonic()
     with pytest.raises(KeyboardInterrupt):
-        photonmap.render(numpy_scene(200), spp=2048, progress=progress)
-    assert timer.finished.is_set()
-    # Stopped long before the end of the camera pass (fractions are per phase).
-    camera = [f for f, p in seen if p == "render"]
-    assert max(camera, default=0.0) < 0.5, seen
+        photonmap.render(numpy_scene(200), spp=2048)
+    assert time.monotonic() - t0 < 10.0
 
 
 def test_invalid_dict_is_a_scene_error_naming_the_field():
