@@ -19,8 +19,11 @@ use glam::Vec3;
 /// at their hit rather than a precomputed irradiance point.
 const NEAR_HIT_RADII: f32 = 1.0;
 
-/// Specular bounces a gather ray may make before reaching a non-specular surface.
-const GATHER_SPECULAR_DEPTH: u32 = 6;
+/// Specular bounces a gather ray may make before reaching a non-specular surface. Inside rough glass a
+/// chain takes many bounces (its facets reflect internally beyond the smooth surface's total
+/// internal reflection): a cap of 6 left the floor under a Roughness 0.3 glass sphere 2% dark
+/// and the glass 3% dark against Cycles.
+const GATHER_SPECULAR_DEPTH: u32 = 64;
 
 /// How a gather hit takes the light its glossy lobes reflect from the global map.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
