@@ -35,11 +35,6 @@ SPOT_RADIUS_CORNER = ("core: the left wall's foot at the image's edge, blocks (0
                       "(-11.9 sigma) and (0,12) -15.2% (-7.0 sigma); pixel relMSE within the "
                       "noise (0.97 of it)")
 
-GLASS_R03_WALL = ("core: the left wall's blocks by the image's edge are 4-5% dark at ci: (0,10) "
-                  "-4.73% (-6.7 sigma, tolerance 4.66%), (0,9) -4.37%; the same with 20,000 "
-                  "caustic photons (within a tolerance then 0.1% wider) and without adaptive "
-                  "sampling; pooled -1.2% (tolerance 1.32%); passes at high")
-
 # Noise that one pair of seeds understates: the irradiance cache's records differ by seed, and
 # their error is shared by every pixel of a block.
 EMISSION_CACHE_NOISE = ("noise: block (14,12) -10.0% against a tolerance of 9.98%: seeds 1 and 2 "
@@ -66,7 +61,6 @@ ADDON: dict[str, str] = {
     "area_disk": CEILING_EDGE.format("(17,0) -6.2% (-7.3 sigma)", "-2.3%"),
     "area_spread60": CEILING_EDGE.format("(11,0) +13.4% (+5.9 sigma)", "+12.0%"),
     "emission_principled": EMISSIVE_SPHERE,
-    "glass_r03": GLASS_R03_WALL,
     "point_r01_hard": POINT_WALL_BLOCK,
     "spot_offaxis": SPOT_DARK_FLOOR.format("block (8,14) -13.3% (-5.3 sigma), -12.5% before"),
 }
