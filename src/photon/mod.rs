@@ -17,6 +17,7 @@
 
 pub mod irradiance;
 pub mod kdtree;
+mod kdtree_balance;
 pub mod map;
 #[allow(clippy::module_inception)]
 pub mod photon;
