@@ -31,9 +31,9 @@ pub use super::kdtree_balance::PARALLEL_BUILD_THRESHOLD;
 use super::kdtree_balance::{balance_in_order, in_order_to_heap};
 #[cfg(test)]
 use super::kdtree_balance::{left_balanced_median, subtree_size};
+use super::photon::KdRecord;
 #[cfg(test)]
 use super::photon::LEAF_AXIS;
-use super::photon::KdRecord;
 
 /// Size of the fixed traversal stack. A left-balanced tree over `n < 2^32`
 /// records has depth ≤ 32, and the stack never holds more than one entry per
