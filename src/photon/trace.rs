@@ -11,7 +11,7 @@ use super::map::{
     MapKind, PhotonMap, PhotonTree, Select, FLAG_CAUSTIC_PATH, FLAG_FIRST_HIT, FLAG_FROM_MEDIUM,
     GROUP_SHIFT,
 };
-use super::{decode_direction, encode_direction, Photon, PhotonError, PhotonF32, PhotonKdTree};
+use super::{encode_direction, Photon, PhotonError, PhotonF32, PhotonKdTree};
 use crate::geometry::Ray;
 use crate::lights::{LeSample, Light, Target};
 use crate::materials::bsdf::{Bsdf, Component, LobeFlags};
@@ -428,17 +428,19 @@ fn trace_batch(scene: &Scene, params: &TraceParams, b: u64) -> Vec<RawPhoton> {
 /// kd-tree build.
 ///
 /// Memory: when a round is done its photons are quantised ([`Traced`], 28 bytes) and the
-/// irradiance points taken from them; they become stored records only once the number
-/// emitted (their normalisation) is known, a round at a time, each round freed once
-/// converted; the kd-tree is then balanced in place. The peak is the traced photons, 28 bytes
-/// each (for 20-byte records: 8 more than the map), plus one round in flight.
+/// irradiance points taken from them (16 bytes per point, one per `irradiance::STRIDE`
+/// photons); they become stored records only once the number emitted (their normalisation)
+/// is known, a round at a time, each round freed once converted; the kd-tree is then
+/// balanced in place. The peak is the traced photons and the points, 28 + 16 / 4 = 32 bytes a
+/// photon, plus one round in flight: 7 bytes a photon more than the finished map with its
+/// irradiance points (20 + 20 / 4).
 pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
     let cancelled = || params.cancel.is_some_and(|c| c.load(Ordering::Relaxed));
     let mut rounds: Vec<Vec<Traced>> = Vec::new();
     // The irradiance points: every `irradiance::STRIDE`-th photon traced, counted over the
     // rounds in order.
     let take_points = params.irradiance.is_some();
-    let mut points: Vec<(Vec3, Vec3)> = Vec::new();
+    let mut points: Vec<(Vec3, (u8, u8))> = Vec::new();
     let mut seen = 0usize;
     let mut stored = 0usize;
     let mut batches = 0u64;
@@ -465,7 +467,7 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
         let mut round_photons = Vec::with_capacity(count);
         for raw in results.into_iter().flatten() {
             if take_points && seen % irradiance::STRIDE == 0 {
-                points.push((raw.p, decode_direction(raw.n.0, raw.n.1)));
+                points.push((raw.p, raw.n));
             }
             seen += 1;
             round_photons.extend(Traced::new(&raw));
@@ -512,7 +514,7 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
         build_seconds: t.elapsed().as_secs_f64(),
     };
     if let Some((k, max_r2, select)) = params.irradiance {
-        let mut irr = IrradianceMap::build(&map, &points, k, max_r2, select, params.cancel)?;
+        let mut irr = IrradianceMap::build(&map, points, k, max_r2, select, params.cancel)?;
         if !scene.light_groups.is_empty() {
             irr.split_groups(&map, scene.light_groups.len(), k, select, params.cancel)?;
         }
