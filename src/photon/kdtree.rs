@@ -101,6 +101,16 @@ fn dist2(q: &[f32; 3], p: &[f32; 3]) -> f32 {
     dx * dx + dy * dy + dz * dz
 }
 
+/// Squared distance from the query to a subtree's cell, from the query's offsets to the
+/// cell's nearest splitting plane along each axis (0 where none lies between them; Arya and
+/// Mount's incremental distance). Summed in the order of [`dist2`]: every offset is at most
+/// the matching coordinate difference of every photon in the cell, and rounding is monotonic,
+/// so this never exceeds a photon's own computed `dist2` and pruning on it is exact.
+#[inline(always)]
+fn cell_dist2(off: &[f32; 3]) -> f32 {
+    off[0] * off[0] + off[1] * off[1] + off[2] * off[2]
+}
+
 /// Keeps the `k` nearest of `buf` (at positions `0..k`, the k-th nearest
 /// at `k − 1`) and drops the rest. Linear time.
 #[inline]
@@ -241,9 +251,12 @@ impl<P: KdRecord> PhotonKdTree<P> {
         let q = p.to_array();
         let scan_start = self.scan_start();
         let mut max_d2 = max_dist2;
-        let mut stack = [(0u32, 0f32); MAX_TREE_DEPTH];
+        // Far children wait on the stack with the offsets of the query from their cell
+        // along each axis and the squared distance to the cell (`cell_dist2`).
+        let mut stack = [(0u32, 0f32, [0f32; 3]); MAX_TREE_DEPTH];
         let mut sp = 0usize;
         let mut node = 0usize;
+        let mut off = [0f32; 3];
 
         // Candidate insertion. Instead of a binary max-heap (Jensen's
         // `locate_photons`), candidates are appended to a buffer of up to 2k
@@ -297,9 +310,11 @@ impl<P: KdRecord> PhotonKdTree<P> {
                 let delta = q[axis] - pos[axis];
                 let go_right = (delta >= 0.0) as usize;
                 let left = 2 * node + 1;
-                let dd = delta * delta;
+                let mut far_off = off;
+                far_off[axis] = delta;
+                let dd = cell_dist2(&far_off);
                 if dd <= max_d2 {
-                    stack[sp] = ((left + 1 - go_right) as u32, dd);
+                    stack[sp] = ((left + 1 - go_right) as u32, dd, far_off);
                     sp += 1;
                 }
                 node = left + go_right;
@@ -310,9 +325,10 @@ impl<P: KdRecord> PhotonKdTree<P> {
                     break 'search;
                 }
                 sp -= 1;
-                let (far, dd) = stack[sp];
+                let (far, dd, far_off) = stack[sp];
                 if dd <= max_d2 {
                     node = far as usize;
+                    off = far_off;
                     break;
                 }
             }
@@ -339,9 +355,10 @@ impl<P: KdRecord> PhotonKdTree<P> {
         }
         let q = p.to_array();
         let scan_start = self.scan_start();
-        let mut stack = [0u32; MAX_TREE_DEPTH];
+        let mut stack = [(0u32, [0f32; 3]); MAX_TREE_DEPTH];
         let mut sp = 0usize;
         let mut node = 0usize;
+        let mut off = [0f32; 3];
         loop {
             loop {
                 if node >= scan_start {
@@ -371,8 +388,10 @@ impl<P: KdRecord> PhotonKdTree<P> {
                 let go_right = (delta >= 0.0) as usize;
                 let left = 2 * node + 1;
                 // The radius is fixed, so pruned children are never pushed.
-                if delta * delta <= r2 {
-                    stack[sp] = (left + 1 - go_right) as u32;
+                let mut far_off = off;
+                far_off[axis] = delta;
+                if cell_dist2(&far_off) <= r2 {
+                    stack[sp] = ((left + 1 - go_right) as u32, far_off);
                     sp += 1;
                 }
                 node = left + go_right;
@@ -381,7 +400,7 @@ impl<P: KdRecord> PhotonKdTree<P> {
                 return;
             }
             sp -= 1;
-            node = stack[sp] as usize;
+            (node, off) = (stack[sp].0 as usize, stack[sp].1);
         }
     }
 }
