@@ -463,14 +463,39 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
         if cancelled() {
             return None;
         }
-        let count: usize = results.iter().map(Vec::len).sum();
-        let mut round_photons = Vec::with_capacity(count);
-        for raw in results.into_iter().flatten() {
-            if take_points && seen % irradiance::STRIDE == 0 {
-                points.push((raw.p, raw.n));
-            }
-            seen += 1;
-            round_photons.extend(Traced::new(&raw));
+        // Quantise the round's photons and take its irradiance points, batch by batch in
+        // parallel; each batch knows the index of its first photon, so the points are the
+        // same for any thread count.
+        let mut first = Vec::with_capacity(results.len());
+        let mut count = 0usize;
+        for r in &results {
+            first.push(seen + count);
+            count += r.len();
+        }
+        seen += count;
+        let converted: Vec<(Vec<Traced>, Vec<(Vec3, (u8, u8))>)> = results
+            .into_par_iter()
+            .zip(first)
+            .map(|(raw, first)| {
+                let points = if take_points {
+                    let skip = (irradiance::STRIDE - first % irradiance::STRIDE)
+                        % irradiance::STRIDE;
+                    raw.iter()
+                        .skip(skip)
+                        .step_by(irradiance::STRIDE)
+                        .map(|r| (r.p, r.n))
+                        .collect()
+                } else {
+                    Vec::new()
+                };
+                (raw.iter().filter_map(Traced::new).collect(), points)
+            })
+            .collect();
+        let kept = converted.iter().map(|c| c.0.len()).sum();
+        let mut round_photons = Vec::with_capacity(kept);
+        for (traced, pts) in converted {
+            round_photons.extend_from_slice(&traced);
+            points.extend_from_slice(&pts);
         }
         stored += count;
         rounds.push(round_photons);
@@ -542,16 +567,17 @@ fn balance<P: super::PhotonRecord>(
 /// is 1 / emitted); photons whose power cannot be encoded (non-finite) are dropped. Rounds are
 /// converted and freed one at a time, so the traced photons and the records are never all
 /// live together.
-fn records<P>(
+fn records<P: Send>(
     rounds: Vec<Vec<Traced>>,
     stored: usize,
     inv: f32,
-    new: impl Fn(Vec3, Vec3, (u8, u8)) -> Result<P, PhotonError>,
-    set_flags: impl Fn(&mut P, u16),
+    new: impl Fn(Vec3, Vec3, (u8, u8)) -> Result<P, PhotonError> + Sync,
+    set_flags: impl Fn(&mut P, u16) + Sync,
 ) -> Vec<P> {
     let mut photons: Vec<P> = Vec::with_capacity(stored);
     for traced in rounds {
-        photons.extend(traced.iter().filter_map(|t| {
+        // In parallel, in order (rayon collects the pieces, then appends them in turn).
+        photons.par_extend(traced.par_iter().filter_map(|t| {
             let mut ph = new(t.p, t.power * inv, t.dir).ok()?;
             set_flags(&mut ph, t.flags);
             Some(ph)
