@@ -32,6 +32,10 @@ pub const TRACED_PHOTON_BYTES: u64 = std::mem::size_of::<Traced>() as u64;
 const _: () = assert!(TRACED_PHOTON_BYTES == 28);
 const _: () = assert!(std::mem::size_of::<RawPhoton>() == 40);
 
+/// Where an irradiance point goes: a traced photon's position and its surface normal (as
+/// `encode_direction` bytes).
+type IrradianceSite = (Vec3, (u8, u8));
+
 /// A photon of a finished round, held until the number emitted is known (28 bytes): the
 /// power not yet divided by it (the records' RGBE needs the full `f32` product), the
 /// direction already quantised as the record stores it.
@@ -440,7 +444,7 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
     // The irradiance points: every `irradiance::STRIDE`-th photon traced, counted over the
     // rounds in order.
     let take_points = params.irradiance.is_some();
-    let mut points: Vec<(Vec3, (u8, u8))> = Vec::new();
+    let mut points: Vec<IrradianceSite> = Vec::new();
     let mut seen = 0usize;
     let mut stored = 0usize;
     let mut batches = 0u64;
@@ -473,13 +477,13 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
             count += r.len();
         }
         seen += count;
-        let converted: Vec<(Vec<Traced>, Vec<(Vec3, (u8, u8))>)> = results
+        let converted: Vec<(Vec<Traced>, Vec<IrradianceSite>)> = results
             .into_par_iter()
             .zip(first)
             .map(|(raw, first)| {
                 let points = if take_points {
-                    let skip = (irradiance::STRIDE - first % irradiance::STRIDE)
-                        % irradiance::STRIDE;
+                    let skip =
+                        (irradiance::STRIDE - first % irradiance::STRIDE) % irradiance::STRIDE;
                     raw.iter()
                         .skip(skip)
                         .step_by(irradiance::STRIDE)
