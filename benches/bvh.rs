@@ -11,7 +11,13 @@
 //! early exit once a box starts beyond the closest hit). Both sides use the same
 //! watertight triangle test, so they return the same hits.
 //!
-//! Run: `cargo bench --bench bvh` (prints a summary line per ray set in Mrays/s).
+//! With the `embree-bench` feature (needs `libembree3`, Debian's `libembree-dev`), Embree 3
+//! is measured beside us on the same meshes and rays: the hit counts are asserted equal, then
+//! ours and Embree's passes alternate (A B A B A B) and the best of each is compared.
+//!
+//! Run: `cargo bench --bench bvh` (prints a summary line per ray set in Mrays/s);
+//! `cargo bench --features embree-bench --bench bvh -- --test` prints the lines alone,
+//! Embree's among them.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::Vec3;
@@ -22,6 +28,9 @@ use std::time::Instant;
 
 use bvh::aabb::{Aabb, Bounded};
 use bvh::bounding_hierarchy::{BHShape, BoundingHierarchy};
+
+#[cfg(feature = "embree-bench")]
+mod embree_ffi;
 
 const RAYS: usize = 100_000;
 
@@ -122,6 +131,35 @@ fn mrays(f: impl Fn(&Ray) -> Option<f32>, rays: &[Ray]) -> (f64, usize) {
     )
 }
 
+/// Ours against Embree on one ray set: the same hits (asserted), then three alternating
+/// timed passes each; prints the best of each and their ratio (ours / Embree's throughput).
+#[cfg(feature = "embree-bench")]
+fn against_embree(name: &str, set: &[Ray], acc: &Accel, embree: &embree_ffi::EmbreeScene) {
+    let ours_t: Vec<Option<f32>> = set.iter().map(|r| acc.intersect(r).map(|h| h.t)).collect();
+    let theirs_t: Vec<Option<f32>> = set.iter().map(|r| embree.closest(r)).collect();
+    let hits = |v: &[Option<f32>]| v.iter().filter(|t| t.is_some()).count();
+    let (h0, h1) = (hits(&ours_t), hits(&theirs_t));
+    assert_eq!(h0, h1, "{name}: ours and Embree's hit counts differ");
+    let far = ours_t
+        .iter()
+        .zip(&theirs_t)
+        .filter(|(a, b)| match (a, b) {
+            (Some(a), Some(b)) => (a - b).abs() > 1e-4 * a.max(*b).max(1.0),
+            _ => a.is_some() != b.is_some(),
+        })
+        .count();
+    let (mut ours, mut theirs) = (0f64, 0f64);
+    for _ in 0..3 {
+        ours = ours.max(mrays(|r| acc.intersect(r).map(|h| h.t), set).0);
+        theirs = theirs.max(mrays(|r| embree.closest(r), set).0);
+    }
+    eprintln!(
+        "{name}: ours {ours:.3} Mrays/s, Embree 3 {theirs:.3} Mrays/s, ratio {:.2} \
+         (best of 3 alternating passes; hits {h0} = {h1}, {far} rays with another distance)",
+        ours / theirs
+    );
+}
+
 fn bench(c: &mut Criterion) {
     let meshes = scene();
     let n_tris: usize = meshes.iter().map(|m| m.indices.len()).sum();
@@ -155,8 +193,22 @@ fn bench(c: &mut Criterion) {
         "scene: {n_tris} triangles; build (2 threads): ours {ours_build:.3} s, bvh 0.13 {peer_build:.3} s"
     );
 
+    #[cfg(feature = "embree-bench")]
+    let embree = {
+        let t0 = Instant::now();
+        let e = embree_ffi::EmbreeScene::new(&scene(), "threads=2");
+        eprintln!(
+            "Embree 3 build (2 threads, default quality): {:.3} s; ours / Embree build time {:.2}",
+            t0.elapsed().as_secs_f64(),
+            ours_build / t0.elapsed().as_secs_f64()
+        );
+        e
+    };
+
     let (random, bounce) = rays(&acc);
     for (name, set) in [("random", &random), ("diffuse_bounce", &bounce)] {
+        #[cfg(feature = "embree-bench")]
+        against_embree(name, set, &acc, &embree);
         let (ours, h0) = mrays(|r| acc.intersect(r).map(|h| h.t * r.d.length()), set);
         let (theirs, h1) = mrays(|r| peer.closest(r), set);
         eprintln!(
@@ -171,6 +223,10 @@ fn bench(c: &mut Criterion) {
         });
         g.bench_function("bvh_0.13", |b| {
             b.iter(|| set.iter().filter(|r| peer.closest(r).is_some()).count())
+        });
+        #[cfg(feature = "embree-bench")]
+        g.bench_function("embree_3", |b| {
+            b.iter(|| set.iter().filter(|r| embree.closest(r).is_some()).count())
         });
         g.finish();
     }

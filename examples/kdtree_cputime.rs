@@ -59,6 +59,64 @@ fn ab(rounds: usize, nq: usize, mut a: impl FnMut(), mut b: impl FnMut()) -> (f6
     (ta as f64 / nq as f64, tb as f64 / nq as f64)
 }
 
+/// Asserts that both trees give the same results on every query before anything is timed:
+/// the same multiset of neighbour distances for each k, the same for each radius query.
+fn check_exact(
+    tree: &PhotonKdTree<Photon>,
+    kiddo: &ImmutableKdTree<f32, 3>,
+    qs: &[[f32; 3]],
+    r2_knn: f32,
+    r2_100: f32,
+) {
+    let sorted = |mut v: Vec<f32>| {
+        v.sort_by(f32::total_cmp);
+        v
+    };
+    let mut s = KnnScratch::new();
+    let mut total = 0usize;
+    for q in qs {
+        for k in [50usize, 100, 200] {
+            let ours = sorted(
+                tree.knn(Vec3::from_array(*q), k, r2_knn, &mut s)
+                    .iter()
+                    .map(|nb| nb.dist2)
+                    .collect(),
+            );
+            let theirs = sorted(
+                kiddo
+                    .query(q)
+                    .nearest_n::<SquaredEuclidean<f32>>(NonZeroUsize::new(k).unwrap())
+                    .within(r2_knn)
+                    .execute()
+                    .iter()
+                    .map(|nb| nb.distance)
+                    .collect(),
+            );
+            assert_eq!(ours, theirs, "knn k={k} differs from kiddo at {q:?}");
+        }
+        let mut ours = Vec::new();
+        tree.for_each_in_radius(Vec3::from_array(*q), r2_100, |_, d2| ours.push(d2));
+        let mut theirs = Vec::new();
+        kiddo
+            .query(q)
+            .within::<SquaredEuclidean<f32>>(r2_100)
+            .unsorted()
+            .visit(|nb| theirs.push(nb.distance));
+        total += ours.len();
+        assert_eq!(
+            sorted(ours),
+            sorted(theirs),
+            "radius query differs from kiddo at {q:?}"
+        );
+    }
+    println!(
+        "exact: knn (k = 50, 100, 200) and radius results equal kiddo's on all {} queries \
+         ({:.1} photons per radius query)",
+        qs.len(),
+        total as f64 / qs.len() as f64
+    );
+}
+
 fn main() {
     let n: usize = std::env::args()
         .nth(1)
@@ -89,6 +147,7 @@ fn main() {
     let r2_100 = (3.0 * 100.0 / (4.0 * std::f32::consts::PI * n as f32))
         .cbrt()
         .powi(2);
+    check_exact(&tree, &kiddo, &random, r2_knn, r2_100);
     println!("n = {n}; ns/query (best of 7, thread CPU time); ratio = kiddo time / ours");
     for (order, qs) in [("random", &random), ("morton", &morton_q)] {
         for k in [50usize, 100, 200] {

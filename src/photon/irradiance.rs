@@ -110,38 +110,58 @@ pub struct IrradianceMap {
 }
 
 impl IrradianceMap {
-    /// Irradiance at each of `points` (position, normal on the photons' side) from the
-    /// photons `select` takes among the `k` nearest of `global` within `max_r2`; None when
-    /// cancelled. Deterministic: each point's estimate depends on the map alone.
+    /// Irradiance at each of `points` (position, and normal on the photons' side as
+    /// [`encode_direction`] bytes) from the photons `select` takes among the `k` nearest of
+    /// `global` within `max_r2`; None when cancelled. Deterministic: each point's estimate
+    /// depends on the map alone. The points are consumed and freed before the points' tree
+    /// is balanced (in place, in the records' own array).
     pub fn build(
         global: &PhotonMap,
-        points: &[(Vec3, Vec3)],
+        points: Vec<(Vec3, (u8, u8))>,
         k: usize,
         max_r2: f32,
         select: Select,
         cancel: Option<&AtomicBool>,
     ) -> Option<IrradianceMap> {
         let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
-        let records: Vec<Option<IrradiancePoint>> = points
-            .par_chunks(4096)
-            .map_init(KnnScratch::new, |scratch, chunk| {
+        // One record per point, written in place; the points whose irradiance cannot be
+        // encoded are marked and dropped afterwards, keeping the others' order.
+        let blank = IrradiancePoint {
+            pos: [0.0; 3],
+            rgbe: [0; 4],
+            normal: (0, 0),
+            axis: 0,
+            _pad: 0,
+        };
+        let mut records = vec![blank; points.len()];
+        let mut kept = vec![false; points.len()];
+        records
+            .par_chunks_mut(4096)
+            .zip(kept.par_chunks_mut(4096))
+            .zip(points.par_chunks(4096))
+            .for_each_init(KnnScratch::new, |scratch, ((out, keep), chunk)| {
                 if cancelled() {
-                    return Vec::new();
+                    return;
                 }
-                chunk
-                    .iter()
-                    .map(|&(p, n)| {
-                        let est = global.irradiance_estimate(p, n, k, max_r2, select, scratch);
-                        IrradiancePoint::new(p, n, &est)
-                    })
-                    .collect()
-            })
-            .flatten_iter()
-            .collect();
+                for ((o, kp), &(p, nb)) in out.iter_mut().zip(keep.iter_mut()).zip(chunk) {
+                    let n = decode_direction(nb.0, nb.1);
+                    let est = global.irradiance_estimate(p, n, k, max_r2, select, scratch);
+                    if let Some(r) = IrradiancePoint::new(p, n, &est) {
+                        (*o, *kp) = (r, true);
+                    }
+                }
+            });
         if cancelled() {
             return None;
         }
-        let tree = PhotonKdTree::build(records.into_iter().flatten().collect());
+        drop(points);
+        let mut i = 0;
+        records.retain(|_| {
+            i += 1;
+            kept[i - 1]
+        });
+        drop(kept);
+        let tree = PhotonKdTree::build(records);
         Some(IrradianceMap {
             tree,
             max_r2,

@@ -17,19 +17,23 @@
 //!   at the left-balanced median (the rank that gives the left subtree the
 //!   size of the left sub-heap), found with `select_nth_unstable_by`
 //!   (expected and worst-case O(len)), so the build is O(n log n). The two
-//!   halves are built in parallel above [`PARALLEL_BUILD_THRESHOLD`].
+//!   halves are built in parallel above [`PARALLEL_BUILD_THRESHOLD`]. The
+//!   build works in place, in the photons' own `Vec` (`kdtree_balance`).
 //! * Records equal to the median on the split axis may end up on either
 //!   side; the queries descend into the far side whenever the squared
 //!   distance to the splitting plane is ≤ the current search radius, which
 //!   keeps them exact in the presence of ties.
 
-use glam::{Vec3, Vec3A};
+use glam::Vec3;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use super::photon::{KdRecord, LEAF_AXIS};
-
-/// Subsets at least this large build their two subtrees with `rayon::join`.
-pub const PARALLEL_BUILD_THRESHOLD: usize = 50_000;
+pub use super::kdtree_balance::PARALLEL_BUILD_THRESHOLD;
+use super::kdtree_balance::{balance_in_order, in_order_to_heap};
+#[cfg(test)]
+use super::kdtree_balance::{left_balanced_median, subtree_size};
+use super::photon::KdRecord;
+#[cfg(test)]
+use super::photon::LEAF_AXIS;
 
 /// Size of the fixed traversal stack. A left-balanced tree over `n < 2^32`
 /// records has depth ≤ 32, and the stack never holds more than one entry per
@@ -89,160 +93,22 @@ impl<P> Default for PhotonKdTree<P> {
     }
 }
 
-/// Rank (0-based) of the left-balanced median in a subset of `len ≥ 1`
-/// records: the number of nodes in the left sub-heap of a complete binary
-/// tree of `len` nodes. Jensen 2001, appendix B, `balance_segment`.
-#[inline]
-pub(crate) fn left_balanced_median(len: usize) -> usize {
-    debug_assert!(len >= 1);
-    let mut median = 1usize;
-    while 4 * median <= len {
-        median += median;
-    }
-    if 3 * median <= len {
-        2 * median - 1
-    } else {
-        len - median
-    }
-}
-
-/// Raw pointer to the output heap, shared by the parallel build. Every heap
-/// index is written by exactly one task (see `build_segment`).
-struct HeapPtr<P>(*mut P);
-
-impl<P> Clone for HeapPtr<P> {
-    fn clone(&self) -> Self {
-        *self
-    }
-}
-impl<P> Copy for HeapPtr<P> {}
-// SAFETY: the tasks write disjoint indices, and `P: Send`.
-unsafe impl<P: Send> Send for HeapPtr<P> {}
-unsafe impl<P: Send> Sync for HeapPtr<P> {}
-
-impl<P> HeapPtr<P> {
-    /// # Safety
-    /// `i` must be within the allocation and written by no other task.
-    #[inline]
-    unsafe fn write(self, i: usize, value: P) {
-        self.0.add(i).write(value);
-    }
-}
-
-/// Number of heap nodes in the subtree rooted at `node` of a heap of `n`.
-fn subtree_size(node: usize, n: usize) -> usize {
-    let (mut lo, mut hi, mut count) = (node, node, 0);
-    while lo < n {
-        count += hi.min(n - 1) - lo + 1;
-        lo = 2 * lo + 1;
-        hi = 2 * hi + 2;
-    }
-    count
-}
-
-#[inline]
-fn widest_axis<P: KdRecord>(seg: &[P]) -> usize {
-    let first = Vec3A::from_array(*seg[0].pos());
-    let (lo, hi) = seg[1..].iter().fold((first, first), |(lo, hi), p| {
-        let v = Vec3A::from_array(*p.pos());
-        (lo.min(v), hi.max(v))
-    });
-    let e = hi - lo;
-    if e.x >= e.y && e.x >= e.z {
-        0
-    } else if e.y >= e.z {
-        1
-    } else {
-        2
-    }
-}
-
-/// Positions are finite by construction (the record constructors reject
-/// NaN and infinities), so plain comparisons give a total order.
-#[inline(always)]
-fn coord_less(a: f32, b: f32) -> std::cmp::Ordering {
-    if a < b {
-        std::cmp::Ordering::Less
-    } else if a > b {
-        std::cmp::Ordering::Greater
-    } else {
-        std::cmp::Ordering::Equal
-    }
-}
-
-/// `select_nth_unstable_by` on one coordinate, monomorphised per axis.
-#[inline]
-fn select_on_axis<P: KdRecord>(seg: &mut [P], m: usize, axis: usize) {
-    match axis {
-        0 => seg.select_nth_unstable_by(m, |a, b| coord_less(a.pos()[0], b.pos()[0])),
-        1 => seg.select_nth_unstable_by(m, |a, b| coord_less(a.pos()[1], b.pos()[1])),
-        _ => seg.select_nth_unstable_by(m, |a, b| coord_less(a.pos()[2], b.pos()[2])),
-    };
-}
-
-/// Balances `seg` into the sub-heap rooted at `node` (Jensen 2001,
-/// appendix B, `balance_segment`, with selection in place of his
-/// `median_split` partitioning loop).
-///
-/// With a `cancel` flag, segments of at least [`PARALLEL_BUILD_THRESHOLD`] records read it
-/// and, once it is set, return without writing their sub-heap, after setting `aborted`.
-fn build_segment<P: KdRecord>(
-    seg: &mut [P],
-    node: usize,
-    n: usize,
-    out: HeapPtr<P>,
-    cancel: Option<(&AtomicBool, &AtomicBool)>,
-) {
-    let len = seg.len();
-    debug_assert_eq!(subtree_size(node, n), len);
-    if let Some((flag, aborted)) = cancel {
-        if len >= PARALLEL_BUILD_THRESHOLD && flag.load(Ordering::Relaxed) {
-            aborted.store(true, Ordering::Relaxed);
-            return;
-        }
-    }
-    if len == 1 {
-        // A one-record subset always lands on a heap leaf.
-        let mut p = seg[0];
-        p.set_axis(LEAF_AXIS);
-        // SAFETY: `node < n` (its subtree is non-empty) and the recursion
-        // visits each heap index exactly once.
-        unsafe { out.write(node, p) };
-        return;
-    }
-    let axis = widest_axis(seg);
-    let m = left_balanced_median(len);
-    select_on_axis(seg, m, axis);
-    let mut median = seg[m];
-    median.set_axis(axis as u8);
-    // SAFETY: as above.
-    unsafe { out.write(node, median) };
-    let (left, rest) = seg.split_at_mut(m);
-    let right = &mut rest[1..];
-    let (l, r) = (2 * node + 1, 2 * node + 2);
-    if len >= PARALLEL_BUILD_THRESHOLD {
-        rayon::join(
-            || build_segment(left, l, n, out, cancel),
-            || {
-                if !right.is_empty() {
-                    build_segment(right, r, n, out, cancel)
-                }
-            },
-        );
-    } else {
-        build_segment(left, l, n, out, cancel);
-        if !right.is_empty() {
-            build_segment(right, r, n, out, cancel);
-        }
-    }
-}
-
 #[inline(always)]
 fn dist2(q: &[f32; 3], p: &[f32; 3]) -> f32 {
     let dx = q[0] - p[0];
     let dy = q[1] - p[1];
     let dz = q[2] - p[2];
     dx * dx + dy * dy + dz * dz
+}
+
+/// Squared distance from the query to a subtree's cell, from the query's offsets to the
+/// cell's nearest splitting plane along each axis (0 where none lies between them; Arya and
+/// Mount's incremental distance). Summed in the order of [`dist2`]: every offset is at most
+/// the matching coordinate difference of every photon in the cell, and rounding is monotonic,
+/// so this never exceeds a photon's own computed `dist2` and pruning on it is exact.
+#[inline(always)]
+fn cell_dist2(off: &[f32; 3]) -> f32 {
+    off[0] * off[0] + off[1] * off[1] + off[2] * off[2]
 }
 
 /// Keeps the `k` nearest of `buf` (at positions `0..k`, the k-th nearest
@@ -259,9 +125,10 @@ fn farthest_dist2(buf: &[Neighbor]) -> f32 {
 }
 
 impl<P: KdRecord> PhotonKdTree<P> {
-    /// Builds the left-balanced tree from `photons` (consumed; it is used as
-    /// the build scratch and a new heap-ordered `Vec` of the same length is
-    /// returned). O(n log n); parallel above [`PARALLEL_BUILD_THRESHOLD`].
+    /// Builds the left-balanced tree from `photons`, in place: the tree is
+    /// the same `Vec`, reordered into heap order (see `kdtree_balance`), so
+    /// the build holds no second copy of the photons (one bit per photon
+    /// besides). O(n log n); parallel above [`PARALLEL_BUILD_THRESHOLD`].
     ///
     /// Every record's split-axis bits are overwritten; the other flag bits
     /// are preserved.
@@ -269,20 +136,14 @@ impl<P: KdRecord> PhotonKdTree<P> {
     /// # Panics
     /// If there are more than `u32::MAX` photons (indices are `u32`).
     pub fn build(photons: Vec<P>) -> Self {
-        let n = photons.len();
+        let mut nodes = photons;
         assert!(
-            n <= u32::MAX as usize,
+            nodes.len() <= u32::MAX as usize,
             "photon kd-tree holds at most u32::MAX photons"
         );
-        let mut scratch = photons;
-        let mut nodes: Vec<P> = Vec::with_capacity(n);
-        if n > 0 {
-            build_segment(&mut scratch, 0, n, HeapPtr(nodes.as_mut_ptr()), None);
-        }
-        // SAFETY: `build_segment` wrote every index in 0..n exactly once
-        // (the left-balanced median gives each subset exactly the size of its
-        // sub-heap); `P: Copy`, so nothing needs dropping on unwind.
-        unsafe { nodes.set_len(n) };
+        balance_in_order(&mut nodes, None);
+        in_order_to_heap(&mut nodes);
+        nodes.shrink_to_fit();
         PhotonKdTree { nodes }
     }
 
@@ -290,25 +151,18 @@ impl<P: KdRecord> PhotonKdTree<P> {
     /// of at least [`PARALLEL_BUILD_THRESHOLD`] records read it. The tree, when built, is
     /// the same.
     pub fn build_cancellable(photons: Vec<P>, cancel: &AtomicBool) -> Option<Self> {
-        let n = photons.len();
+        let mut nodes = photons;
         assert!(
-            n <= u32::MAX as usize,
+            nodes.len() <= u32::MAX as usize,
             "photon kd-tree holds at most u32::MAX photons"
         );
-        let mut scratch = photons;
-        let mut nodes: Vec<P> = Vec::with_capacity(n);
         let aborted = AtomicBool::new(false);
-        if n > 0 {
-            let out = HeapPtr(nodes.as_mut_ptr());
-            build_segment(&mut scratch, 0, n, out, Some((cancel, &aborted)));
-        }
+        balance_in_order(&mut nodes, Some((cancel, &aborted)));
         if aborted.load(Ordering::Relaxed) {
-            // Some sub-heaps were never written: `nodes` is dropped with length 0.
             return None;
         }
-        // SAFETY: no segment was skipped (`aborted` is false), so, as in `build`, every
-        // index in 0..n was written exactly once.
-        unsafe { nodes.set_len(n) };
+        in_order_to_heap(&mut nodes);
+        nodes.shrink_to_fit();
         Some(PhotonKdTree { nodes })
     }
 
@@ -397,9 +251,12 @@ impl<P: KdRecord> PhotonKdTree<P> {
         let q = p.to_array();
         let scan_start = self.scan_start();
         let mut max_d2 = max_dist2;
-        let mut stack = [(0u32, 0f32); MAX_TREE_DEPTH];
+        // Far children wait on the stack with the offsets of the query from their cell
+        // along each axis and the squared distance to the cell (`cell_dist2`).
+        let mut stack = [(0u32, 0f32, [0f32; 3]); MAX_TREE_DEPTH];
         let mut sp = 0usize;
         let mut node = 0usize;
+        let mut off = [0f32; 3];
 
         // Candidate insertion. Instead of a binary max-heap (Jensen's
         // `locate_photons`), candidates are appended to a buffer of up to 2k
@@ -453,9 +310,11 @@ impl<P: KdRecord> PhotonKdTree<P> {
                 let delta = q[axis] - pos[axis];
                 let go_right = (delta >= 0.0) as usize;
                 let left = 2 * node + 1;
-                let dd = delta * delta;
+                let mut far_off = off;
+                far_off[axis] = delta;
+                let dd = cell_dist2(&far_off);
                 if dd <= max_d2 {
-                    stack[sp] = ((left + 1 - go_right) as u32, dd);
+                    stack[sp] = ((left + 1 - go_right) as u32, dd, far_off);
                     sp += 1;
                 }
                 node = left + go_right;
@@ -466,9 +325,10 @@ impl<P: KdRecord> PhotonKdTree<P> {
                     break 'search;
                 }
                 sp -= 1;
-                let (far, dd) = stack[sp];
+                let (far, dd, far_off) = stack[sp];
                 if dd <= max_d2 {
                     node = far as usize;
+                    off = far_off;
                     break;
                 }
             }
@@ -495,9 +355,10 @@ impl<P: KdRecord> PhotonKdTree<P> {
         }
         let q = p.to_array();
         let scan_start = self.scan_start();
-        let mut stack = [0u32; MAX_TREE_DEPTH];
+        let mut stack = [(0u32, [0f32; 3]); MAX_TREE_DEPTH];
         let mut sp = 0usize;
         let mut node = 0usize;
+        let mut off = [0f32; 3];
         loop {
             loop {
                 if node >= scan_start {
@@ -527,8 +388,10 @@ impl<P: KdRecord> PhotonKdTree<P> {
                 let go_right = (delta >= 0.0) as usize;
                 let left = 2 * node + 1;
                 // The radius is fixed, so pruned children are never pushed.
-                if delta * delta <= r2 {
-                    stack[sp] = (left + 1 - go_right) as u32;
+                let mut far_off = off;
+                far_off[axis] = delta;
+                if cell_dist2(&far_off) <= r2 {
+                    stack[sp] = ((left + 1 - go_right) as u32, far_off);
                     sp += 1;
                 }
                 node = left + go_right;
@@ -537,7 +400,7 @@ impl<P: KdRecord> PhotonKdTree<P> {
                 return;
             }
             sp -= 1;
-            node = stack[sp] as usize;
+            (node, off) = (stack[sp].0 as usize, stack[sp].1);
         }
     }
 }

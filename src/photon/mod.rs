@@ -17,6 +17,7 @@
 
 pub mod irradiance;
 pub mod kdtree;
+mod kdtree_balance;
 pub mod map;
 #[allow(clippy::module_inception)]
 pub mod photon;
@@ -27,9 +28,9 @@ pub use kdtree::{
     KnnScratch, Neighbor, PhotonKdTree, MAX_TREE_DEPTH, PARALLEL_BUILD_THRESHOLD, SCAN_LEVELS,
 };
 pub use photon::{
-    decode_direction, direction_tables, encode_direction, rgbe_decode, rgbe_encode,
-    DirectionTables, KdRecord, Photon, PhotonF32, PhotonRecord, AXIS_MASK, DIRECTION_ERROR_BOUND,
-    LEAF_AXIS, RGBE_MAX,
+    decode_direction, direction_tables, encode_direction, encode_travel_direction, rgbe_decode,
+    rgbe_encode, DirectionTables, KdRecord, Photon, PhotonF32, PhotonRecord, AXIS_MASK,
+    DIRECTION_ERROR_BOUND, LEAF_AXIS, RGBE_MAX,
 };
 
 /// Errors raised when creating photon records.

@@ -127,6 +127,24 @@ impl Photon {
         })
     }
 
+    /// As [`Photon::new`], with the incoming direction already quantised
+    /// (`dir` as [`encode_travel_direction`] gives it).
+    pub fn with_direction_bytes(
+        pos: Vec3,
+        power: Vec3,
+        dir: (u8, u8),
+    ) -> Result<Photon, PhotonError> {
+        let pos = check_position(pos)?;
+        let rgbe = rgbe_encode(power)?;
+        Ok(Photon {
+            pos,
+            rgbe,
+            phi: dir.0,
+            theta: dir.1,
+            flag: 0,
+        })
+    }
+
     /// Position of the photon.
     #[inline]
     pub fn position(&self) -> Vec3 {
@@ -269,6 +287,24 @@ impl PhotonF32 {
         })
     }
 
+    /// As [`PhotonF32::new`], with the incoming direction already quantised
+    /// (`dir` as [`encode_travel_direction`] gives it).
+    pub fn with_direction_bytes(
+        pos: Vec3,
+        power: Vec3,
+        dir: (u8, u8),
+    ) -> Result<PhotonF32, PhotonError> {
+        let pos = check_position(pos)?;
+        check_power(power)?;
+        Ok(PhotonF32 {
+            pos,
+            power: power.to_array(),
+            phi: dir.0,
+            theta: dir.1,
+            flag: 0,
+        })
+    }
+
     /// Position of the photon.
     #[inline]
     pub fn position(&self) -> Vec3 {
@@ -370,6 +406,12 @@ fn check_power(power: Vec3) -> Result<(), PhotonError> {
     } else {
         Err(PhotonError::InvalidPower(power.to_array()))
     }
+}
+
+/// The incoming-direction bytes `(phi, theta)` that [`Photon::new`] and
+/// [`PhotonF32::new`] store for a photon travelling along `travel_dir`.
+pub fn encode_travel_direction(travel_dir: Vec3) -> Result<(u8, u8), PhotonError> {
+    Ok(encode_direction(-check_direction(travel_dir)?))
 }
 
 fn check_direction(dir: Vec3) -> Result<Vec3, PhotonError> {

@@ -11,7 +11,7 @@ use super::map::{
     MapKind, PhotonMap, PhotonTree, Select, FLAG_CAUSTIC_PATH, FLAG_FIRST_HIT, FLAG_FROM_MEDIUM,
     GROUP_SHIFT,
 };
-use super::{decode_direction, encode_direction, Photon, PhotonError, PhotonF32, PhotonKdTree};
+use super::{encode_direction, Photon, PhotonError, PhotonF32, PhotonKdTree};
 use crate::geometry::Ray;
 use crate::lights::{LeSample, Light, Target};
 use crate::materials::bsdf::{Bsdf, Component, LobeFlags};
@@ -26,9 +26,47 @@ use std::sync::atomic::{AtomicBool, Ordering};
 /// Photon paths per batch.
 pub const BATCH: u64 = 2048;
 
-/// Bytes a photon takes while its map is being traced, before it becomes a stored record.
-pub const RAW_PHOTON_BYTES: u64 = std::mem::size_of::<RawPhoton>() as u64;
-const _: () = assert!(RAW_PHOTON_BYTES == 40);
+/// Bytes a photon takes while its map is being traced, once its round is done and until the
+/// number emitted is known and it becomes a stored record ([`Traced`]).
+pub const TRACED_PHOTON_BYTES: u64 = std::mem::size_of::<Traced>() as u64;
+const _: () = assert!(TRACED_PHOTON_BYTES == 28);
+const _: () = assert!(std::mem::size_of::<RawPhoton>() == 40);
+
+/// Where an irradiance point goes: a traced photon's position and its surface normal (as
+/// `encode_direction` bytes).
+type IrradianceSite = (Vec3, (u8, u8));
+
+/// A photon of a finished round, held until the number emitted is known (28 bytes): the
+/// power not yet divided by it (the records' RGBE needs the full `f32` product), the
+/// direction already quantised as the record stores it.
+#[derive(Clone, Copy)]
+struct Traced {
+    p: Vec3,
+    power: Spectrum,
+    /// The record's incoming-direction bytes (`encode_direction` of the reversed travel
+    /// direction).
+    dir: (u8, u8),
+    /// The record's user flags: `FLAG_*` bits and light group.
+    flags: u16,
+}
+
+impl Traced {
+    /// `None` when the record constructors would reject the position or the direction (the
+    /// power is checked once normalised).
+    #[inline]
+    fn new(r: &RawPhoton) -> Option<Traced> {
+        if !r.p.is_finite() {
+            return None;
+        }
+        let dir = super::photon::encode_travel_direction(r.d).ok()?;
+        Some(Traced {
+            p: r.p,
+            power: r.power,
+            dir,
+            flags: r.flags as u16 | (r.group as u16) << GROUP_SHIFT,
+        })
+    }
+}
 
 /// A photon before normalisation by the number emitted (40 bytes).
 #[derive(Clone, Copy)]
@@ -393,14 +431,21 @@ fn trace_batch(scene: &Scene, params: &TraceParams, b: u64) -> Vec<RawPhoton> {
 /// Returns `None` when cancelled; the cancel flag is read before every batch and within the
 /// kd-tree build.
 ///
-/// Memory: each round's photons are kept in one vector of exact size, and turned into 20-byte
-/// photons only once the number emitted (their normalisation) is known, a round at a time,
-/// each freed once converted. The peak is then the larger of the raw photons
-/// (`size_of::<RawPhoton>()` bytes each) and the kd-tree build (2 x 20 bytes each), rather
-/// than their sum.
+/// Memory: when a round is done its photons are quantised ([`Traced`], 28 bytes) and the
+/// irradiance points taken from them (16 bytes per point, one per `irradiance::STRIDE`
+/// photons); they become stored records only once the number emitted (their normalisation)
+/// is known, a round at a time, each round freed once converted; the kd-tree is then
+/// balanced in place. The peak is the traced photons and the points, 28 + 16 / 4 = 32 bytes a
+/// photon, plus one round in flight: 7 bytes a photon more than the finished map with its
+/// irradiance points (20 + 20 / 4).
 pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
     let cancelled = || params.cancel.is_some_and(|c| c.load(Ordering::Relaxed));
-    let mut rounds: Vec<Vec<RawPhoton>> = Vec::new();
+    let mut rounds: Vec<Vec<Traced>> = Vec::new();
+    // The irradiance points: every `irradiance::STRIDE`-th photon traced, counted over the
+    // rounds in order.
+    let take_points = params.irradiance.is_some();
+    let mut points: Vec<IrradianceSite> = Vec::new();
+    let mut seen = 0usize;
     let mut stored = 0usize;
     let mut batches = 0u64;
     let max_batches = params.max_emitted.div_ceil(BATCH).max(1);
@@ -422,12 +467,42 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
         if cancelled() {
             return None;
         }
-        let mut raw = Vec::with_capacity(results.iter().map(Vec::len).sum());
-        for r in results {
-            raw.extend(r);
+        // Quantise the round's photons and take its irradiance points, batch by batch in
+        // parallel; each batch knows the index of its first photon, so the points are the
+        // same for any thread count.
+        let mut first = Vec::with_capacity(results.len());
+        let mut count = 0usize;
+        for r in &results {
+            first.push(seen + count);
+            count += r.len();
         }
-        stored += raw.len();
-        rounds.push(raw);
+        seen += count;
+        let converted: Vec<(Vec<Traced>, Vec<IrradianceSite>)> = results
+            .into_par_iter()
+            .zip(first)
+            .map(|(raw, first)| {
+                let points = if take_points {
+                    let skip =
+                        (irradiance::STRIDE - first % irradiance::STRIDE) % irradiance::STRIDE;
+                    raw.iter()
+                        .skip(skip)
+                        .step_by(irradiance::STRIDE)
+                        .map(|r| (r.p, r.n))
+                        .collect()
+                } else {
+                    Vec::new()
+                };
+                (raw.iter().filter_map(Traced::new).collect(), points)
+            })
+            .collect();
+        let kept = converted.iter().map(|c| c.0.len()).sum();
+        let mut round_photons = Vec::with_capacity(kept);
+        for (traced, pts) in converted {
+            round_photons.extend_from_slice(&traced);
+            points.extend_from_slice(&pts);
+        }
+        stored += count;
+        rounds.push(round_photons);
         batches += n;
         // Size the next round from the storage rate seen so far (deterministic).
         let per_batch = stored as f64 / batches as f64;
@@ -440,26 +515,23 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
     }
     let emitted = batches * BATCH;
     let inv = 1.0 / emitted as f32;
-    let points: Vec<(Vec3, Vec3)> = match params.irradiance {
-        Some(_) => rounds
-            .iter()
-            .flatten()
-            .step_by(irradiance::STRIDE)
-            .map(|r| (r.p, decode_direction(r.n.0, r.n.1)))
-            .collect(),
-        None => Vec::new(),
-    };
     let t = std::time::Instant::now();
     let tree = if params.f32_power {
         PhotonTree::F32(balance(
-            records(rounds, stored, inv, PhotonF32::new, |p, f| {
-                p.set_user_flags(f)
-            }),
+            records(
+                rounds,
+                stored,
+                inv,
+                PhotonF32::with_direction_bytes,
+                |p, f| p.set_user_flags(f),
+            ),
             params.cancel,
         )?)
     } else {
         PhotonTree::Rgbe(balance(
-            records(rounds, stored, inv, Photon::new, |p, f| p.set_user_flags(f)),
+            records(rounds, stored, inv, Photon::with_direction_bytes, |p, f| {
+                p.set_user_flags(f)
+            }),
             params.cancel,
         )?)
     };
@@ -471,7 +543,7 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
         build_seconds: t.elapsed().as_secs_f64(),
     };
     if let Some((k, max_r2, select)) = params.irradiance {
-        let mut irr = IrradianceMap::build(&map, &points, k, max_r2, select, params.cancel)?;
+        let mut irr = IrradianceMap::build(&map, points, k, max_r2, select, params.cancel)?;
         if !scene.light_groups.is_empty() {
             irr.split_groups(&map, scene.light_groups.len(), k, select, params.cancel)?;
         }
@@ -495,21 +567,23 @@ fn balance<P: super::PhotonRecord>(
     }
 }
 
-/// The stored records of the raw photons, their power divided by the paths emitted (`inv` is
-/// 1 / emitted); photons that cannot be encoded (non-finite) are dropped. Rounds are converted
-/// and freed one at a time, so the raw photons and the records are never all live together.
-fn records<P>(
-    rounds: Vec<Vec<RawPhoton>>,
+/// The stored records of the traced photons, their power divided by the paths emitted (`inv`
+/// is 1 / emitted); photons whose power cannot be encoded (non-finite) are dropped. Rounds are
+/// converted and freed one at a time, so the traced photons and the records are never all
+/// live together.
+fn records<P: Send>(
+    rounds: Vec<Vec<Traced>>,
     stored: usize,
     inv: f32,
-    new: impl Fn(Vec3, Vec3, Vec3) -> Result<P, PhotonError>,
-    set_flags: impl Fn(&mut P, u16),
+    new: impl Fn(Vec3, Vec3, (u8, u8)) -> Result<P, PhotonError> + Sync,
+    set_flags: impl Fn(&mut P, u16) + Sync,
 ) -> Vec<P> {
     let mut photons: Vec<P> = Vec::with_capacity(stored);
-    for raw in rounds {
-        photons.extend(raw.iter().filter_map(|r| {
-            let mut ph = new(r.p, r.power * inv, r.d).ok()?;
-            set_flags(&mut ph, r.flags as u16 | (r.group as u16) << GROUP_SHIFT);
+    for traced in rounds {
+        // In parallel, in order (rayon collects the pieces, then appends them in turn).
+        photons.par_extend(traced.par_iter().filter_map(|t| {
+            let mut ph = new(t.p, t.power * inv, t.dir).ok()?;
+            set_flags(&mut ph, t.flags);
             Some(ph)
         }));
     }

@@ -7,12 +7,11 @@ use super::settings::BYTES_PER_TRIANGLE;
 use serde::Serialize;
 
 /// Bytes per photon held, besides the finished record, while a map is built: the traced
-/// photon (`RAW_PHOTON_BYTES`) until it is converted, or the kd-tree's scratch copy of the
-/// record during balancing, whichever is more (measured at 10^8 photons: 40 B/photon peak).
+/// photon (`TRACED_PHOTON_BYTES`, 28) is held until the number emitted is known, in place of
+/// the record; the kd-tree is balanced in place. So 8 B for 20-byte records, 0 for 28-byte
+/// ones.
 pub(super) fn build_extra(record: u64) -> u64 {
-    crate::photon::trace::RAW_PHOTON_BYTES
-        .saturating_sub(record)
-        .max(record)
+    crate::photon::trace::TRACED_PHOTON_BYTES.saturating_sub(record)
 }
 
 /// Memory that the photon maps and the BVH of a render take, estimated before the photon
@@ -32,8 +31,8 @@ pub struct MemoryEstimate {
     /// `photon_bytes + bvh_bytes + irradiance_bytes`.
     pub total_bytes: u64,
     /// The most the render holds at once, which the memory limit is checked against: the
-    /// BVH, the maps, and, while the largest map is built, its photons a second time (as
-    /// traced, `RAW_PHOTON_BYTES` each, or as the kd-tree's scratch copy, whichever is more).
+    /// BVH, the maps, and, while the largest map is traced, what its traced photons take
+    /// beyond its records (`TRACED_PHOTON_BYTES` less the record, each).
     pub peak_bytes: u64,
 }
 

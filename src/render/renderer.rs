@@ -224,9 +224,9 @@ impl<'a> Renderer<'a> {
                     message: format!(
                         "the render needs an estimated {} bytes at its peak ({} photons x {} B \
                          = {} B for the photon maps, {} B of precomputed irradiance, {} \
-                         triangles x {} B = {} B for the BVH, {} B in all, plus the largest \
-                         map's photons once more while it is built), over the limit of \
-                         {limit} bytes; store fewer photons or raise the limit",
+                         triangles x {} B = {} B for the BVH, {} B in all, plus {} B per photon \
+                         of the largest map while it is traced), over the limit of {limit} \
+                         bytes; store fewer photons or raise the limit",
                         estimate.peak_bytes,
                         estimate.photons,
                         s.photons.bytes_per_photon(),
@@ -235,7 +235,8 @@ impl<'a> Renderer<'a> {
                         estimate.triangles,
                         BYTES_PER_TRIANGLE,
                         estimate.bvh_bytes,
-                        estimate.total_bytes
+                        estimate.total_bytes,
+                        super::memory::build_extra(s.photons.bytes_per_photon())
                     ),
                 });
             }
