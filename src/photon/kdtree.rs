@@ -408,7 +408,7 @@ impl<P: KdRecord> PhotonKdTree<P> {
 /// Hints the cache to load `nodes[i]` (no-op when out of range or not on
 /// x86-64).
 #[inline(always)]
-fn prefetch<P>(nodes: &[P], i: usize) {
+pub(super) fn prefetch<P>(nodes: &[P], i: usize) {
     #[cfg(target_arch = "x86_64")]
     if i < nodes.len() {
         // SAFETY: prefetching is a hint with no memory effects, and the

@@ -27,6 +27,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use glam::Vec3A;
 
+use super::kdtree::prefetch;
 use super::photon::{KdRecord, LEAF_AXIS};
 
 /// Subsets at least this large balance their two halves with `rayon::join`.
@@ -204,22 +205,6 @@ pub(crate) fn in_order_to_heap<P: Copy>(a: &mut [P]) {
         }
         a[cur] = first;
     }
-}
-
-/// Hints the cache to load `a[i]` (no-op when not on x86-64).
-#[inline(always)]
-fn prefetch<P>(a: &[P], i: usize) {
-    #[cfg(target_arch = "x86_64")]
-    if i < a.len() {
-        // SAFETY: prefetching is a hint with no memory effects, and the
-        // address is in bounds.
-        unsafe {
-            use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-            _mm_prefetch::<_MM_HINT_T0>(a.as_ptr().add(i) as *const i8);
-        }
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = (a, i);
 }
 
 #[cfg(test)]
