@@ -10,7 +10,7 @@ import sys
 import numpy as np
 import OpenImageIO as oiio
 
-TERMS = ["direct", "indirect", "caustic", "specular", "volume", "emission"]
+TERMS = ["direct", "indirect", "caustic", "specular", "volume", "emission", "subsurface"]
 
 
 def srgb(x):

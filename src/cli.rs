@@ -888,6 +888,9 @@ pub fn summary(args: &RenderArgs, out: &RenderOutput) -> String {
     for t in &out.stats.skipped {
         s.push_str(&format!("\n  {} is zero: {}", t.term, t.reason));
     }
+    for w in &out.stats.warnings {
+        s.push_str(&format!("\n  warning: {w}"));
+    }
     s
 }
 

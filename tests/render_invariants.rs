@@ -4,12 +4,28 @@ mod common;
 use common::*;
 use photonmap::render::aov::{Term, TermMask};
 
-/// The default scene (glass and mirror spheres, the light in view) in a thin world fog: every
-/// term of the sum is non-zero.
+/// The default scene (glass and mirror spheres, the light in view) in a thin world fog, with a
+/// block of a subsurface material on the floor: every term of the sum is non-zero.
 fn every_term_scene() -> photonmap::scene::SceneDesc {
     let mut desc = photonmap::scene::default_scene();
     desc.film.width = 48;
     desc.film.height = 40;
+    let wax: photonmap::scene::desc::MaterialDesc = serde_json::from_value(serde_json::json!({
+        "type": "principled", "name": "wax", "base_color": [0.9, 0.7, 0.5], "roughness": 0.3,
+        "subsurface": {"radius": [0.1, 0.05, 0.03]}}))
+    .expect("a valid material");
+    desc.materials.push(wax);
+    let block = photonmap::geometry::shapes::cuboid(
+        glam::Vec3::new(-0.2, -1.0, 0.2),
+        glam::Vec3::new(0.2, -0.7, 0.6),
+    );
+    desc.meshes.push(photonmap::scene::desc::MeshDesc {
+        name: "wax_block".into(),
+        positions: block.positions.iter().map(|p| p.to_array()).collect(),
+        indices: block.indices.clone(),
+        material: desc.materials.len() as u32 - 1,
+        ..Default::default()
+    });
     desc.media.push(photonmap::scene::desc::MediumDesc {
         name: "haze".into(),
         sigma_a: [0.02; 3],

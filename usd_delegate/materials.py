@@ -14,9 +14,14 @@ exporter writes glass only there.
 | (1) | specular_weight | specular | specular |
 | 1 - opacity (opacity < 1) | transmission_weight | transmission | transmission |
 | emissiveColor, strength 1 | emission_color, emission_luminance | emission_color, emission | emission_color, emission_strength |
+| — | subsurface_weight | subsurface | subsurface.weight |
+| — | subsurface_color | subsurface_color | subsurface.color |
+| — | subsurface_radius x subsurface_radius_scale | subsurface_radius x subsurface_scale | subsurface.radius (stage units) |
+| — | subsurface_scatter_anisotropy | subsurface_anisotropy | subsurface.anisotropy |
 
-useSpecularWorkflow = 1 is approximated (specularColor ignored) and warned; clearcoat, normal
-maps, displacement, coat, sheen, subsurface and thin-film are warned when used.
+The subsurface boundary's IOR is the specular IOR. useSpecularWorkflow = 1 is approximated
+(specularColor ignored) and warned; clearcoat, normal maps, displacement, coat (standard
+surface), sheen and thin-film are warned when used; UsdPreviewSurface has no subsurface.
 
 A MaterialX ``ND_surface`` over one pbrlib BSDF or EDF (Blender's Diffuse, Glossy, Glass and
 Emission nodes) is read by mtlx_bsdf.py.
@@ -43,11 +48,16 @@ _OPENPBR_DEFAULTS = {"base_color": (0.8, 0.8, 0.8), "base_weight": 1.0, "base_me
                      "transmission_weight": 0.0, "emission_color": (1, 1, 1),
                      "emission_luminance": 0.0, "coat_weight": 0.0, "coat_roughness": 0.0,
                      "coat_ior": 1.6, "coat_color": (1, 1, 1),
-                     "subsurface_weight": 0.0, "fuzz_weight": 0.0, "thin_film_weight": 0.0}
+                     "subsurface_weight": 0.0, "subsurface_color": (0.8, 0.8, 0.8),
+                     "subsurface_radius": 1.0, "subsurface_radius_scale": (1.0, 0.5, 0.25),
+                     "subsurface_scatter_anisotropy": 0.0,
+                     "fuzz_weight": 0.0, "thin_film_weight": 0.0}
 _STANDARD_DEFAULTS = {"base_color": (1, 1, 1), "base": 0.8, "metalness": 0.0,
                       "specular_roughness": 0.2, "specular_IOR": 1.5, "specular": 1.0,
                       "transmission": 0.0, "emission_color": (1, 1, 1), "emission": 0.0,
-                      "coat": 0.0, "subsurface": 0.0, "sheen": 0.0, "thin_film_thickness": 0.0}
+                      "coat": 0.0, "subsurface": 0.0, "subsurface_color": (1, 1, 1),
+                      "subsurface_radius": (1, 1, 1), "subsurface_scale": 1.0,
+                      "subsurface_anisotropy": 0.0, "sheen": 0.0, "thin_film_thickness": 0.0}
 _MTLX_IMAGE = ("ND_image_", "ND_tiledimage_", "ND_gltf_image_")
 _MTLX_WRAP = {"periodic": "repeat", "clamp": "clamp", "mirror": "mirror", "constant": "black"}
 
@@ -278,12 +288,12 @@ class MaterialTable:
             names = ("base_color", "base_weight", "base_metalness", "specular_roughness",
                      "specular_ior", "specular_weight", "transmission_weight",
                      "emission_color", "emission_luminance")
-            unsupported = ("subsurface_weight", "fuzz_weight", "thin_film_weight")
+            unsupported = ("fuzz_weight", "thin_film_weight")
         else:
             d = _STANDARD_DEFAULTS
             names = ("base_color", "base", "metalness", "specular_roughness", "specular_IOR",
                      "specular", "transmission", "emission_color", "emission")
-            unsupported = ("coat", "subsurface", "sheen", "thin_film_thickness")
+            unsupported = ("coat", "sheen", "thin_film_thickness")
         for name in unsupported:
             if float(self._value(s, name, d) or 0) > 0:
                 self.diag.warn(prim, f"`{name}` is not supported; ignored")
@@ -314,4 +324,48 @@ class MaterialTable:
                          coat_roughness=min(1.0, max(0.0, self.scalar(s, "coat_roughness", d))),
                          coat_ior=max(1.0, self.scalar(s, "coat_ior", d)),
                          coat_tint=tint)
+        sub = self._subsurface(s, d, m["ior"])
+        if sub is not None:
+            m["subsurface"] = sub
         return m
+
+    def _subsurface(self, s, d, ior):
+        """The IR `subsurface` part of an OpenPBR or standard_surface shader (None without):
+        radius = the radius times its per-channel scale, in stage units; the boundary's IOR
+        is the specular IOR. Radius 0 renders as the diffuse base (warned)."""
+        prim = s.GetPrim()
+        openpbr = _shader_id(s) == OPENPBR
+        names = (("subsurface_weight", "subsurface_color", "subsurface_radius",
+                  "subsurface_radius_scale", "subsurface_scatter_anisotropy") if openpbr else
+                 ("subsurface", "subsurface_color", "subsurface_radius", "subsurface_scale",
+                  "subsurface_anisotropy"))
+        w, col, rad, scale, aniso = names
+        weight = min(1.0, max(0.0, self.scalar(s, w, d)))
+        if not weight > 0:
+            return None
+        color = self.color(s, col, d)
+        if isinstance(color, dict):
+            self.diag.warn(prim, f"a texture on `{col}` is not supported by subsurface "
+                                 f"scattering; uses white")
+            color = [1.0, 1.0, 1.0]
+
+        def rgb(name):
+            if self._source(s, name) is not None:
+                self.diag.warn(prim, f"`{name}` is connected to a node graph; its default value "
+                                     f"is used")
+            v = self._value(s, name, d)
+            if v is None:
+                return [0.0, 0.0, 0.0]
+            try:
+                return [float(c) for c in v][:3]
+            except TypeError:  # a float where a colour is expected
+                return [float(v)] * 3
+
+        radius = [a * b for a, b in zip(rgb(rad), rgb(scale))]
+        if all(r == 0.0 for r in radius):
+            self.diag.warn(prim, f"subsurface radius 0 (`{rad}` x `{scale}`); renders as its "
+                                 f"diffuse base")
+        elif any(not (r >= 0.0) or r != r for r in radius):
+            self.diag.warn(prim, f"subsurface radius {radius} has negative or NaN channels")
+        return {"weight": weight, "radius": radius, "color": color, "ior": ior,
+                "anisotropy": self.scalar(s, aniso, d)}

@@ -4,7 +4,7 @@ Follows the node tree from the active Material Output's Surface socket:
 
 | node | IR |
 |---|---|
-| Principled BSDF | `principled`: Base Color, Metallic, Roughness, IOR, Transmission Weight, Specular IOR Level (x 2 = `specular`), Emission Color and Strength, Coat (Weight, Roughness, IOR, Tint); Multiscatter GGX or GGX (`multiscatter`) |
+| Principled BSDF | `principled`: Base Color, Metallic, Roughness, IOR, Transmission Weight, Specular IOR Level (x 2 = `specular`), Emission Color and Strength, Coat (Weight, Roughness, IOR, Tint), Subsurface (Weight, Radius x Scale, IOR with Random Walk (Skin), Anisotropy; Christensen-Burley as Random Walk, warned); Multiscatter GGX or GGX (`multiscatter`) |
 | Diffuse BSDF | `diffuse` (roughness ignored) |
 | Glossy / Anisotropic BSDF | `glossy`: Color as a tint (no Fresnel, as Cycles), Roughness, Multiscatter GGX or GGX (anisotropy ignored) |
 | Glass BSDF | `dielectric`; Multiscatter GGX or GGX (`multiscatter`) |
@@ -212,11 +212,55 @@ class MaterialExporter:
             s = n.inputs.get("Coat Normal")
             if s is not None and s.is_linked:
                 self.warn(f"material '{name}': a coat normal map is not supported; ignored")
-        for sock in ("Sheen Weight", "Subsurface Weight"):
-            s = n.inputs.get(sock)
-            if s is not None and (s.is_linked or float(s.default_value) > 0.0):
-                self.warn(f"material '{name}': {sock} is not supported; ignored")
+        sub = self._subsurface(n, name, float(ior))
+        if sub is not None:
+            d["subsurface"] = sub
+        s = n.inputs.get("Sheen Weight")
+        if s is not None and (s.is_linked or float(s.default_value) > 0.0):
+            self.warn(f"material '{name}': Sheen Weight is not supported; ignored")
         s = n.inputs.get("Normal")
         if s is not None and s.is_linked:
             self.warn(f"material '{name}': normal maps are not supported; ignored")
         return d
+
+    def _subsurface(self, n, name, ior):
+        """The IR `subsurface` part of a Principled BSDF, as Cycles' random walk reads the
+        node: radius = Radius x Scale (Blender units), the colour is the Base Color, the
+        entry's IOR the node's IOR (Random Walk) or Subsurface IOR with method `skin`
+        (Random Walk (Skin)), Anisotropy as it is. None without subsurface (Weight 0)."""
+        weight = self._const(self._float(n, "Subsurface Weight", name, 0.0, textures=False),
+                             name, "Subsurface Weight")
+        if not float(weight) > 0.0:
+            return None
+        method = getattr(n, "subsurface_method", "RANDOM_WALK")
+        if method == "BURLEY":
+            self.warn(f"material '{name}': subsurface method Christensen-Burley renders as "
+                      f"Random Walk")
+        s = n.inputs.get("Subsurface Radius")
+        radius = [1.0, 0.2, 0.1]
+        if s is not None:
+            if s.is_linked:
+                self.warn(f"material '{name}': a node on Subsurface Radius is not supported; "
+                          f"uses the input's value")
+            radius = [float(c) for c in s.default_value[:3]]
+        scale = float(self._const(self._float(n, "Subsurface Scale", name, 0.05, textures=False),
+                                  name, "Subsurface Scale"))
+        sub = {"weight": min(1.0, float(weight)),
+               "radius": [r * scale for r in radius],
+               "anisotropy": float(self._const(self._float(n, "Subsurface Anisotropy", name, 0.0,
+                                                           textures=False), name,
+                                               "Subsurface Anisotropy"))}
+        if method == "RANDOM_WALK_SKIN":
+            sub["method"] = "skin"
+            # Blender's inputs.get() does not find this socket by its name (it is unavailable
+            # for the other methods); look it up by name among all inputs.
+            sock = next((i for i in n.inputs if i.name == "Subsurface IOR"), None)
+            sub["ior"] = 1.4 if sock is None else float(sock.default_value)
+            if sock is not None and sock.is_linked:
+                self.warn(f"material '{name}': a node on Subsurface IOR is not supported; uses "
+                          f"the input's value")
+        else:
+            sub["ior"] = ior
+        if all(r == 0.0 for r in sub["radius"]):
+            self.warn(f"material '{name}': subsurface radius 0; renders as its diffuse base")
+        return sub

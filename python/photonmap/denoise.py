@@ -1,9 +1,9 @@
 """Denoising with Intel Open Image Denoise, through its Python binding ``pyoidn`` (the
 optional extra ``photonmap[denoise]``).
 
-The noisy terms (``DENOISED_TERMS``: direct, indirect, caustic, specular, volume) are
-denoised each on its own, by OIDN's ``RT`` filter in HDR mode, guided by the render's
-``albedo`` and ``normal`` (prefiltered by OIDN: they carry a little noise of their own, from
+The noisy terms (``DENOISED_TERMS``: direct, indirect, caustic, specular, volume,
+subsurface) are denoised each on its own, by OIDN's ``RT`` filter in HDR mode, guided by the
+render's ``albedo`` and ``normal`` (prefiltered by OIDN: they carry a little noise of their own, from
 glass and antialiasing). ``emission`` (emitters and the background seen directly) is kept as
 rendered. The beauty is then the sum of the terms, as always, so a composite of the passes
 still adds up exactly; the terms as rendered are kept as ``<term>_noisy``. A term that is zero

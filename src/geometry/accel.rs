@@ -267,6 +267,27 @@ impl Accel {
         best
     }
 
+    /// Closest hit of `ray` on instance `instance` alone, with `0 < t < ray.t_max`.
+    pub fn intersect_instance(&self, ray: &Ray, instance: u32) -> Option<Hit> {
+        let id = self.inst.get(instance as usize)?;
+        let inst = self.instances.get(instance as usize)?;
+        let blas = self.blas.get(inst.mesh as usize)?;
+        let found = if id.identity {
+            blas.closest(&RayCtx::new(ray.o, ray.d), ray.t_max)
+        } else {
+            let (r, dt) = object_ray(&inst.transform.inv, ray.o, ray.d);
+            blas.closest(&r, ray.t_max - dt)
+                .map(|(t, p, b1, b2)| (t + dt, p, b1, b2))
+        };
+        found.map(|(t, prim, b1, b2)| Hit {
+            t,
+            instance,
+            prim,
+            b1,
+            b2,
+        })
+    }
+
     /// Whether a triangle may lie within distance `r` of `p`: `false` means none does. The
     /// test is conservative (bounding boxes against the sphere's box, carried into object
     /// space by each instance's inverse), so `true` may also be said of a triangle a little

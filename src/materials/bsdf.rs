@@ -161,6 +161,9 @@ pub struct Bsdf {
     /// A clear coat over the lobes marked in `coated` (the Principled BSDF's Coat).
     coat: Option<CoatLayer>,
     coated: [bool; MAX_LOBES],
+    /// The lobe that is a subsurface material's boundary (light it transmits enters the
+    /// material's interior medium), if any.
+    subsurface: Option<u8>,
 }
 
 impl Bsdf {
@@ -173,6 +176,7 @@ impl Bsdf {
             count: 0,
             coat: None,
             coated: [false; MAX_LOBES],
+            subsurface: None,
         }
     }
 
@@ -199,6 +203,52 @@ impl Bsdf {
     /// The (weight for the view `wo`, lobe) pairs, `wo` local.
     fn lobes_at(&self, wo: Vec3) -> impl Iterator<Item = (Spectrum, &Lobe)> {
         (0..self.count).map(move |i| (self.weight_at(i, wo), &self.lobes[i]))
+    }
+
+    /// Adds `weight * lobe` as the lobe a subsurface material's camera paths walk below
+    /// (see [`Bsdf::subsurface_entry`]); every other path reflects it as it is.
+    pub fn add_subsurface(&mut self, weight: f32, lobe: Lobe) -> bool {
+        let added = self.add(weight, lobe);
+        if added {
+            self.subsurface = Some((self.count - 1) as u8);
+        }
+        added
+    }
+
+    /// Whether a lobe is a subsurface material's.
+    pub fn has_subsurface(&self) -> bool {
+        self.subsurface.is_some()
+    }
+
+    /// The same BSDF without its subsurface lobe (what a camera path estimates at the
+    /// surface itself).
+    pub fn without_subsurface(&self) -> Bsdf {
+        let Some(k) = self.subsurface else {
+            return *self;
+        };
+        let mut b = Bsdf::new(self.frame);
+        b.coat = self.coat;
+        for (i, (w, l)) in self.lobes().enumerate() {
+            if i != k as usize && b.add(w, *l) {
+                b.coated[b.count - 1] = self.coated[i];
+            }
+        }
+        b
+    }
+
+    /// What the subsurface lobe sends towards `wo` (world space) per unit of what arrives
+    /// below it: its weight (under the coat) times its directional albedo, and the lobe's
+    /// GGX roughness; `None` without a subsurface lobe.
+    pub fn subsurface_entry(&self, wo: Vec3) -> Option<(Spectrum, f32)> {
+        let i = self.subsurface? as usize;
+        let wo = self.frame.to_local(wo);
+        let Lobe::CoatedDiffuse(l) = &self.lobes[i] else {
+            return None;
+        };
+        Some((
+            self.weight_at(i, wo) * self.lobes[i].albedo(wo, LobeFlags::ALL),
+            l.roughness,
+        ))
     }
 
     /// Adds `weight * lobe`. Non-positive or non-finite weights and lobes beyond
@@ -358,6 +408,9 @@ impl Bsdf {
         for (i, (w, l)) in self.lobes().enumerate() {
             if keep(l) && b.add(w, *l) {
                 b.coated[b.count - 1] = self.coated[i];
+                if self.subsurface == Some(i as u8) {
+                    b.subsurface = Some((b.count - 1) as u8);
+                }
             }
         }
         b

@@ -5,7 +5,8 @@
 //!   reflection), [`dielectric`] (smooth glass), [`rough_dielectric`] (GGX glass),
 //!   [`layer`] (diffuse under a coat);
 //! - [`fresnel`], [`microfacet`]: shared terms; [`texture`]: images and parameters;
-//! - [`principled`]: the Principled BSDF mapping.
+//! - [`principled`]: the Principled BSDF mapping; [`subsurface`]: its subsurface part (a
+//!   dielectric boundary over a homogeneous interior).
 
 pub mod bsdf;
 pub mod conductor;
@@ -19,6 +20,7 @@ pub mod lobe;
 pub mod microfacet;
 pub mod principled;
 pub mod rough_dielectric;
+pub mod subsurface;
 pub mod texture;
 
 pub use bsdf::{Bsdf, BsdfSample, Component, LobeFlags, MAX_LOBES};
@@ -335,6 +337,14 @@ impl Material {
                 p.emission_color.eval(uv, textures).max(Vec3::ZERO) * p.emission_strength
             }
             _ => Vec3::ZERO,
+        }
+    }
+
+    /// The material's subsurface part, if it has one.
+    pub fn subsurface(&self) -> Option<&subsurface::Subsurface> {
+        match self {
+            Material::Principled(p) => p.subsurface.as_ref(),
+            _ => None,
         }
     }
 

@@ -4,6 +4,7 @@ use super::bsdf::Bsdf;
 use super::fresnel::{f0_from_ior, Fresnel};
 use super::layer::{CoatAlbedoTable, CoatLayer, CoatedDiffuse};
 use super::lobe::Lobe;
+use super::subsurface::Subsurface;
 use super::texture::{ColorParam, FloatParam, Texture};
 use super::{coat_lobe, dielectric_lobe, reflection_lobe};
 use crate::math::{Frame, Spectrum};
@@ -26,6 +27,7 @@ const MAX_COAT_F0: f32 = 0.9;
 /// | `emission_color`, `emission_strength` | emitted radiance = colour x strength |
 /// | `multiscatter` | reflection compensated for multiple scattering (Multiscatter GGX) |
 /// | `coat_weight`, `coat_roughness`, `coat_ior`, `coat_tint` | a clear coat over it all ([`CoatLayer`]) |
+/// | `subsurface` | subsurface scattering below the specular layer ([`Subsurface`]) |
 ///
 /// Mapping onto the lobes (weights sum to one):
 ///
@@ -34,7 +36,8 @@ const MAX_COAT_F0: f32 = 0.9;
 /// | metal | m | GGX reflection (delta at roughness 0), Schlick Fresnel with F0 = base colour |
 /// | glass | (1 - m) t | dielectric of IOR `ior`, rough or smooth, transmission tinted by base colour |
 /// | specular | (1 - m)(1 - t) | GGX reflection (delta at roughness 0) with the dielectric Fresnel of IOR eta_s |
-/// | base | (1 - m)(1 - t) | Lambert base colour x (1 - E(wo)) under the specular layer, as Cycles layers it |
+/// | base | (1 - m)(1 - t)(1 - s) | Lambert base colour x (1 - E(wo)) under the specular layer, as Cycles layers it |
+/// | subsurface | (1 - m)(1 - t) s | the base's Lambert lobe of the subsurface colour, marked: a camera path walks below it, every other path reflects it |
 /// | clear coat | `coat_weight` | over all of the above ([`CoatLayer`]): GGX with the dielectric Fresnel of `coat_ior` |
 ///
 /// eta_s follows OpenPBR's specular weight: F0_s = clamp(specular x ((ior - 1)/(ior + 1))^2,
@@ -58,6 +61,8 @@ pub struct Principled {
     pub clearcoat: Option<CoatLayer>,
     /// Albedo table of the coat (its F0 is fixed by `ior` and `specular`).
     pub coat_table: &'static CoatAlbedoTable,
+    /// The subsurface part (weight s above), if any.
+    pub subsurface: Option<Subsurface>,
 }
 
 fn sane(v: f32, lo: f32, hi: f32, default: f32) -> f32 {
@@ -99,6 +104,14 @@ impl Principled {
                 }
             }),
             coat_table: CoatAlbedoTable::for_f0(coat_f0(ior, specular)),
+            subsurface: d.subsurface.as_ref().and_then(|ss| {
+                // The medium is one per material: a textured base colour gives its scale.
+                let base = match ColorParam::from_input(&d.base_color) {
+                    ColorParam::Const(c) => c,
+                    ColorParam::Tex { scale, .. } => scale,
+                };
+                Subsurface::from_desc(ss, base, ior)
+            }),
         }
     }
 
@@ -120,10 +133,20 @@ impl Principled {
         if self.coat_f0() > 0.0 {
             bsdf.add(w_base, coat_lobe(r, self.coat_table, ms));
         }
-        bsdf.add(
-            w_base,
-            Lobe::CoatedDiffuse(CoatedDiffuse::new(base, r, self.coat_table, ms)),
-        );
+        let diffuse = |albedo| Lobe::CoatedDiffuse(CoatedDiffuse::new(albedo, r, self.coat_table, ms));
+        match self.subsurface {
+            None => {
+                bsdf.add(w_base, diffuse(base));
+            }
+            Some(ss) => {
+                // The channels that do not walk stay with the diffuse base.
+                let rest = base * (Spectrum::ONE - ss.weight * ss.walks);
+                if rest.max_element() > 0.0 {
+                    bsdf.add(w_base, diffuse(rest));
+                }
+                bsdf.add_subsurface(w_base * ss.weight, diffuse(ss.color));
+            }
+        }
         if let Some(c) = self.clearcoat {
             bsdf.coat_over(c);
             bsdf.add(c.weight, coat_lobe(c.roughness, c.table, c.multiscatter));

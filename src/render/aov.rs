@@ -1,5 +1,6 @@
 //! THE list of terms of the rendering equation that photonmap computes (Jensen 2001, §9.1:
-//! L = L_direct + L_specular + L_caustic + L_indirect, plus emission and the volume term).
+//! L = L_direct + L_specular + L_caustic + L_indirect, plus emission, the volume term and
+//! the subsurface term).
 //!
 //! Every front end reads this list: the EXR writer, the CLI, the Python API and Blender's
 //! `update_render_passes`. The combined image is the sum of all terms, exactly, per pixel.
@@ -20,19 +21,23 @@ pub enum Term {
     Volume = 4,
     /// Emitters seen directly, and the background.
     Emission = 5,
+    /// Light that left a surface after entering it below a subsurface material: scattered
+    /// inside (from the subsurface photon map), or passed through it.
+    Subsurface = 6,
 }
 
 impl Term {
     /// In output order.
-    pub const ALL: [Term; 6] = [
+    pub const ALL: [Term; 7] = [
         Term::Direct,
         Term::Indirect,
         Term::Caustic,
         Term::Specular,
         Term::Volume,
         Term::Emission,
+        Term::Subsurface,
     ];
-    pub const COUNT: usize = 6;
+    pub const COUNT: usize = 7;
 
     /// Lower-case name, used in files (`direct.R`) and on the command line.
     pub fn name(self) -> &'static str {
@@ -43,6 +48,7 @@ impl Term {
             Term::Specular => "specular",
             Term::Volume => "volume",
             Term::Emission => "emission",
+            Term::Subsurface => "subsurface",
         }
     }
 
@@ -55,6 +61,7 @@ impl Term {
             Term::Specular => "Specular",
             Term::Volume => "Volume",
             Term::Emission => "Emission",
+            Term::Subsurface => "Subsurface",
         }
     }
 
@@ -106,12 +113,13 @@ pub fn light_group_names(given: &[String]) -> Vec<String> {
 
 /// The terms that `--denoise` denoises (each on its own; the beauty stays their sum).
 /// `emission` (emitters and the background seen directly) is left as it is.
-pub const DENOISED_TERMS: [Term; 5] = [
+pub const DENOISED_TERMS: [Term; 6] = [
     Term::Direct,
     Term::Indirect,
     Term::Caustic,
     Term::Specular,
     Term::Volume,
+    Term::Subsurface,
 ];
 
 /// What the channels of an AOV hold.
@@ -292,7 +300,7 @@ pub struct TermMask(pub u8);
 
 impl TermMask {
     pub const NONE: TermMask = TermMask(0);
-    pub const ALL: TermMask = TermMask(0b11_1111);
+    pub const ALL: TermMask = TermMask(0b111_1111);
 
     pub fn contains(self, t: Term) -> bool {
         self.0 & t.bit().0 != 0
@@ -361,6 +369,7 @@ mod tests {
                 "caustic_noisy",
                 "specular_noisy",
                 "volume_noisy",
+                "subsurface_noisy",
                 "lightgroup.key",
                 "lightgroup.default",
                 "CryptoObject00",
@@ -377,7 +386,7 @@ mod tests {
         assert_eq!(pass("lightgroup.key"), "Combined_key");
         assert_eq!(pass("direct_noisy"), "Noisy Direct");
         assert_eq!(list[2].channels(), ["X", "Y", "Z"]);
-        assert_eq!(list[10].channels(), ["R", "G", "B", "A"]);
+        assert_eq!(list[11].channels(), ["R", "G", "B", "A"]);
         // Names and pass names are unique.
         let mut n: Vec<_> = list.iter().map(|a| &a.pass_name).collect();
         n.sort();

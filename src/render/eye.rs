@@ -10,7 +10,7 @@ use super::lightgroups::Split;
 use super::photons::PhotonMaps;
 use super::terms::specular::Follow;
 use super::terms::volume::{self, MarchSettings};
-use super::terms::{caustic, direct, emission, indirect, specular};
+use super::terms::{caustic, direct, emission, indirect, specular, subsurface};
 use crate::geometry::Ray;
 use crate::materials::bsdf::{Bsdf, LobeFlags};
 use crate::math::{is_finite3, Spectrum};
@@ -73,6 +73,8 @@ pub struct VisiblePoint {
     pub bsdf: Bsdf,
     pub beta: Spectrum,
     pub bounces: u32,
+    /// Whether the point is a subsurface walk's exit (its light is `subsurface`).
+    pub subsurface: bool,
 }
 
 /// Radiance along `ray`, per term. Non-finite estimates are dropped (counted by the caller).
@@ -254,61 +256,41 @@ pub fn trace_split(
                 }
                 // The estimates below add their groups' shares times the path's throughput.
                 let mut sp = split.as_mut().map(|sp| sp.scaled(beta));
-                if bsdf.has_non_delta() {
-                    if wants(Term::Direct, bounces) {
-                        add(
-                            &mut out,
-                            Term::Direct,
-                            bounces,
-                            beta * direct::estimate_with(
-                                scene,
-                                &si,
-                                &bsdf,
-                                &stack,
-                                EYE_LIGHT_SAMPLES,
-                                rng,
-                                sp.as_mut(),
-                            ),
-                        );
-                    }
-                    if passes {
-                        // Rough glass: the path goes on through it below; what reaches it
-                        // from the lights was estimated just above.
-                    } else if let Some(record) = visible.as_mut() {
-                        if wants(Term::Caustic, bounces) || wants(Term::Indirect, bounces) {
-                            record(VisiblePoint {
-                                p: si.p,
-                                n: si.ng,
-                                wo: si.wo,
-                                bsdf,
-                                beta,
+                let entry = bsdf.subsurface_entry(si.wo);
+                let here = if entry.is_some() {
+                    bsdf.without_subsurface()
+                } else {
+                    bsdf
+                };
+                if here.has_non_delta() {
+                    let route = |t: Term| specular::route(t, bounces);
+                    let at = Estimates {
+                        si: &si,
+                        bsdf: &here,
+                        beta,
+                        bounces,
+                        subsurface: false,
+                    };
+                    at.run(ctx, &stack, passes, route, &mut out, &mut visible, rng, scratch, sp.as_mut());
+                }
+                if let (Some((w, roughness)), Some(ss)) = (entry, mat.subsurface()) {
+                    if s.terms.contains(Term::Subsurface) {
+                        if let Some(exit) = subsurface::walk(scene, &si, ss, roughness, rng) {
+                            ctx.work.subsurface_walk(exit.events as u64);
+                            let b = beta * w * exit.weight;
+                            let mut sp = split.as_mut().map(|sp| sp.scaled(b));
+                            let at = Estimates {
+                                si: &exit.si,
+                                bsdf: &exit.bsdf,
+                                beta: b,
                                 bounces,
-                            });
+                                subsurface: true,
+                            };
+                            let route = |_: Term| Term::Subsurface;
+                            at.run(ctx, &stack, false, route, &mut out, &mut visible, rng, scratch, sp.as_mut());
+                        } else {
+                            ctx.work.subsurface_walk_lost();
                         }
-                    } else if wants(Term::Caustic, bounces) && ctx.maps.caustic.is_some() {
-                        ctx.work.caustic_lookup();
-                        add(
-                            &mut out,
-                            Term::Caustic,
-                            bounces,
-                            beta * caustic::estimate(ctx.maps, &si, &bsdf, scratch, sp.as_mut()),
-                        );
-                    }
-                    if !passes && visible.is_none() && wants(Term::Indirect, bounces) {
-                        add(
-                            &mut out,
-                            Term::Indirect,
-                            bounces,
-                            beta * indirect::estimate(
-                                ctx,
-                                &si,
-                                &bsdf,
-                                &stack,
-                                rng,
-                                scratch,
-                                sp.as_mut(),
-                            ),
-                        );
                     }
                 }
                 if bounces >= s.max_specular_depth {
@@ -338,4 +320,85 @@ pub fn trace_split(
         }
     }
     out
+}
+
+/// A non-delta surface point where a camera path's estimates run, and what they are weighted
+/// by.
+struct Estimates<'a> {
+    si: &'a crate::geometry::SurfaceInteraction,
+    bsdf: &'a Bsdf,
+    beta: Spectrum,
+    bounces: u32,
+    /// Whether the point is a subsurface walk's exit.
+    subsurface: bool,
+}
+
+impl Estimates<'_> {
+    /// The `direct`, `caustic` and `indirect` estimates at the point, each added to `out`
+    /// under the term `route` gives it; with `visible`, the point is handed to it for the
+    /// photon terms instead. `passes`: rough glass, which the path goes on through (only the
+    /// direct estimate runs).
+    #[allow(clippy::too_many_arguments)]
+    fn run(
+        &self,
+        ctx: &EyeCtx,
+        stack: &crate::media::MediumStack,
+        passes: bool,
+        route: impl Fn(Term) -> Term,
+        out: &mut TermRadiance,
+        visible: &mut Option<&mut dyn FnMut(VisiblePoint)>,
+        rng: &mut Rng,
+        scratch: &mut KnnScratch,
+        mut sp: Option<&mut Split>,
+    ) {
+        let terms = ctx.settings.terms;
+        let wants = |t: Term| terms.contains(route(t));
+        let mut add = |t: Term, l: Spectrum| {
+            let t = route(t);
+            if terms.contains(t) && is_finite3(l) {
+                out.add(t, l);
+            }
+        };
+        let (si, bsdf, beta) = (self.si, self.bsdf, self.beta);
+        if wants(Term::Direct) {
+            let l = direct::estimate_with(
+                ctx.scene,
+                si,
+                bsdf,
+                stack,
+                EYE_LIGHT_SAMPLES,
+                rng,
+                sp.as_deref_mut(),
+            );
+            add(Term::Direct, beta * l);
+        }
+        if passes {
+            // Rough glass: the path goes on through it; what reaches it from the lights was
+            // estimated just above.
+            return;
+        }
+        if let Some(record) = visible.as_mut() {
+            if wants(Term::Caustic) || wants(Term::Indirect) {
+                record(VisiblePoint {
+                    p: si.p,
+                    n: si.ng,
+                    wo: si.wo,
+                    bsdf: *bsdf,
+                    beta,
+                    bounces: self.bounces,
+                    subsurface: self.subsurface,
+                });
+            }
+            return;
+        }
+        if wants(Term::Caustic) && ctx.maps.caustic.is_some() {
+            ctx.work.caustic_lookup();
+            let l = caustic::estimate(ctx.maps, si, bsdf, scratch, sp.as_deref_mut());
+            add(Term::Caustic, beta * l);
+        }
+        if wants(Term::Indirect) {
+            let l = indirect::estimate(ctx, si, bsdf, stack, rng, scratch, sp);
+            add(Term::Indirect, beta * l);
+        }
+    }
 }

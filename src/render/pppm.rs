@@ -543,7 +543,13 @@ fn gather(global: &PhotonMap, vps: &[VisiblePoint], r2: f32, ctx: &EyeCtx) -> Te
     let mut phi = TermRadiance::default();
     for vp in vps {
         global.tree.for_each_in_radius(vp.p, r2, |ph, _| {
-            let Some(t) = terms::of_photon(ph.user_flags(), vp.bounces) else {
+            let Some(t) = terms::of_photon(ph.user_flags(), vp.bounces).map(|t| {
+                if vp.subsurface {
+                    Term::Subsurface
+                } else {
+                    t
+                }
+            }) else {
                 return;
             };
             let wi = ph.incoming();

@@ -343,7 +343,13 @@ fn gather(
     let mut m = 0u32;
     for vp in vps {
         global.tree.for_each_in_radius(vp.p, r2, |ph, d2| {
-            let Some(t) = terms::of_photon(ph.user_flags(), vp.bounces) else {
+            let Some(t) = terms::of_photon(ph.user_flags(), vp.bounces).map(|t| {
+                if vp.subsurface {
+                    Term::Subsurface
+                } else {
+                    t
+                }
+            }) else {
                 return;
             };
             let wi = ph.incoming();

@@ -37,6 +37,9 @@ pub struct RenderStats {
     pub photon_maps: Vec<MapStats>,
     pub irradiance_cache_records: u64,
     pub skipped: Vec<SkippedTerm>,
+    /// The scene's warnings (`Scene::warnings`): what renders other than the IR says.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
     /// Estimates that came out NaN or infinite and were dropped.
     pub non_finite_samples: u64,
     /// Approximate bytes held by the render (film and scene geometry).
@@ -117,6 +120,8 @@ impl Renderer<'_> {
                 "the scene has no specular or transmissive surfaces"
             } else if t == Term::Volume && !self.scene.has_media() {
                 "the scene has no participating media"
+            } else if t == Term::Subsurface && !self.scene.has_subsurface() {
+                "the scene has no subsurface materials"
             } else {
                 match (t, maps) {
                     (Term::Indirect, Some(m)) if m.global.is_none() => {
@@ -144,6 +149,7 @@ impl Renderer<'_> {
         let s = &self.settings;
         let photon_bytes: u64 = p.maps.iter().map(|m| m.memory_bytes).sum();
         RenderStats {
+            warnings: self.scene.warnings.clone(),
             settings: s.clone(),
             options: super::options::RenderOptions::from_settings(s),
             work: self.work.stats(),

@@ -11,6 +11,9 @@ pub struct WorkCounts {
     volume_lookups: AtomicU64,
     volume_point_reads: AtomicU64,
     caustic_lookups: AtomicU64,
+    subsurface_walks: AtomicU64,
+    subsurface_events: AtomicU64,
+    subsurface_lost: AtomicU64,
 }
 
 /// What [`WorkCounts`] counted.
@@ -25,6 +28,12 @@ pub struct WorkStats {
     pub volume_point_reads: u64,
     /// Radiance estimates read from the caustic photon map.
     pub caustic_lookups: u64,
+    /// Walks of camera paths below subsurface materials that found an exit.
+    pub subsurface_walks: u64,
+    /// Their scattering events.
+    pub subsurface_events: u64,
+    /// Walks that found no exit (absorbed, or lost after 256 events).
+    pub subsurface_lost: u64,
 }
 
 impl WorkCounts {
@@ -42,6 +51,17 @@ impl WorkCounts {
         }
     }
 
+    /// A walk below a subsurface material that left it after `events` scattering events.
+    pub fn subsurface_walk(&self, events: u64) {
+        self.subsurface_walks.fetch_add(1, Ordering::Relaxed);
+        self.subsurface_events.fetch_add(events, Ordering::Relaxed);
+    }
+
+    /// A walk below a subsurface material that found no exit.
+    pub fn subsurface_walk_lost(&self) {
+        self.subsurface_lost.fetch_add(1, Ordering::Relaxed);
+    }
+
     pub fn caustic_lookup(&self) {
         self.caustic_lookups.fetch_add(1, Ordering::Relaxed);
     }
@@ -52,6 +72,9 @@ impl WorkCounts {
             volume_lookups: self.volume_lookups.load(Ordering::Relaxed),
             volume_point_reads: self.volume_point_reads.load(Ordering::Relaxed),
             caustic_lookups: self.caustic_lookups.load(Ordering::Relaxed),
+            subsurface_walks: self.subsurface_walks.load(Ordering::Relaxed),
+            subsurface_events: self.subsurface_events.load(Ordering::Relaxed),
+            subsurface_lost: self.subsurface_lost.load(Ordering::Relaxed),
         }
     }
 }

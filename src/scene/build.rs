@@ -54,6 +54,9 @@ pub struct Scene {
     pub light_groups: Vec<String>,
     /// Per light, the index of its group in `light_groups` (all 0 without groups).
     pub light_group: Vec<u8>,
+    /// What the scene's IR does that renders other than it says, each naming the material
+    /// or mesh (`scene::subsurface::warnings`); the stats carry them.
+    pub warnings: Vec<String>,
 }
 
 /// What a ray found first. Analytic lights are not surfaces: they never occlude, and rays
@@ -276,6 +279,7 @@ impl Scene {
             instance_names,
             light_groups: Vec::new(),
             light_group: Vec::new(),
+            warnings: super::subsurface::warnings(desc),
             material_names: desc
                 .materials
                 .iter()
@@ -365,6 +369,11 @@ impl Scene {
             Light::Distant(l) => l.le(d),
             _ => Spectrum::ZERO,
         }
+    }
+
+    /// Whether some material scatters below its surface.
+    pub fn has_subsurface(&self) -> bool {
+        self.materials.iter().any(|m| m.subsurface().is_some())
     }
 
     /// Whether any ray can travel through a participating medium.

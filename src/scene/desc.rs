@@ -509,6 +509,48 @@ pub struct PrincipledDesc {
     pub coat_ior: f32,
     #[serde(default = "white")]
     pub coat_tint: Rgb,
+    /// Subsurface scattering below the surface (Blender's Subsurface Weight with the Random
+    /// Walk method, OpenPBR `subsurface_*`); absent or weight 0: none. See [`SubsurfaceDesc`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub subsurface: Option<SubsurfaceDesc>,
+}
+
+/// The subsurface part of a Principled material, walked as Cycles' Random Walk
+/// (`materials::subsurface`).
+///
+/// | field | meaning |
+/// |---|---|
+/// | `weight` | [0, 1]: share of the diffuse base that scatters below the surface (Blender Subsurface Weight, OpenPBR `subsurface_weight`) |
+/// | `radius` | RGB mean free path in scene units (Blender Radius x Scale, OpenPBR `subsurface_radius` x `subsurface_radius_scale`); a channel of 0 renders as the diffuse base |
+/// | `color` | the albedo seen on the surface (default: the base colour; OpenPBR `subsurface_color`) |
+/// | `ior` | index of refraction of the entry (default: the material's `ior`; Blender's Subsurface IOR with `skin`) |
+/// | `anisotropy` | Henyey-Greenstein g inside, clamped to [0, 0.9] as Cycles does |
+/// | `method` | `random_walk` (default) or `skin` (Blender's Random Walk (Skin)) |
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SubsurfaceDesc {
+    #[serde(default = "one")]
+    pub weight: f32,
+    pub radius: Rgb,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub color: Option<Rgb>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ior: Option<f32>,
+    #[serde(default)]
+    pub anisotropy: f32,
+    #[serde(default)]
+    pub method: SubsurfaceMethod,
+}
+
+/// How a camera path enters a subsurface material (Blender's Subsurface Method).
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum SubsurfaceMethod {
+    /// Through a GGX interface of the surface's roughness and the material's IOR.
+    #[default]
+    RandomWalk,
+    /// Half diffusely, half through a GGX interface of roughness 1 and the Subsurface IOR.
+    Skin,
 }
 fn default_coat_roughness() -> f32 {
     0.03
@@ -545,6 +587,7 @@ impl Default for PrincipledDesc {
             coat_roughness: default_coat_roughness(),
             coat_ior: default_ior(),
             coat_tint: white(),
+            subsurface: None,
         }
     }
 }

@@ -3,6 +3,7 @@ pub mod build;
 pub mod camera;
 pub mod desc;
 mod shading;
+pub mod subsurface;
 mod transmit;
 mod validate;
 

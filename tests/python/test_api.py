@@ -28,7 +28,8 @@ def numpy_scene(n=32, dtype=np.float64, idx_dtype=np.int64):
 
 
 def test_terms_and_pass_names_come_from_the_core():
-    assert photonmap.TERMS == ("direct", "indirect", "caustic", "specular", "volume", "emission")
+    assert photonmap.TERMS == ("direct", "indirect", "caustic", "specular", "volume", "emission",
+                              "subsurface")
     assert photonmap.PASS_NAMES == tuple(t.capitalize() for t in photonmap.TERMS)
 
 
@@ -232,4 +233,5 @@ def test_density_grid_from_numpy_renders_fog():
     assert np.isfinite(vol).all() and vol.max() > 0
     left, right = vol[:, 6:10].mean(), vol[:, 14:18].mean()
     assert right > 1.5 * left, (left, right)
-    assert out["stats"]["photon_maps"][-1]["map"] == "volume"
+    maps = {m["map"]: m for m in out["stats"]["photon_maps"]}
+    assert maps["volume"]["built"] and not maps["subsurface"]["built"]

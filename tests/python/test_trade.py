@@ -16,7 +16,7 @@ from conftest import SCENES
 pytest.importorskip("matplotlib")
 
 SCENE = os.path.join(SCENES, "cornell_spheres.json")
-TERMS = ("direct", "indirect", "caustic", "specular", "volume", "emission")
+TERMS = ("direct", "indirect", "caustic", "specular", "volume", "emission", "subsurface")
 
 
 def run_cli(*args, cwd=None, timeout=300):

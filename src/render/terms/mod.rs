@@ -4,6 +4,7 @@ pub mod direct;
 pub mod emission;
 pub mod indirect;
 pub mod specular;
+pub mod subsurface;
 #[cfg(test)]
 mod testing;
 pub mod volume;

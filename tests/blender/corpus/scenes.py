@@ -555,6 +555,38 @@ def mirror_light():
     return sc
 
 
+# -- subsurface -------------------------------------------------------------------------------
+
+
+@scene("sss_wax", "Wax sphere and cube: the default Principled BSDF with Subsurface Weight 1 "
+       "and a warm Base Color, every other subsurface input as Blender sets it (Random Walk, "
+       "Radius (1, 0.2, 0.1), Scale 0.05).", tags=("subsurface",))
+def sss_wax():
+    return lit_room(lambda: principled("Wax", (0.9, 0.7, 0.5), Subsurface_Weight=1.0))
+
+
+@scene("sss_jade", "Jade sphere and cube: Subsurface Weight 1, Scale 0.3 (light crosses the "
+       "objects), green Base Color, Roughness 0.2.", tags=("subsurface",))
+def sss_jade():
+    return lit_room(lambda: principled("Jade", (0.35, 0.75, 0.45), Subsurface_Weight=1.0,
+                                       Subsurface_Scale=0.3, Roughness=0.2))
+
+
+@scene("sss_backlit", "A thin plate (3 cm) of a subsurface material (Weight 1, Scale 0.05, "
+       "near-white) standing in the room, lit from behind by an area light facing the camera "
+       "and hidden by the plate; a weak ceiling light shows the room.", tags=("subsurface",))
+def sss_backlit():
+    sc = reset()
+    room()
+    mat = principled("Translucent", (0.9, 0.85, 0.75), Subsurface_Weight=1.0)
+    plate = cube("Plate", (0, 0.3, 0.55), 1.0, mat)
+    plate.scale = (0.8, 0.03, 0.6)
+    light("AREA", (0, 0.55, 0.55), rotation_deg=(-90, 0, 0), energy=30.0, size=0.4)
+    ceiling_area(energy=10.0)
+    camera()
+    return sc
+
+
 # -- media ----------------------------------------------------------------------------------
 
 
