@@ -13,8 +13,9 @@
 //!
 //! The transport, in the direction a camera path takes (`render::terms::subsurface::walk`):
 //! the path refracts into the mesh through a GGX interface (alpha = roughness^2, or 1 for
-//! Skin), walks a homogeneous medium of extinction 1 / (radius (1 - g)) and single-scattering
-//! albedo fitted to `color`, and leaves at the first surface of the same object it meets. The
+//! Skin), walks a homogeneous medium of extinction 1 / (l (1 - g)), with the mean free path
+//! l = radius / (4 pi) (Skin: scaled by the colour's dipole albedo, [`radius_scale`]), and
+//! single-scattering albedo fitted to `color`, and leaves at the first surface of the same object it meets. The
 //! exit is a white Lambertian surface: what it receives from the lights, the caustic and the
 //! global photon map, divided by pi, is what the walk carries back. Light that reaches a
 //! subsurface material from any surface but the camera's is reflected by the diffuse base
@@ -114,6 +115,41 @@ pub fn single_scattering_albedo(albedo: f32, g: f32) -> f32 {
     }
 }
 
+/// The mean free path per unit of the material's radius, as Cycles sets it up
+/// (`bssrdf_setup_radius`): 1 / (4 pi) for Random Walk, so that it looks like the older
+/// Cubic, Gaussian and Burley profiles; for Skin, sqrt(3 (1 - a')) with a' the single-scattering
+/// albedo whose dipole reflectance (Jensen's F_dr for the IOR) is the colour.
+pub fn radius_scale(skin: bool, color: f32, ior: f32) -> f32 {
+    if !skin {
+        return 0.25 * std::f32::consts::FRAC_1_PI;
+    }
+    let inv_eta = 1.0 / ior;
+    let f_dr = inv_eta * (-1.440 * inv_eta + 0.710) + 0.668 + 0.0636 * ior;
+    let a4_3 = (4.0 / 3.0) * (1.0 + f_dr) / (1.0 - f_dr);
+    let rd = |ap: f32| {
+        let s = (3.0 * (1.0 - ap)).sqrt();
+        0.5 * ap * (1.0 + (-a4_3 * s).exp()) * (-s).exp()
+    };
+    let alpha_prime = if color < 1e-4 {
+        0.0
+    } else if color >= 0.995 {
+        0.999_999
+    } else {
+        // Bisection, 12 steps, as Cycles does.
+        let (mut x0, mut x1, mut xmid) = (0.0f32, 1.0f32, 0.5f32);
+        for _ in 0..12 {
+            xmid = 0.5 * (x0 + x1);
+            if rd(xmid) < color {
+                x0 = xmid;
+            } else {
+                x1 = xmid;
+            }
+        }
+        xmid
+    };
+    (3.0 * (1.0 - alpha_prime)).sqrt()
+}
+
 /// Whether a radius channel is walked (finite, above [`MIN_RADIUS`]).
 pub fn radius_walks(r: f32) -> bool {
     r.is_finite() && r > MIN_RADIUS
@@ -165,7 +201,8 @@ impl Subsurface {
             }
             s.walks[k] = 1.0;
             s.color[k] = c;
-            s.sigma_t[k] = 1.0 / (r.min(MAX_RADIUS) * (1.0 - g));
+            let r = r.min(MAX_RADIUS) * radius_scale(s.skin, c, ior);
+            s.sigma_t[k] = 1.0 / (r * (1.0 - g));
             let alpha = single_scattering_albedo(c, g);
             s.start[k] = if c > 0.0 { 1.0 / c } else { 0.0 };
             if alpha < MIN_ALPHA {
@@ -213,7 +250,8 @@ mod tests {
     #[test]
     fn coefficients_follow_the_radius() {
         let s = Subsurface::from_desc(&desc([1.0, 0.5, 0.25]), Spectrum::splat(0.8), 1.5).unwrap();
-        let st = s.sigma_t;
+        // Random Walk: the mean free path is the radius / (4 pi).
+        let st = s.sigma_t / (4.0 * std::f32::consts::PI);
         assert!(
             (st.x - 1.0).abs() < 1e-5 && (st.y - 2.0).abs() < 1e-5 && (st.z - 4.0).abs() < 1e-4
         );
