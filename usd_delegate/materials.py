@@ -19,7 +19,7 @@ exporter writes glass only there.
 | — | subsurface_radius x subsurface_radius_scale | subsurface_radius x subsurface_scale | subsurface.radius (stage units) |
 | — | subsurface_scatter_anisotropy | subsurface_anisotropy | subsurface.anisotropy |
 
-The subsurface boundary's IOR is the specular IOR. useSpecularWorkflow = 1 is approximated
+The subsurface entry's IOR is the specular IOR. useSpecularWorkflow = 1 is approximated
 (specularColor ignored) and warned; clearcoat, normal maps, displacement, coat (standard
 surface), sheen and thin-film are warned when used; UsdPreviewSurface has no subsurface.
 
@@ -331,7 +331,7 @@ class MaterialTable:
 
     def _subsurface(self, s, d, ior):
         """The IR `subsurface` part of an OpenPBR or standard_surface shader (None without):
-        radius = the radius times its per-channel scale, in stage units; the boundary's IOR
+        radius = the radius times its per-channel scale, in stage units; the entry's IOR
         is the specular IOR. Radius 0 renders as the diffuse base (warned)."""
         prim = s.GetPrim()
         openpbr = _shader_id(s) == OPENPBR

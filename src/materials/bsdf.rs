@@ -161,8 +161,7 @@ pub struct Bsdf {
     /// A clear coat over the lobes marked in `coated` (the Principled BSDF's Coat).
     coat: Option<CoatLayer>,
     coated: [bool; MAX_LOBES],
-    /// The lobe that is a subsurface material's boundary (light it transmits enters the
-    /// material's interior medium), if any.
+    /// The subsurface material's lobe, which camera paths walk below, if any.
     subsurface: Option<u8>,
 }
 

@@ -5,8 +5,8 @@
 //!   reflection), [`dielectric`] (smooth glass), [`rough_dielectric`] (GGX glass),
 //!   [`layer`] (diffuse under a coat);
 //! - [`fresnel`], [`microfacet`]: shared terms; [`texture`]: images and parameters;
-//! - [`principled`]: the Principled BSDF mapping; [`subsurface`]: its subsurface part (a
-//!   dielectric boundary over a homogeneous interior).
+//! - [`principled`]: the Principled BSDF mapping; [`subsurface`]: its subsurface part (Cycles'
+//!   random walk below the diffuse base).
 
 pub mod bsdf;
 pub mod conductor;

@@ -21,8 +21,8 @@ pub enum Term {
     Volume = 4,
     /// Emitters seen directly, and the background.
     Emission = 5,
-    /// Light that left a surface after entering it below a subsurface material: scattered
-    /// inside (from the subsurface photon map), or passed through it.
+    /// Light that left a surface after entering it below a subsurface material: what reaches
+    /// a camera path's walk exits, from the lights and the photon maps.
     Subsurface = 6,
 }
 
