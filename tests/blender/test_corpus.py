@@ -11,7 +11,9 @@ included.
 The sensitivity tests show that the comparison sees small errors: the add-on's IR of a scene
 is rendered as exported (it must pass) and with one error put in (it must fail, at the same
 tolerance): a light 2% brighter, an area light made two-sided and the Principled BSDF read as
-Lambert at the "sensitivity" setting (less noise than "ci"), a spot turned by 5 deg at "ci".
+Lambert at the "sensitivity" setting (less noise than "ci"), a spot turned by 5 deg at "ci";
+on the jade scene, a light 2% brighter, the subsurface radius doubled and the subsurface part
+dropped (the diffuse base alone), at "sensitivity".
 """
 
 from __future__ import annotations
@@ -67,6 +69,19 @@ def brighter(ir):
     return ir
 
 
+def subsurface_radius_doubled(ir):
+    for m in ir["materials"]:
+        if m.get("subsurface"):
+            m["subsurface"]["radius"] = [2.0 * r for r in m["subsurface"]["radius"]]
+    return ir
+
+
+def subsurface_dropped(ir):
+    for m in ir["materials"]:
+        m.pop("subsurface", None)
+    return ir
+
+
 def spot_turned(ir):
     a = math.radians(5.0)
     for light in ir["lights"]:
@@ -99,6 +114,9 @@ CASES = {
     "spot_turned_5deg": ("spot_blend", spot_turned, settings("ci")),
     "area_two_sided": ("room_empty", two_sided, SENSITIVITY),
     "principled_as_lambert": ("mat_default", lambert, SENSITIVITY),
+    "subsurface_light_2pct_brighter": ("sss_jade", brighter, SENSITIVITY),
+    "subsurface_radius_doubled": ("sss_jade", subsurface_radius_doubled, SENSITIVITY),
+    "subsurface_as_diffuse": ("sss_jade", subsurface_dropped, SENSITIVITY),
 }
 
 
