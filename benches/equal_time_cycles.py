@@ -113,8 +113,13 @@ def principled_sun():
     return sc
 
 
+def wax_room():
+    """Wax sphere and cube (Subsurface Weight 1, Blender's other defaults; corpus sss_wax)."""
+    return scenes.sss_wax()
+
+
 SCENES = {f.__name__: f for f in (glass_room, mirror_wall, small_light_glass, spot_fog,
-                                  principled_sun)}
+                                  principled_sun, wax_room)}
 
 
 # -- renders -------------------------------------------------------------------------------
@@ -224,7 +229,7 @@ def at_time(e: dict, t_from: float, t_to: float) -> dict:
 USD_NOT_COMPARABLE = {"small_light_glass", "spot_fog", "principled_sun"}
 
 #: Benchmark scenes that are corpus scenes, whose committed references are used.
-CORPUS_SCENE = {"glass_room": "glass_r0", "spot_fog": "fog_spot_out"}
+CORPUS_SCENE = {"glass_room": "glass_r0", "spot_fog": "fog_spot_out", "wax_room": "sss_wax"}
 
 
 def kept_reference(name: str, args, seed: int, work: str) -> tuple[np.ndarray, float]:
