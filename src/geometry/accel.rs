@@ -1,9 +1,10 @@
-//! Two-level acceleration structure: one BVH per mesh over its triangles in object space
-//! (the BLAS) and one BVH over the instances' world bounds (the TLAS). Instances share
+//! Two-level acceleration structure: one 4-wide BVH ([`WideBvh`]) per mesh over its
+//! triangles in object space (the BLAS) and one over the instances' world bounds (the TLAS). Instances share
 //! their mesh and its BLAS; rays are carried into object space per instance, except for
 //! identity transforms, which use the world ray as is.
 
-use super::bvh::{transform_bounds, BoxRay, Bvh};
+use super::bvh::{transform_bounds, BoxRay};
+use super::bvh_wide::WideBvh;
 use super::float::gamma;
 use super::interaction::{transform_point_error, SurfaceInteraction};
 use super::mesh::{Instance, MeshGeom};
@@ -38,10 +39,11 @@ pub struct Hit {
     pub b2: f32,
 }
 
-/// BVH of one mesh, with its non-degenerate triangles copied in leaf order for locality.
+/// 4-wide BVH of one mesh, with its non-degenerate triangles copied in leaf order for
+/// locality (a leaf's triangles are read from one contiguous range, without the index list).
 #[derive(Clone, Debug, Default)]
 struct Blas {
-    bvh: Bvh,
+    bvh: WideBvh,
     tris: Vec<[Vec3; 3]>,
 }
 
@@ -76,7 +78,7 @@ pub struct Accel {
     blas: Vec<Blas>,
     instances: Vec<Instance>,
     inst: Vec<InstData>,
-    top: Bvh,
+    top: WideBvh,
 }
 
 impl Blas {
@@ -97,7 +99,7 @@ impl Blas {
             bounds.push(b);
             cents.push(b.center());
         }
-        let bvh = Bvh::build_cancellable(&bounds, &cents, cancel)?;
+        let bvh = WideBvh::build_cancellable(&bounds, &cents, cancel)?;
         let tris = bvh.prims.iter().map(|&i| mesh.triangle(i)).collect();
         Some(Blas { bvh, tris })
     }
@@ -213,7 +215,7 @@ impl Accel {
             });
         }
         let cents: Vec<Vec3> = wb.iter().map(|b| b.center()).collect();
-        let top = Bvh::build_cancellable(&wb, &cents, cancel)?;
+        let top = WideBvh::build_cancellable(&wb, &cents, cancel)?;
         Some(Accel {
             meshes,
             blas,

@@ -5,6 +5,9 @@
 mod accel;
 mod bvh;
 mod bvh_build;
+mod bvh_simd;
+mod bvh_wide;
+mod bvh_wide_build;
 mod float;
 mod interaction;
 mod mesh;
@@ -14,6 +17,7 @@ mod triangle;
 
 pub use accel::{Accel, Hit};
 pub use bvh::{BoxRay, Bvh, BvhNode, NodePair};
+pub use bvh_wide::{WideBvh, WideNode};
 pub use float::{gamma, next_float_down, next_float_up, MACHINE_EPSILON};
 pub use interaction::{
     offset_ray_origin, transform_point_error, SurfaceInteraction, SHADOW_EPSILON,
