@@ -4,6 +4,7 @@
 //! identity transforms, which use the world ray as is.
 
 use super::bvh::{transform_bounds, BoxRay};
+use super::bvh_simd::prefetch;
 use super::bvh_wide::WideBvh;
 use super::float::gamma;
 use super::interaction::{transform_point_error, SurfaceInteraction};
@@ -109,16 +110,18 @@ impl Blas {
     fn closest(&self, r: &RayCtx, t_max: f32) -> Option<(f32, u32, f32, f32)> {
         let mut t = t_max;
         let mut best = None;
-        self.bvh.traverse(&r.boxr, &mut t, |first, count, t_max| {
-            for k in first..first + count {
-                let Some(p) = self.tris.get(k) else { continue };
-                if let Some(h) = intersect_triangle(&r.tri, *t_max, p[0], p[1], p[2]) {
-                    *t_max = h.t;
-                    best = Some((h.t, k as u32, h.b1, h.b2));
+        let hint = |first, count| prefetch(&self.tris, first, count);
+        self.bvh
+            .traverse_with_hint(&r.boxr, &mut t, hint, |first, count, t_max| {
+                for k in first..first + count {
+                    let Some(p) = self.tris.get(k) else { continue };
+                    if let Some(h) = intersect_triangle(&r.tri, *t_max, p[0], p[1], p[2]) {
+                        *t_max = h.t;
+                        best = Some((h.t, k as u32, h.b1, h.b2));
+                    }
                 }
-            }
-            false
-        });
+                false
+            });
         best.map(|(t, k, b1, b2)| {
             (
                 t,

@@ -204,3 +204,24 @@ pub(crate) fn pair_unions(b: &[F4; 6]) -> [F4; 6] {
     };
     [lo(b[0]), lo(b[1]), lo(b[2]), hi(b[3]), hi(b[4]), hi(b[5])]
 }
+
+/// Hints the cache to load the elements `first..first + count` of `items` (at most four
+/// cache lines; a no-op when out of range or not on x86-64).
+#[inline(always)]
+pub(crate) fn prefetch<T>(items: &[T], first: usize, count: usize) {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(range) = items.get(first..first + count) {
+        let bytes = std::mem::size_of_val(range).min(256);
+        let p = range.as_ptr() as *const i8;
+        for off in (0..bytes).step_by(64) {
+            // SAFETY: prefetching is a hint without memory effects, and the address lies
+            // within `range`.
+            unsafe {
+                use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+                _mm_prefetch::<_MM_HINT_T0>(p.add(off));
+            }
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (items, first, count);
+}
