@@ -7,6 +7,7 @@ use super::bvh::{transform_bounds, BoxRay};
 use super::bvh_simd::prefetch;
 use super::bvh_wide::WideBvh;
 use super::float::gamma;
+use super::huge_pages;
 use super::interaction::{transform_point_error, SurfaceInteraction};
 use super::mesh::{Instance, MeshGeom};
 use super::ray::Ray;
@@ -101,7 +102,9 @@ impl Blas {
             cents.push(b.center());
         }
         let bvh = WideBvh::build_cancellable(&bounds, &cents, cancel)?;
-        let tris = bvh.prims.iter().map(|&i| mesh.triangle(i)).collect();
+        let mut tris = Vec::with_capacity(bvh.prims.len());
+        huge_pages::advise(&mut tris);
+        tris.extend(bvh.prims.iter().map(|&i| mesh.triangle(i)));
         Some(Blas { bvh, tris })
     }
 

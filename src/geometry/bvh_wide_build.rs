@@ -4,6 +4,7 @@
 
 use super::bvh_build::{build_tree, Node};
 use super::bvh_wide::{WideBvh, WideNode, EMPTY_LANE, INTERIOR};
+use super::huge_pages;
 use crate::math::Bounds3;
 use glam::Vec3;
 use std::sync::atomic::AtomicBool;
@@ -34,6 +35,7 @@ impl WideBvh {
             Node::Leaf { count, .. } => out.root_leaf = *count,
             Node::Inner { size, .. } => {
                 out.nodes.reserve(*size as usize / 2 + 1);
+                huge_pages::advise(&mut out.nodes);
                 fold(&root, &mut out.nodes);
             }
         }

@@ -9,6 +9,7 @@ mod bvh_simd;
 mod bvh_wide;
 mod bvh_wide_build;
 mod float;
+mod huge_pages;
 mod interaction;
 mod mesh;
 mod ray;
