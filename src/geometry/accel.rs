@@ -113,7 +113,10 @@ impl Blas {
     fn closest(&self, r: &RayCtx, t_max: f32) -> Option<(f32, u32, f32, f32)> {
         let mut t = t_max;
         let mut best = None;
-        let hint = |first, count| prefetch(&self.tris, first, count);
+        let hint = |first, count| {
+            prefetch(&self.tris, first, count);
+            prefetch(&self.bvh.prims, first, count);
+        };
         self.bvh
             .traverse_with_hint(&r.boxr, &mut t, hint, |first, count, t_max| {
                 for k in first..first + count {
