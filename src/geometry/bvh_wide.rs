@@ -214,26 +214,43 @@ impl WideBvh {
             if tag == NODE_TAG {
                 let b = rows(&n.b);
                 let (lt, lmask) = wr.test(&b, *t_max);
-                let (gt, gmask) = wr.test(&pair_unions(&b), *t_max);
-                let g = match gmask & 3 {
-                    3 => {
-                        let gt = gt.to_array();
-                        let (near, far) = if gt[1] < gt[0] { (1, 0) } else { (0, 1) };
-                        push!(Item::half(index, far), gt[far]);
-                        Some(near)
-                    }
-                    1 => Some(0),
-                    2 => Some(1),
+                // A half none of whose lanes is hit leads to no leaf (a lane's box lies
+                // inside its half's, and the test is monotone in the box and in `t_max`).
+                // When only one half has lanes hit, its box test would let it through, and
+                // its entry distance (at most its hit lanes') is within `t_max`, the binary
+                // walk enters it, now or right after the other half: the halves' boxes need
+                // not be tested. Otherwise they are, and the binary walk is followed step by
+                // step.
+                let lts = lt.to_array();
+                let one = match lmask & 0b1111 {
+                    0 => None,
+                    m if m & 0b1100 == 0 => Some(0),
+                    m if m & 0b0011 == 0 => Some(1),
                     _ => None,
                 };
+                let within =
+                    |g: usize| (2 * g..2 * g + 2).any(|s| lmask >> s & 1 == 1 && lts[s] <= *t_max);
+                let g = match one {
+                    Some(g) if within(g) => Some(g),
+                    _ if lmask == 0 => None,
+                    _ => {
+                        let (gt, gmask) = wr.test(&pair_unions(&b), *t_max);
+                        match gmask & 3 {
+                            3 => {
+                                let gt = gt.to_array();
+                                let (near, far) = if gt[1] < gt[0] { (1, 0) } else { (0, 1) };
+                                push!(Item::half(index, far), gt[far]);
+                                Some(near)
+                            }
+                            1 => Some(0),
+                            2 => Some(1),
+                            _ => None,
+                        }
+                    }
+                };
                 if let Some(g) = g {
-                    // Prefetch what the hit lanes of the hit halves lead to.
-                    let halves = match gmask & 3 {
-                        1 => 0b0011,
-                        2 => 0b1100,
-                        _ => 0b1111,
-                    };
-                    let mut m = lmask & halves;
+                    // Prefetch what the hit lanes lead to.
+                    let mut m = lmask;
                     while m != 0 {
                         let s = m.trailing_zeros() as usize;
                         m &= m - 1;
@@ -243,7 +260,7 @@ impl WideBvh {
                             hint(n.child[s] as usize, n.count[s] as usize);
                         }
                     }
-                    enter = Some((g, lt.to_array(), lmask));
+                    enter = Some((g, lts, lmask));
                 }
             } else if tag >= 4 {
                 let g = (tag - 4) as usize;
