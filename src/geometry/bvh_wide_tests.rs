@@ -280,6 +280,8 @@ fn empty_single_and_small() {
     assert_eq!(WideBvh::build(&bad, &[]).prims, vec![2]);
 }
 
+type LeafFn<'a> = dyn FnMut(usize, usize) -> bool + 'a;
+
 /// The overlap query finds exactly the leaves of the binary query.
 #[test]
 fn overlap_query_matches_the_binary_one() {
@@ -294,7 +296,7 @@ fn overlap_query_matches_the_binary_one() {
             min: p - Vec3::splat(rng.f32()),
             max: p + Vec3::splat(rng.f32()),
         };
-        let leaves = |f: &dyn Fn(&mut dyn FnMut(usize, usize) -> bool)| {
+        let leaves = |f: &dyn Fn(&mut LeafFn)| {
             let mut v = Vec::new();
             f(&mut |first, count| {
                 v.push((first, count));
@@ -336,13 +338,13 @@ fn lane_test_equals_scalar_test() {
         let r = BoxRay::new(o, d);
         let (t, mask) = WideRay::new(&r).test(&rows(&n.b), t_max);
         let t = t.to_array();
-        for s in 0..4 {
+        for (s, &ts) in t.iter().enumerate() {
             let lb = n.lane_bounds(s);
             let scalar = hit_bounds(lb.min, lb.max, &r, t_max);
             let hit = mask >> s & 1 == 1;
             assert_eq!(hit, scalar != f32::INFINITY, "lane {s} {o} {d} {lb:?}");
             if hit {
-                assert_eq!(t[s].to_bits(), scalar.to_bits(), "lane {s} {o} {d} {lb:?}");
+                assert_eq!(ts.to_bits(), scalar.to_bits(), "lane {s} {o} {d} {lb:?}");
             }
         }
     }
