@@ -1,7 +1,13 @@
-//! Generic bounding volume hierarchy over primitives given by their bounds (after pbrt-v4
-//! §7.3, `BVHAggregate`): flattened 32-byte nodes, siblings stored side by side in one
-//! 64-byte line and sibling pairs in depth-first order; a stack-based traversal tests both
-//! children together and visits the nearer first. The builder is in [`super::bvh_build`].
+//! Generic binary bounding volume hierarchy over primitives given by their bounds (after
+//! pbrt-v4 §7.3, `BVHAggregate`): flattened 32-byte nodes, siblings stored side by side in
+//! one 64-byte line and sibling pairs in depth-first order; a stack-based traversal tests
+//! both children together and visits the nearer first. The builder is in
+//! [`super::bvh_build`].
+//!
+//! The acceleration structure traces rays through the 4-wide form of the same tree
+//! ([`super::bvh_wide`]), whose walk reproduces this one leaf for leaf; this form is the
+//! reference it is tested against. The box test and the per-ray constants here are shared
+//! by both.
 
 use super::float::gamma;
 use crate::math::Bounds3;

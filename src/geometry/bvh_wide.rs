@@ -15,12 +15,21 @@
 //! # Traversal order
 //!
 //! The walk visits leaves in exactly the order of the binary walk ([`super::Bvh::traverse`]):
-//! the boxes of `A` and `B` (the unions of lanes 0–1 and 2–3, computed with two shuffles
-//! per row) are tested with the same arithmetic, the nearer is entered first and the
-//! farther is pushed with its entry distance; inside `A`, lanes 0 and 1 are ordered the same
-//! way. The stack holds the same entries as the binary walk's, so the same leaves are
-//! tested with the same `t_max` and closest hits, ties included, are bit-identical to the
-//! binary BVH's.
+//! the four lanes are tested at once; when both halves have lanes hit, the boxes of `A`
+//! and `B` (the unions of lanes 0–1 and 2–3, two shuffles per row) are tested with the same
+//! arithmetic, the nearer half is entered first and the farther is pushed with its entry
+//! distance; inside a half, its two lanes are ordered the same way. Each lane's and each
+//! half's entry distance and hit decision are bit for bit the scalar test's, the stack
+//! holds the binary walk's entries (except halves that cannot lead to a leaf), and the
+//! same `t_max` checks are made when popping, so the same leaves are tested with the same
+//! `t_max`, and closest hits, ties included, are bit-identical to the binary BVH's (the
+//! tests compare the two walks leaf by leaf).
+//!
+//! While a node is visited, the nodes and leaves its hit lanes lead to are prefetched.
+//!
+//! Both walks can return a hit an ulp or two farther than the closest one: a triangle in
+//! the plane of its box's face can be hit slightly before the box's computed entry
+//! distance, and the box is then skipped once a hit that near has been found elsewhere.
 
 use super::bvh::{hit_bounds, BoxRay, STACK_DEPTH};
 use super::bvh_simd::{pair_unions, prefetch, rows, WideRay};

@@ -1,6 +1,7 @@
 //! Ray-scene intersection: rays, triangle meshes and instances, a watertight
-//! ray-triangle test, a binned-SAH BVH, the two-level acceleration structure, and
-//! robust ray spawning from surface interactions (pbrt-v4 §6.8).
+//! ray-triangle test, a binned-SAH BVH folded into 4-wide nodes with SIMD box tests, the
+//! two-level acceleration structure, and robust ray spawning from surface interactions
+//! (pbrt-v4 §6.8).
 
 mod accel;
 mod bvh;
