@@ -1,10 +1,13 @@
-//! Two-level acceleration structure: one BVH per mesh over its triangles in object space
-//! (the BLAS) and one BVH over the instances' world bounds (the TLAS). Instances share
+//! Two-level acceleration structure: one 4-wide BVH ([`WideBvh`]) per mesh over its
+//! triangles in object space (the BLAS) and one over the instances' world bounds (the TLAS). Instances share
 //! their mesh and its BLAS; rays are carried into object space per instance, except for
 //! identity transforms, which use the world ray as is.
 
-use super::bvh::{transform_bounds, BoxRay, Bvh};
+use super::bvh::{transform_bounds, BoxRay};
+use super::bvh_simd::prefetch;
+use super::bvh_wide::WideBvh;
 use super::float::gamma;
+use super::huge_pages;
 use super::interaction::{transform_point_error, SurfaceInteraction};
 use super::mesh::{Instance, MeshGeom};
 use super::ray::Ray;
@@ -38,10 +41,11 @@ pub struct Hit {
     pub b2: f32,
 }
 
-/// BVH of one mesh, with its non-degenerate triangles copied in leaf order for locality.
+/// 4-wide BVH of one mesh, with its non-degenerate triangles copied in leaf order for
+/// locality (a leaf's triangles are read from one contiguous range, without the index list).
 #[derive(Clone, Debug, Default)]
 struct Blas {
-    bvh: Bvh,
+    bvh: WideBvh,
     tris: Vec<[Vec3; 3]>,
 }
 
@@ -76,7 +80,7 @@ pub struct Accel {
     blas: Vec<Blas>,
     instances: Vec<Instance>,
     inst: Vec<InstData>,
-    top: Bvh,
+    top: WideBvh,
 }
 
 impl Blas {
@@ -97,8 +101,10 @@ impl Blas {
             bounds.push(b);
             cents.push(b.center());
         }
-        let bvh = Bvh::build_cancellable(&bounds, &cents, cancel)?;
-        let tris = bvh.prims.iter().map(|&i| mesh.triangle(i)).collect();
+        let bvh = WideBvh::build_cancellable(&bounds, &cents, cancel)?;
+        let mut tris = Vec::with_capacity(bvh.prims.len());
+        huge_pages::advise(&mut tris);
+        tris.extend(bvh.prims.iter().map(|&i| mesh.triangle(i)));
         Some(Blas { bvh, tris })
     }
 
@@ -107,16 +113,21 @@ impl Blas {
     fn closest(&self, r: &RayCtx, t_max: f32) -> Option<(f32, u32, f32, f32)> {
         let mut t = t_max;
         let mut best = None;
-        self.bvh.traverse(&r.boxr, &mut t, |first, count, t_max| {
-            for k in first..first + count {
-                let Some(p) = self.tris.get(k) else { continue };
-                if let Some(h) = intersect_triangle(&r.tri, *t_max, p[0], p[1], p[2]) {
-                    *t_max = h.t;
-                    best = Some((h.t, k as u32, h.b1, h.b2));
+        let hint = |first, count| {
+            prefetch(&self.tris, first, count);
+            prefetch(&self.bvh.prims, first, count);
+        };
+        self.bvh
+            .traverse_with_hint(&r.boxr, &mut t, hint, |first, count, t_max| {
+                for k in first..first + count {
+                    let Some(p) = self.tris.get(k) else { continue };
+                    if let Some(h) = intersect_triangle(&r.tri, *t_max, p[0], p[1], p[2]) {
+                        *t_max = h.t;
+                        best = Some((h.t, k as u32, h.b1, h.b2));
+                    }
                 }
-            }
-            false
-        });
+                false
+            });
         best.map(|(t, k, b1, b2)| {
             (
                 t,
@@ -213,7 +224,7 @@ impl Accel {
             });
         }
         let cents: Vec<Vec3> = wb.iter().map(|b| b.center()).collect();
-        let top = Bvh::build_cancellable(&wb, &cents, cancel)?;
+        let top = WideBvh::build_cancellable(&wb, &cents, cancel)?;
         Some(Accel {
             meshes,
             blas,

@@ -443,3 +443,74 @@ fn any_surface_near_never_misses_a_triangle_within_the_radius() {
         "{far_said_no} of {far} far points told apart"
     );
 }
+
+/// A grid of unit squares (two triangles each) with coplanar duplicates and zero-area
+/// triangles, placed twice (identity and rotated); rays aimed at its vertices and edge
+/// midpoints, and along the axes through them, find the brute-force hits.
+#[test]
+fn grid_with_shared_edges_matches_brute_force() {
+    let n = 20u32;
+    let mut m = MeshGeom::default();
+    for j in 0..=n {
+        for i in 0..=n {
+            m.positions.push(Vec3::new(i as f32, j as f32, 0.0));
+        }
+    }
+    let v = |i: u32, j: u32| j * (n + 1) + i;
+    for j in 0..n {
+        for i in 0..n {
+            m.indices.push([v(i, j), v(i + 1, j), v(i + 1, j + 1)]);
+            m.indices.push([v(i, j), v(i + 1, j + 1), v(i, j + 1)]);
+            if (i + j) % 4 == 0 {
+                m.indices.push([v(i + 1, j), v(i + 1, j + 1), v(i, j)]);
+                m.indices.push([v(i, j), v(i, j), v(i + 1, j + 1)]);
+            }
+        }
+    }
+    let acc = Accel::build(
+        vec![m],
+        vec![
+            Instance {
+                mesh: 0,
+                transform: Transform::IDENTITY,
+            },
+            Instance {
+                mesh: 0,
+                transform: tf(
+                    Mat4::from_translation(Vec3::new(0.0, 0.0, -2.0)) * Mat4::from_rotation_x(0.3)
+                ),
+            },
+        ],
+    );
+    let mut rng = Rng::new(17, 0);
+    let mut hits = 0;
+    for k in 0..8000 {
+        let cell = |rng: &mut Rng| rng.below(n) as f32;
+        let half = if k % 3 == 0 { 0.5 } else { 0.0 };
+        let target = Vec3::new(cell(&mut rng) + half, cell(&mut rng), 0.0);
+        let ray = if k % 2 == 0 {
+            Ray::new(target + Vec3::Z * 3.0, -Vec3::Z)
+        } else {
+            let o = Vec3::new(
+                rng.f32() * n as f32,
+                rng.f32() * n as f32,
+                1.0 + 5.0 * rng.f32(),
+            );
+            Ray::new(o, target - o)
+        };
+        let (a, b) = (acc.intersect(&ray), brute(&acc, &ray));
+        match (a, b) {
+            (None, None) => {}
+            (Some(a), Some(b)) => {
+                hits += 1;
+                assert!(
+                    (a.t - b.t).abs() <= 4.0 * f32::EPSILON * b.t,
+                    "ray {k}: {a:?} vs {b:?}"
+                );
+            }
+            _ => panic!("ray {k}: {a:?} vs brute force {b:?}"),
+        }
+        assert_eq!(acc.occluded(&ray), b.is_some(), "any-hit of ray {k}");
+    }
+    assert!(hits > 7000, "{hits}");
+}

@@ -1,7 +1,13 @@
-//! Generic bounding volume hierarchy over primitives given by their bounds (after pbrt-v4
-//! §7.3, `BVHAggregate`): flattened 32-byte nodes, siblings stored side by side in one
-//! 64-byte line and sibling pairs in depth-first order; a stack-based traversal tests both
-//! children together and visits the nearer first. The builder is in [`super::bvh_build`].
+//! Generic binary bounding volume hierarchy over primitives given by their bounds (after
+//! pbrt-v4 §7.3, `BVHAggregate`): flattened 32-byte nodes, siblings stored side by side in
+//! one 64-byte line and sibling pairs in depth-first order; a stack-based traversal tests
+//! both children together and visits the nearer first. The builder is in
+//! [`super::bvh_build`].
+//!
+//! The acceleration structure traces rays through the 4-wide form of the same tree
+//! ([`super::bvh_wide`]), whose walk reproduces this one leaf for leaf; this form is the
+//! reference it is tested against. The box test and the per-ray constants here are shared
+//! by both.
 
 use super::float::gamma;
 use crate::math::Bounds3;
@@ -106,25 +112,31 @@ fn min_nan_a(a: f32, b: f32) -> f32 {
     }
 }
 
-/// Slab test of `node` against the ray; conservative under rounding (the far distance is
-/// scaled by 1 + 2γ₃ as in pbrt-v4 §6.8.2) and when a slab computation yields NaN.
-/// Returns the entry distance when the box is hit, else `f32::INFINITY`.
+/// Slab test of `node` against the ray; see [`hit_bounds`].
 #[inline(always)]
 fn hit_box(node: &BvhNode, r: &BoxRay, t_max: f32) -> f32 {
+    hit_bounds(node.min, node.max, r, t_max)
+}
+
+/// Slab test of the box `min..max` against the ray; conservative under rounding (the far
+/// distance is scaled by 1 + 2γ₃ as in pbrt-v4 §6.8.2) and when a slab computation yields
+/// NaN. Returns the entry distance when the box is hit, else `f32::INFINITY`.
+#[inline(always)]
+pub(crate) fn hit_bounds(min: Vec3, max: Vec3, r: &BoxRay, t_max: f32) -> f32 {
     let (nx, fx) = if r.neg[0] {
-        (node.max.x, node.min.x)
+        (max.x, min.x)
     } else {
-        (node.min.x, node.max.x)
+        (min.x, max.x)
     };
     let (ny, fy) = if r.neg[1] {
-        (node.max.y, node.min.y)
+        (max.y, min.y)
     } else {
-        (node.min.y, node.max.y)
+        (min.y, max.y)
     };
     let (nz, fz) = if r.neg[2] {
-        (node.max.z, node.min.z)
+        (max.z, min.z)
     } else {
-        (node.min.z, node.max.z)
+        (min.z, max.z)
     };
     let t0x = (nx - r.o.x) * r.inv_d.x;
     let t0y = (ny - r.o.y) * r.inv_d.y;
@@ -141,7 +153,9 @@ fn hit_box(node: &BvhNode, r: &BoxRay, t_max: f32) -> f32 {
     }
 }
 
-const ROBUST_SCALE: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+/// 1 + 2γ₃: the factor on the far slab distance that makes the box test conservative.
+pub(crate) const ROBUST_SCALE: f32 =
+    1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
 
 impl Bvh {
     /// True when the hierarchy holds no primitive.

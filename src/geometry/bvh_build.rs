@@ -30,7 +30,10 @@ struct Prim {
     index: u32,
 }
 
-enum Node {
+/// The binary tree as built, before it is flattened ([`Bvh`]) or collapsed into 4-wide
+/// nodes ([`super::bvh_wide::WideBvh`]). A node's bounds are exactly the union of its
+/// children's.
+pub(super) enum Node {
     Leaf {
         b: Bounds3,
         first: u32,
@@ -45,7 +48,15 @@ enum Node {
 }
 
 impl Node {
-    fn size(&self) -> u32 {
+    /// Bounds of the subtree.
+    pub(super) fn bounds(&self) -> &Bounds3 {
+        match self {
+            Node::Leaf { b, .. } | Node::Inner { b, .. } => b,
+        }
+    }
+
+    /// Number of nodes in the subtree.
+    pub(super) fn size(&self) -> u32 {
         match self {
             Node::Leaf { .. } => 1,
             Node::Inner { size, .. } => *size,
@@ -70,39 +81,50 @@ impl Bvh {
         centroids: &[Vec3],
         cancel: Option<&AtomicBool>,
     ) -> Option<Bvh> {
-        let mut prims: Vec<Prim> = bounds
-            .iter()
-            .enumerate()
-            .filter(|(_, b)| !b.is_empty() && b.min.is_finite() && b.max.is_finite())
-            .map(|(i, b)| {
-                let c = centroids
-                    .get(i)
-                    .copied()
-                    .filter(|c| c.is_finite())
-                    .unwrap_or_else(|| b.center());
-                Prim {
-                    min: b.min,
-                    max: b.max,
-                    c,
-                    index: i as u32,
-                }
-            })
-            .collect();
-        if prims.is_empty() {
+        let Some((root, prims)) = build_tree(bounds, centroids, cancel)? else {
             return Some(Bvh::default());
-        }
-        let root = build_rec(&mut prims, 0, 0, cancel);
-        if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-            return None;
-        }
+        };
         let mut pairs = Vec::with_capacity(root.size() as usize / 2 + 1);
         pairs.push(NodePair::default());
         flatten(&root, &mut pairs, 0);
-        Some(Bvh {
-            pairs,
-            prims: prims.iter().map(|p| p.index).collect(),
-        })
+        Some(Bvh { pairs, prims })
     }
+}
+
+/// Builds the binary tree over primitives `0..bounds.len()` (parameters as [`Bvh::build`]).
+/// Returns `None` when cancelled, `Some(None)` when no primitive has usable bounds, else the
+/// root and the primitive indices in leaf order.
+pub(super) fn build_tree(
+    bounds: &[Bounds3],
+    centroids: &[Vec3],
+    cancel: Option<&AtomicBool>,
+) -> Option<Option<(Node, Vec<u32>)>> {
+    let mut prims: Vec<Prim> = bounds
+        .iter()
+        .enumerate()
+        .filter(|(_, b)| !b.is_empty() && b.min.is_finite() && b.max.is_finite())
+        .map(|(i, b)| {
+            let c = centroids
+                .get(i)
+                .copied()
+                .filter(|c| c.is_finite())
+                .unwrap_or_else(|| b.center());
+            Prim {
+                min: b.min,
+                max: b.max,
+                c,
+                index: i as u32,
+            }
+        })
+        .collect();
+    if prims.is_empty() {
+        return Some(None);
+    }
+    let root = build_rec(&mut prims, 0, 0, cancel);
+    if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+        return None;
+    }
+    Some(Some((root, prims.iter().map(|p| p.index).collect())))
 }
 
 /// Writes `n` as node `at` and, for an interior node, appends its children as a pair and
