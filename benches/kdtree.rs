@@ -17,7 +17,7 @@ use std::num::NonZeroUsize;
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 use glam::Vec3;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
-use photonmap::photon::{KdRecord, KnnScratch, Photon, PhotonF32, PhotonKdTree, PhotonRecord};
+use photonmap::photon::{KdRecord, KnnScratch, Photon, PhotonF32, PhotonKdTree};
 
 const QUERIES: usize = 10_000;
 
