@@ -133,7 +133,8 @@ impl Principled {
         if self.coat_f0() > 0.0 {
             bsdf.add(w_base, coat_lobe(r, self.coat_table, ms));
         }
-        let diffuse = |albedo| Lobe::CoatedDiffuse(CoatedDiffuse::new(albedo, r, self.coat_table, ms));
+        let diffuse =
+            |albedo| Lobe::CoatedDiffuse(CoatedDiffuse::new(albedo, r, self.coat_table, ms));
         match self.subsurface {
             None => {
                 bsdf.add(w_base, diffuse(base));

@@ -271,7 +271,17 @@ pub fn trace_split(
                         bounces,
                         subsurface: false,
                     };
-                    at.run(ctx, &stack, passes, route, &mut out, &mut visible, rng, scratch, sp.as_mut());
+                    at.run(
+                        ctx,
+                        &stack,
+                        passes,
+                        route,
+                        &mut out,
+                        &mut visible,
+                        rng,
+                        scratch,
+                        sp.as_mut(),
+                    );
                 }
                 if let (Some((w, roughness)), Some(ss)) = (entry, mat.subsurface()) {
                     if s.terms.contains(Term::Subsurface) {
@@ -287,7 +297,17 @@ pub fn trace_split(
                                 subsurface: true,
                             };
                             let route = |_: Term| Term::Subsurface;
-                            at.run(ctx, &stack, false, route, &mut out, &mut visible, rng, scratch, sp.as_mut());
+                            at.run(
+                                ctx,
+                                &stack,
+                                false,
+                                route,
+                                &mut out,
+                                &mut visible,
+                                rng,
+                                scratch,
+                                sp.as_mut(),
+                            );
                         } else {
                             ctx.work.subsurface_walk_lost();
                         }

@@ -42,7 +42,13 @@ pub struct Exit {
 /// side of `si.wo`), as Cycles' `subsurface_entry_bounce`: through a GGX interface of alpha
 /// `roughness^2` (Skin: roughness 1, and a diffuse entry half of the time) and the
 /// subsurface IOR, with weight 1 (the lobe's weight already holds its share of the light).
-fn entry_direction(si: &SurfaceInteraction, n: Vec3, ss: &Subsurface, roughness: f32, rng: &mut Rng) -> Option<Vec3> {
+fn entry_direction(
+    si: &SurfaceInteraction,
+    n: Vec3,
+    ss: &Subsurface,
+    roughness: f32,
+    rng: &mut Rng,
+) -> Option<Vec3> {
     let frame = Frame::from_normal(n);
     let mut u = rng.vec2();
     let alpha = if ss.skin {
@@ -73,8 +79,18 @@ fn entry_direction(si: &SurfaceInteraction, n: Vec3, ss: &Subsurface, roughness:
 /// One walk below the surface `si` (a hit on instance `si.instance`) towards the camera
 /// direction `si.wo`, or `None` when it found no exit (absorbed, lost after
 /// [`MAX_BOUNCES`] events, or an entry below the horizon).
-pub fn walk(scene: &Scene, si: &SurfaceInteraction, ss: &Subsurface, roughness: f32, rng: &mut Rng) -> Option<Exit> {
-    let ng = if si.ng.dot(si.wo) < 0.0 { -si.ng } else { si.ng };
+pub fn walk(
+    scene: &Scene,
+    si: &SurfaceInteraction,
+    ss: &Subsurface,
+    roughness: f32,
+    rng: &mut Rng,
+) -> Option<Exit> {
+    let ng = if si.ng.dot(si.wo) < 0.0 {
+        -si.ng
+    } else {
+        si.ng
+    };
     let n = if si.ns.dot(ng) < 0.0 { -si.ns } else { si.ns };
     let mut d = entry_direction(si, n, ss, roughness, rng)?;
     if d.dot(ng) >= 0.0 {
@@ -99,7 +115,11 @@ pub fn walk(scene: &Scene, si: &SurfaceInteraction, ss: &Subsurface, roughness: 
         // A channel in proportion to weight x albedo; the balance heuristic over the three.
         let w = (weight * ss.alpha).abs();
         let sum = w.x + w.y + w.z;
-        let channel_pdf = if sum > 0.0 { w / sum } else { Spectrum::splat(1.0 / 3.0) };
+        let channel_pdf = if sum > 0.0 {
+            w / sum
+        } else {
+            Spectrum::splat(1.0 / 3.0)
+        };
         let u = rng.f32();
         let c = if u < channel_pdf.x {
             0
@@ -129,7 +149,11 @@ pub fn walk(scene: &Scene, si: &SurfaceInteraction, ss: &Subsurface, roughness: 
             let mut exit = scene.accel.interaction(&ray, &h);
             // Seen from outside: `wo` leaves through the surface.
             exit.wo = d;
-            let out = if exit.ng.dot(d) < 0.0 { -exit.ng } else { exit.ng };
+            let out = if exit.ng.dot(d) < 0.0 {
+                -exit.ng
+            } else {
+                exit.ng
+            };
             exit.ng = out;
             if exit.ns.dot(out) < 0.0 {
                 exit.ns = -exit.ns;
