@@ -77,6 +77,14 @@ pub struct VisiblePoint {
     pub subsurface: bool,
 }
 
+impl VisiblePoint {
+    /// The term a photon of flags `flags` gathered here goes to, if any.
+    pub fn photon_term(&self, flags: u16) -> Option<Term> {
+        let t = super::terms::of_photon(flags, self.bounces)?;
+        Some(if self.subsurface { Term::Subsurface } else { t })
+    }
+}
+
 /// Radiance along `ray`, per term. Non-finite estimates are dropped (counted by the caller).
 /// What the path gives the compositing AOVs that `aovs` asks for goes into it.
 pub fn trace(
@@ -263,7 +271,6 @@ pub fn trace_split(
                     bsdf
                 };
                 if here.has_non_delta() {
-                    let route = |t: Term| specular::route(t, bounces);
                     let at = Estimates {
                         si: &si,
                         bsdf: &here,
@@ -275,7 +282,6 @@ pub fn trace_split(
                         ctx,
                         &stack,
                         passes,
-                        route,
                         &mut out,
                         &mut visible,
                         rng,
@@ -296,12 +302,10 @@ pub fn trace_split(
                                 bounces,
                                 subsurface: true,
                             };
-                            let route = |_: Term| Term::Subsurface;
                             at.run(
                                 ctx,
                                 &stack,
                                 false,
-                                route,
                                 &mut out,
                                 &mut visible,
                                 rng,
@@ -354,17 +358,26 @@ struct Estimates<'a> {
 }
 
 impl Estimates<'_> {
+    /// Where the estimate of `term` goes: `subsurface` at a walk's exit, else as
+    /// [`specular::route`] says.
+    fn route(&self, term: Term) -> Term {
+        if self.subsurface {
+            Term::Subsurface
+        } else {
+            specular::route(term, self.bounces)
+        }
+    }
+
     /// The `direct`, `caustic` and `indirect` estimates at the point, each added to `out`
-    /// under the term `route` gives it; with `visible`, the point is handed to it for the
-    /// photon terms instead. `passes`: rough glass, which the path goes on through (only the
-    /// direct estimate runs).
+    /// under its term (`route`); with `visible`, the point is handed to it for the photon
+    /// terms instead. `passes`: rough glass, which the path goes on through (only the direct
+    /// estimate runs).
     #[allow(clippy::too_many_arguments)]
     fn run(
         &self,
         ctx: &EyeCtx,
         stack: &crate::media::MediumStack,
         passes: bool,
-        route: impl Fn(Term) -> Term,
         out: &mut TermRadiance,
         visible: &mut Option<&mut dyn FnMut(VisiblePoint)>,
         rng: &mut Rng,
@@ -372,9 +385,9 @@ impl Estimates<'_> {
         mut sp: Option<&mut Split>,
     ) {
         let terms = ctx.settings.terms;
-        let wants = |t: Term| terms.contains(route(t));
+        let wants = |t: Term| terms.contains(self.route(t));
         let mut add = |t: Term, l: Spectrum| {
-            let t = route(t);
+            let t = self.route(t);
             if terms.contains(t) && is_finite3(l) {
                 out.add(t, l);
             }

@@ -47,7 +47,6 @@ use super::photons::{self, MapStats};
 use super::renderer::{RenderOutput, Renderer};
 use super::settings::RenderMode;
 use super::stats::StatsParts;
-use super::terms;
 use super::terms::volume::MarchSettings;
 use crate::error::{Error, Result};
 use crate::io::container::{self, Kind, Reader, Writer};
@@ -543,13 +542,7 @@ fn gather(global: &PhotonMap, vps: &[VisiblePoint], r2: f32, ctx: &EyeCtx) -> Te
     let mut phi = TermRadiance::default();
     for vp in vps {
         global.tree.for_each_in_radius(vp.p, r2, |ph, _| {
-            let Some(t) = terms::of_photon(ph.user_flags(), vp.bounces).map(|t| {
-                if vp.subsurface {
-                    Term::Subsurface
-                } else {
-                    t
-                }
-            }) else {
+            let Some(t) = vp.photon_term(ph.user_flags()) else {
                 return;
             };
             let wi = ph.incoming();

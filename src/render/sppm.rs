@@ -48,7 +48,6 @@ use super::photons::{self, MapStats, PhotonMaps};
 use super::renderer::{RenderOutput, Renderer};
 use super::settings::{RenderMode, RenderSettings};
 use super::stats::StatsParts;
-use super::terms;
 use super::terms::volume::MarchSettings;
 use crate::error::{Error, Result};
 use crate::geometry::Ray;
@@ -343,13 +342,7 @@ fn gather(
     let mut m = 0u32;
     for vp in vps {
         global.tree.for_each_in_radius(vp.p, r2, |ph, d2| {
-            let Some(t) = terms::of_photon(ph.user_flags(), vp.bounces).map(|t| {
-                if vp.subsurface {
-                    Term::Subsurface
-                } else {
-                    t
-                }
-            }) else {
+            let Some(t) = vp.photon_term(ph.user_flags()) else {
                 return;
             };
             let wi = ph.incoming();

@@ -77,23 +77,12 @@ pub fn warnings(desc: &SceneDesc) -> Vec<String> {
         return out;
     }
     for (i, m) in desc.meshes.iter().enumerate() {
-        let used: Vec<u32> = match &m.material_indices {
-            Some(mi) => {
-                let mut v: Vec<u32> = mi
-                    .iter()
-                    .copied()
-                    .filter(|&k| active.get(k as usize) == Some(&true))
-                    .collect();
-                v.sort_unstable();
-                v.dedup();
-                v
-            }
-            None => [m.material]
-                .into_iter()
-                .filter(|&k| active.get(k as usize) == Some(&true))
-                .collect(),
+        let is_active = |k: &u32| active.get(*k as usize) == Some(&true);
+        let uses = match &m.material_indices {
+            Some(mi) => mi.iter().any(is_active),
+            None => is_active(&m.material),
         };
-        if used.is_empty() {
+        if !uses {
             continue;
         }
         let name = if m.name.is_empty() {
