@@ -168,10 +168,12 @@ fn radius_zero_renders_as_the_diffuse_base() {
 ///   for 0.3. The volumetric estimate this replaced rendered 0.43.
 /// - radius 1000 m: walks cross the sphere without scattering and leave on its far side with
 ///   the weight 1 / colour times the lobe's colour, whatever the colour; the sphere shows the
-///   light of its far side. Cycles: 0.595 (colour 0.8) and 1.517 (colour 0.3); ours reads
-///   3-5% lower (0.576 and 1.450), a difference not found yet.
+///   light of its far side, and of the floor below it, lit through the sphere. Cycles: 0.595
+///   (colour 0.8) and 1.517 (colour 0.3). With photons and gather rays that reflect the lobe
+///   as the diffuse base instead of walking, the floor below stays dark and the sphere reads
+///   0.576 and 1.450 (3.2% and 4.4% low), which this test fails.
 ///
-/// Each ratio is held within 5% of Cycles'.
+/// Each ratio is held within 3% of Cycles' (ours: 0.985, 0.844, 0.592, 1.507).
 #[test]
 fn the_radius_limits_match_cycles() {
     let mean = |desc: &SceneDesc| {
@@ -193,7 +195,7 @@ fn the_radius_limits_match_cycles() {
             "radius {r}, colour {color}: {a:?}, diffuse {b:?}, ratio {ratio:.4} (Cycles {cycles})"
         );
         assert!(
-            (ratio / cycles - 1.0).abs() < 0.05,
+            (ratio / cycles - 1.0).abs() < 0.03,
             "radius {r}, colour {color}: {ratio} against {cycles}"
         );
     }

@@ -11,7 +11,9 @@ use super::huge_pages;
 use super::interaction::{transform_point_error, SurfaceInteraction};
 use super::mesh::{Instance, MeshGeom};
 use super::ray::Ray;
-use super::triangle::{face_normal, intersect_triangle, is_degenerate, TriRay};
+use super::triangle::{
+    face_normal, intersect_triangle, intersect_triangle_from_volume, is_degenerate, TriRay,
+};
 use crate::math::{Bounds3, Frame};
 use glam::{Mat4, Vec2, Vec3};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -111,6 +113,17 @@ impl Blas {
     /// Closest hit in this BLAS below `t_max`: (t, prim, b1, b2).
     #[inline(always)]
     fn closest(&self, r: &RayCtx, t_max: f32) -> Option<(f32, u32, f32, f32)> {
+        self.closest_with(r, t_max, intersect_triangle)
+    }
+
+    /// [`Blas::closest`] with the triangle test `test`.
+    #[inline(always)]
+    fn closest_with(
+        &self,
+        r: &RayCtx,
+        t_max: f32,
+        test: impl Fn(&TriRay, f32, Vec3, Vec3, Vec3) -> Option<super::triangle::TriHit>,
+    ) -> Option<(f32, u32, f32, f32)> {
         let mut t = t_max;
         let mut best = None;
         let hint = |first, count| {
@@ -121,7 +134,7 @@ impl Blas {
             .traverse_with_hint(&r.boxr, &mut t, hint, |first, count, t_max| {
                 for k in first..first + count {
                     let Some(p) = self.tris.get(k) else { continue };
-                    if let Some(h) = intersect_triangle(&r.tri, *t_max, p[0], p[1], p[2]) {
+                    if let Some(h) = test(&r.tri, *t_max, p[0], p[1], p[2]) {
                         *t_max = h.t;
                         best = Some((h.t, k as u32, h.b1, h.b2));
                     }
@@ -280,14 +293,30 @@ impl Accel {
 
     /// Closest hit of `ray` on instance `instance` alone, with `0 < t < ray.t_max`.
     pub fn intersect_instance(&self, ray: &Ray, instance: u32) -> Option<Hit> {
+        self.instance_closest(ray, instance, intersect_triangle)
+    }
+
+    /// [`Accel::intersect_instance`] for a ray that starts inside a volume, not on a
+    /// surface: a hit at any computed `t > 0` counts
+    /// ([`super::triangle::intersect_triangle_from_volume`]).
+    pub fn intersect_instance_from_volume(&self, ray: &Ray, instance: u32) -> Option<Hit> {
+        self.instance_closest(ray, instance, intersect_triangle_from_volume)
+    }
+
+    fn instance_closest(
+        &self,
+        ray: &Ray,
+        instance: u32,
+        test: impl Fn(&TriRay, f32, Vec3, Vec3, Vec3) -> Option<super::triangle::TriHit>,
+    ) -> Option<Hit> {
         let id = self.inst.get(instance as usize)?;
         let inst = self.instances.get(instance as usize)?;
         let blas = self.blas.get(inst.mesh as usize)?;
         let found = if id.identity {
-            blas.closest(&RayCtx::new(ray.o, ray.d), ray.t_max)
+            blas.closest_with(&RayCtx::new(ray.o, ray.d), ray.t_max, test)
         } else {
             let (r, dt) = object_ray(&inst.transform.inv, ray.o, ray.d);
-            blas.closest(&r, ray.t_max - dt)
+            blas.closest_with(&r, ray.t_max - dt, test)
                 .map(|(t, p, b1, b2)| (t + dt, p, b1, b2))
         };
         found.map(|(t, prim, b1, b2)| Hit {

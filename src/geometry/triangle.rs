@@ -79,6 +79,33 @@ fn edge(ax: f32, ay: f32, bx: f32, by: f32) -> f64 {
 /// drops such triangles at build time (see [`is_degenerate`]).
 #[inline]
 pub fn intersect_triangle(r: &TriRay, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<TriHit> {
+    intersect::<true>(r, t_max, p0, p1, p2)
+}
+
+/// [`intersect_triangle`] for a ray from a point inside a volume, not on a surface: every hit
+/// with a computed `t > 0` is returned, with no margin for the error of `t`. A walk below a
+/// surface that scatters within that margin of the surface (a few micrometres on a triangle
+/// of 2 m) and then heads out must still meet it; the conservative test would let it
+/// through.
+#[inline]
+pub fn intersect_triangle_from_volume(
+    r: &TriRay,
+    t_max: f32,
+    p0: Vec3,
+    p1: Vec3,
+    p2: Vec3,
+) -> Option<TriHit> {
+    intersect::<false>(r, t_max, p0, p1, p2)
+}
+
+#[inline(always)]
+fn intersect<const CONSERVATIVE: bool>(
+    r: &TriRay,
+    t_max: f32,
+    p0: Vec3,
+    p1: Vec3,
+    p2: Vec3,
+) -> Option<TriHit> {
     let [kx, ky, kz] = r.k;
     let a = p0 - r.o;
     let b = p1 - r.o;
@@ -121,6 +148,9 @@ pub fn intersect_triangle(r: &TriRay, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) 
     }
     let b1 = e1 * inv_det;
     let b2 = e2 * inv_det;
+    if !CONSERVATIVE {
+        return (t > 0.0 && b1.is_finite() && b2.is_finite()).then_some(TriHit { t, b1, b2 });
+    }
 
     // Conservative check that t is positive (pbrt-v4 §6.8.4).
     let max_zt = az.abs().max(bz.abs()).max(cz.abs());

@@ -250,6 +250,31 @@ impl Bsdf {
         ))
     }
 
+    /// The subsurface lobe's share of the diffuse reflection at `wo` (world space), in the
+    /// channels' mean: the probability that a photon the diffuse component takes walks below
+    /// the surface. 0 without a subsurface lobe.
+    pub fn subsurface_share(&self, wo: Vec3) -> f32 {
+        let Some(k) = self.subsurface else {
+            return 0.0;
+        };
+        let wo = self.frame.to_local(wo);
+        let (mut ss, mut all) = (0.0, 0.0);
+        for (i, (w, l)) in self.lobes_at(wo).enumerate() {
+            if l.flags() & LobeFlags::DIFFUSE != 0 {
+                let r = mean(w * l.albedo(wo, LobeFlags::REFLECTION).max(Vec3::ZERO));
+                all += r;
+                if i == k as usize {
+                    ss += r;
+                }
+            }
+        }
+        if all > 0.0 && ss.is_finite() {
+            (ss / all).clamp(0.0, 1.0)
+        } else {
+            0.0
+        }
+    }
+
     /// Adds `weight * lobe`. Non-positive or non-finite weights and lobes beyond
     /// [`MAX_LOBES`] are ignored; returns whether the lobe was added.
     pub fn add(&mut self, weight: f32, lobe: Lobe) -> bool {

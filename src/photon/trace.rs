@@ -12,11 +12,13 @@ use super::map::{
     GROUP_SHIFT,
 };
 use super::{encode_direction, Photon, PhotonError, PhotonF32, PhotonKdTree};
-use crate::geometry::Ray;
+use crate::geometry::{Ray, SurfaceInteraction};
 use crate::lights::{LeSample, Light, Target};
 use crate::materials::bsdf::{Bsdf, Component, LobeFlags};
+use crate::materials::subsurface::Subsurface;
 use crate::math::{is_finite3, Spectrum};
 use crate::media::{Medium, MediumStack};
+use crate::render::terms::subsurface;
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use glam::Vec3;
@@ -274,9 +276,37 @@ fn trace_path(
         if kind == MapKind::Caustic && component == Component::Diffuse {
             break;
         }
+        // A subsurface material's lobe takes its share of the diffuse photons below the
+        // surface: they leave where their walk ends.
+        let (mut p, mut rest) = (p, None);
+        if component == Component::Diffuse {
+            if let Some(ss) = mat.subsurface().filter(|_| bsdf.has_subsurface()) {
+                let f = bsdf.subsurface_share(si.wo);
+                if rng.f32() < f {
+                    let Some(exit) = walk_below(scene, &si, &bsdf, ss, rng) else {
+                        break;
+                    };
+                    let new_power = power * exit.0 / (p * f);
+                    if !is_finite3(new_power) || new_power.max_element() <= 0.0 {
+                        break;
+                    }
+                    power = new_power;
+                    interactions += 1;
+                    last_scatter = false;
+                    ray = exit.1;
+                    continue;
+                }
+                p *= 1.0 - f;
+                rest = Some(bsdf.without_subsurface());
+            }
+        }
         let u_lobe = rng.f32();
         let u = rng.vec2();
-        let Some(bs) = bsdf.sample_component(si.wo, component, u_lobe, u) else {
+        let Some(bs) = rest
+            .as_ref()
+            .unwrap_or(&bsdf)
+            .sample_component(si.wo, component, u_lobe, u)
+        else {
             break;
         };
         let new_power = power * bs.importance_weight() / p;
@@ -296,6 +326,30 @@ fn trace_path(
         last_scatter = false;
         ray = si.spawn_ray(bs.wi);
     }
+}
+
+/// A photon's walk below the subsurface lobe of `bsdf` at `si`: the weight it leaves with
+/// (the lobe's reflectance times the walk's weight and the exit's Lambertian sample, before
+/// the division by the probability of having chosen the lobe), and the ray it leaves along.
+fn walk_below(
+    scene: &Scene,
+    si: &SurfaceInteraction,
+    bsdf: &Bsdf,
+    ss: &Subsurface,
+    rng: &mut Rng,
+) -> Option<(Spectrum, Ray)> {
+    let (w, _) = bsdf.subsurface_entry(si.wo)?;
+    let exit = subsurface::photon_walk(scene, si, ss, rng)?;
+    let bs = exit
+        .bsdf
+        .sample_component(exit.si.wo, Component::Diffuse, rng.f32(), rng.vec2())?;
+    if bs.wi.dot(exit.si.ng) <= 0.0 {
+        return None;
+    }
+    Some((
+        w * exit.weight * bs.importance_weight(),
+        exit.si.spawn_ray(bs.wi),
+    ))
 }
 
 /// Splits the specular-and-glossy reflection chosen with probability `p` into its

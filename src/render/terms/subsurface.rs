@@ -9,8 +9,12 @@
 //! comes from the lights and the photon maps (Jensen & Buhler 2002 gather the irradiance at
 //! the surface the same way, under a diffusion BSSRDF).
 //!
-//! Everything else (photons, final-gathering rays) reflects the lobe as the diffuse base it
-//! is, as Cycles does after a diffuse bounce.
+//! Light reaching the material from anywhere else walks below it too, as in Cycles, where a
+//! Random Walk material stays one after any bounce: a final-gathering ray that lands on it
+//! walks as a camera path does, and reads the photon maps at the exit ([`walk`]); a photon
+//! that the lobe takes walks the other way, entering where it arrived and leaving at the
+//! exit ([`photon_walk`]). So light passes through a thin or weakly scattering object onto
+//! what lies behind it.
 
 use crate::geometry::{Ray, SurfaceInteraction};
 use crate::materials::bsdf::Bsdf;
@@ -92,7 +96,41 @@ pub fn walk(
         si.ng
     };
     let n = if si.ns.dot(ng) < 0.0 { -si.ns } else { si.ns };
-    let mut d = entry_direction(si, n, ss, roughness, rng)?;
+    let d = entry_direction(si, n, ss, roughness, rng)?;
+    walk_from(scene, si, ng, d, ss, rng)
+}
+
+/// A photon's walk below the surface `si` it arrived at (`si.wo` towards where it came from):
+/// the adjoint of the camera path's white Lambertian exit, it enters along a cosine-weighted
+/// direction, whatever it arrived from, and walks as a camera path does. Where it leaves,
+/// the exit's Lambertian surface sends it on (`Exit::bsdf`).
+pub fn photon_walk(
+    scene: &Scene,
+    si: &SurfaceInteraction,
+    ss: &Subsurface,
+    rng: &mut Rng,
+) -> Option<Exit> {
+    let ng = if si.ng.dot(si.wo) < 0.0 {
+        -si.ng
+    } else {
+        si.ng
+    };
+    let n = if si.ns.dot(ng) < 0.0 { -si.ns } else { si.ns };
+    let c = square_to_cosine_hemisphere(rng.vec2());
+    let d = Frame::from_normal(n).to_world(Vec3::new(c.x, c.y, -c.z));
+    walk_from(scene, si, ng, d, ss, rng)
+}
+
+/// The walk from `si` along `d`, which points below the surface of geometric normal `ng`
+/// (on the side the path arrived from).
+fn walk_from(
+    scene: &Scene,
+    si: &SurfaceInteraction,
+    ng: Vec3,
+    mut d: Vec3,
+    ss: &Subsurface,
+    rng: &mut Rng,
+) -> Option<Exit> {
     if d.dot(ng) >= 0.0 {
         return None;
     }
@@ -130,7 +168,16 @@ pub fn walk(
         };
         let mut t = -(1.0 - rng.f32()).ln() / sigma_t[c];
         ray.t_max = t;
-        let hit = scene.accel.intersect_instance(&ray, si.instance);
+        // The first segment leaves the surface the walk entered by (its origin is offset
+        // past that surface's error); the others start inside, where a crossing at any
+        // distance counts.
+        let hit = if bounce == 0 {
+            scene.accel.intersect_instance(&ray, si.instance)
+        } else {
+            scene
+                .accel
+                .intersect_instance_from_volume(&ray, si.instance)
+        };
         if let Some(h) = &hit {
             t = h.t;
         }

@@ -11,6 +11,7 @@ use crate::photon::KnnScratch;
 use crate::render::lightgroups::{scaled, Split};
 use crate::render::photons::PhotonMaps;
 use crate::render::terms::specular::{self, Follow};
+use crate::render::terms::subsurface;
 use crate::sampling::Rng;
 use crate::scene::{Scene, SceneHit};
 use glam::Vec3;
@@ -79,13 +80,35 @@ pub fn gather_radiance(
         };
         let bsdf = scene.shading_bsdf(mat, &mut si);
         let passes = bsdf.passes_through();
+        // A subsurface lobe: the ray walks below it, as a camera path does, and the exit's
+        // white Lambertian surface answers for it.
+        let entry = bsdf.subsurface_entry(si.wo);
+        if let (Some((w, roughness)), Some(ss)) = (entry, mat.subsurface()) {
+            if let Some(exit) = subsurface::walk(scene, &si, ss, roughness, rng) {
+                let b = beta * w * exit.weight;
+                let hit = GatherHit {
+                    si: &exit.si,
+                    bsdf: &exit.bsdf,
+                    stack: &stack,
+                    near: false,
+                    glossy,
+                };
+                let mut sp = scaled(&mut split, b);
+                acc += b * hit_radiance(scene, global, &hit, maps, rng, scratch, sp.as_mut());
+            }
+        }
         if bsdf.has_non_delta() && !passes {
             // The estimate answers for the lobes it can resolve; near-specular ones are
             // followed below, as the photon pass treats them.
-            let est = if bsdf.flags() & LobeFlags::NEAR_SPECULAR != 0 {
-                bsdf.without_near_specular()
+            let est = if entry.is_some() {
+                bsdf.without_subsurface()
             } else {
                 bsdf
+            };
+            let est = if est.flags() & LobeFlags::NEAR_SPECULAR != 0 {
+                est.without_near_specular()
+            } else {
+                est
             };
             if est.has_non_delta() {
                 // Short rays (corners, contact) take the full estimate: there the
