@@ -17,8 +17,9 @@
 //! l = radius / (4 pi) (Skin: scaled by the colour's dipole albedo, [`radius_scale`]), and
 //! single-scattering albedo fitted to `color`, and leaves at the first surface of the same object it meets. The
 //! exit is a white Lambertian surface: what it receives from the lights, the caustic and the
-//! global photon map, divided by pi, is what the walk carries back. Final-gathering rays walk
-//! the same way, and photons the other way (`render::terms::subsurface::photon_walk`).
+//! global photon map, divided by pi, is what the walk carries back. Photons walk the other
+//! way (`render::terms::subsurface::photon_walk`) and are stored where they leave, for the
+//! final-gathering rays that land on the material.
 
 use crate::math::Spectrum;
 use crate::scene::desc::SubsurfaceDesc;

@@ -37,10 +37,14 @@ pub const FLAG_FROM_MEDIUM: u16 = 2;
 /// (light -> specular+ -> here): the photons of a caustic map, and the caustic part of a
 /// global map.
 pub const FLAG_CAUSTIC_PATH: u16 = 4;
+/// User flag of a photon that left a surface at the end of its walk below a subsurface
+/// material: light leaving the surface, not arriving at it. Its incoming direction is the
+/// surface's outward normal. Every [`Select`] leaves these out unless it asks for them.
+pub const FLAG_SUBSURFACE_EXIT: u16 = 8;
 
 /// The user flags above this bit hold the photon's light group (`Scene::light_group`): 8
 /// bits, beside the `FLAG_*` bits below it, inside the 20-byte photon's flag word.
-pub const GROUP_SHIFT: u16 = 3;
+pub const GROUP_SHIFT: u16 = 4;
 /// The `FLAG_*` bits of a photon's user flags, without its group.
 pub const FLAG_MASK: u16 = (1 << GROUP_SHIFT) - 1;
 
@@ -63,25 +67,26 @@ pub struct Select {
 }
 
 impl Select {
-    /// Every photon.
+    /// Every photon arriving at a surface (all but the subsurface exits).
     pub const ALL: Select = Select {
         require: 0,
-        exclude: 0,
+        exclude: FLAG_SUBSURFACE_EXIT,
     };
 
-    /// The photons with every bit of `flags`.
+    /// The photons with every bit of `flags` (subsurface exits only when `flags` has
+    /// [`FLAG_SUBSURFACE_EXIT`]).
     pub const fn with(flags: u16) -> Select {
         Select {
             require: flags,
-            exclude: 0,
+            exclude: FLAG_SUBSURFACE_EXIT & !flags,
         }
     }
 
-    /// The photons with no bit of `flags`.
+    /// The photons arriving at a surface with no bit of `flags`.
     pub const fn without(flags: u16) -> Select {
         Select {
             require: 0,
-            exclude: flags,
+            exclude: flags | FLAG_SUBSURFACE_EXIT,
         }
     }
 

@@ -9,7 +9,7 @@
 use super::irradiance::{self, IrradianceMap};
 use super::map::{
     MapKind, PhotonMap, PhotonTree, Select, FLAG_CAUSTIC_PATH, FLAG_FIRST_HIT, FLAG_FROM_MEDIUM,
-    GROUP_SHIFT,
+    FLAG_SUBSURFACE_EXIT, GROUP_SHIFT,
 };
 use super::{encode_direction, Photon, PhotonError, PhotonF32, PhotonKdTree};
 use crate::geometry::{Ray, SurfaceInteraction};
@@ -283,17 +283,30 @@ fn trace_path(
             if let Some(ss) = mat.subsurface().filter(|_| bsdf.has_subsurface()) {
                 let f = bsdf.subsurface_share(si.wo);
                 if rng.f32() < f {
-                    let Some(exit) = walk_below(scene, &si, &bsdf, ss, rng) else {
+                    let Some(exit) = walk_below(scene, &si, ss, rng) else {
                         break;
                     };
-                    let new_power = power * exit.0 / (p * f);
+                    let stored = power * exit.walk / (p * f);
+                    let new_power = stored * exit.weight;
+                    if kind == MapKind::Global && is_finite3(stored) && stored.max_element() > 0.0 {
+                        // The light leaving the surface there, before the lobe's weight
+                        // towards a viewer: for final-gathering rays that land on it.
+                        out.push(RawPhoton {
+                            p: exit.p,
+                            power: stored,
+                            d: -exit.n,
+                            n: encode_direction(exit.n),
+                            flags: FLAG_SUBSURFACE_EXIT as u8,
+                            group,
+                        });
+                    }
                     if !is_finite3(new_power) || new_power.max_element() <= 0.0 {
                         break;
                     }
                     power = new_power;
                     interactions += 1;
                     last_scatter = false;
-                    ray = exit.1;
+                    ray = exit.ray;
                     continue;
                 }
                 p *= 1.0 - f;
@@ -328,17 +341,30 @@ fn trace_path(
     }
 }
 
-/// A photon's walk below the subsurface lobe of `bsdf` at `si`: the weight it leaves with
-/// (the lobe's reflectance times the walk's weight and the exit's Lambertian sample, before
-/// the division by the probability of having chosen the lobe), and the ray it leaves along.
+/// Where a photon's walk below a subsurface material ended.
+struct WalkExit {
+    /// The walk's weight.
+    walk: Spectrum,
+    /// The weight of the photon's way out: the subsurface lobe's weight towards the direction
+    /// it leaves in, as a camera path looking back along it would enter with (Cycles' lobe
+    /// weight is the viewer's), times the Lambertian sample's.
+    weight: Spectrum,
+    /// The exit and the surface's outward geometric normal there.
+    p: Vec3,
+    n: Vec3,
+    /// The ray the photon leaves along (the exit's white Lambertian surface, sampled).
+    ray: Ray,
+}
+
+/// A photon's walk below the subsurface material at `si`. The light arriving there enters
+/// whole, as through the white Lambertian surface that ends a camera path's walk; the
+/// lobe's weight applies where it leaves.
 fn walk_below(
     scene: &Scene,
     si: &SurfaceInteraction,
-    bsdf: &Bsdf,
     ss: &Subsurface,
     rng: &mut Rng,
-) -> Option<(Spectrum, Ray)> {
-    let (w, _) = bsdf.subsurface_entry(si.wo)?;
+) -> Option<WalkExit> {
     let exit = subsurface::photon_walk(scene, si, ss, rng)?;
     let bs = exit
         .bsdf
@@ -346,10 +372,17 @@ fn walk_below(
     if bs.wi.dot(exit.si.ng) <= 0.0 {
         return None;
     }
-    Some((
-        w * exit.weight * bs.importance_weight(),
-        exit.si.spawn_ray(bs.wi),
-    ))
+    let mat = scene.materials.get(exit.si.material as usize)?;
+    let mut out = exit.si;
+    out.wo = bs.wi;
+    let (w, _) = scene.shading_bsdf(mat, &mut out).subsurface_entry(bs.wi)?;
+    Some(WalkExit {
+        walk: exit.weight,
+        weight: w * bs.importance_weight(),
+        p: exit.si.p,
+        n: exit.si.ng,
+        ray: exit.si.spawn_ray(bs.wi),
+    })
 }
 
 /// Splits the specular-and-glossy reflection chosen with probability `p` into its

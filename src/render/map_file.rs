@@ -39,7 +39,7 @@ use std::path::{Path, PathBuf};
 /// The photon-map file (`.pmaps`): a container of this kind.
 pub const MAP_FILE: Kind = Kind {
     magic: *b"PMAPS\0\r\n",
-    version: 1,
+    version: 2,
     what: "photon-map file",
 };
 

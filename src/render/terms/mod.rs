@@ -9,7 +9,7 @@ pub mod subsurface;
 mod testing;
 pub mod volume;
 
-use crate::photon::map::{FLAG_CAUSTIC_PATH, FLAG_FIRST_HIT};
+use crate::photon::map::{FLAG_CAUSTIC_PATH, FLAG_FIRST_HIT, FLAG_SUBSURFACE_EXIT};
 use crate::render::aov::Term;
 
 /// The term a surface photon's light belongs to where a density estimate reads it, at an eye
@@ -19,7 +19,7 @@ use crate::render::aov::Term;
 /// [`specular::route`]).
 #[inline]
 pub fn of_photon(flags: u16, specular_bounces: u32) -> Option<Term> {
-    if flags & FLAG_FIRST_HIT != 0 {
+    if flags & (FLAG_FIRST_HIT | FLAG_SUBSURFACE_EXIT) != 0 {
         return None;
     }
     let term = if flags & FLAG_CAUSTIC_PATH != 0 {

@@ -10,11 +10,11 @@
 //! the surface the same way, under a diffusion BSSRDF).
 //!
 //! Light reaching the material from anywhere else walks below it too, as in Cycles, where a
-//! Random Walk material stays one after any bounce: a final-gathering ray that lands on it
-//! walks as a camera path does, and reads the photon maps at the exit ([`walk`]); a photon
-//! that the lobe takes walks the other way, entering where it arrived and leaving at the
-//! exit ([`photon_walk`]). So light passes through a thin or weakly scattering object onto
-//! what lies behind it.
+//! Random Walk material stays one after any bounce: a photon that the lobe takes walks the
+//! other way ([`photon_walk`]), entering where it arrived, and is stored where it leaves
+//! (`FLAG_SUBSURFACE_EXIT`); a final-gathering ray that lands on the material reads those
+//! photons' exitance. So light passes through a thin or weakly scattering object onto what
+//! lies behind it.
 
 use crate::geometry::{Ray, SurfaceInteraction};
 use crate::materials::bsdf::Bsdf;

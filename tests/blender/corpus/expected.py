@@ -45,11 +45,6 @@ EMISSION_CACHE_NOISE = ("noise: block (14,12) -10.0% against a tolerance of 9.98
 
 # Blender 5.0.1's USD exporter writes something else than the scene has; the USD render then
 # differs from Cycles' render of the Blender scene by more than the comparison allows.
-SSS_WAX_CORNER = ("noise: the floor block (15,14) in the image's bottom-right corner +6.94% "
-                  "against a tolerance of 6.84% at 'ci'; at 'high' the scene passes (largest "
-                  "block +3.26%, pooled +0.14%)")
-SSS_BACKLIT_CORNER = ("noise: the top-right block (18,2) by the ceiling -7.59% against a "
-                      "tolerance of 7.58% at 'ci', the add-on's render of the same IR passing")
 ELLIPSE = ("exporter: an ellipse area light (0.8 x 0.3) is written as a DiskLight of radius "
            "(0.8 + 0.3) / 4; the disk shows in frame where the ellipse does not")
 HIDDEN = ("exporter: a light's camera visibility is not written; the importer draws UsdLux "
@@ -82,8 +77,6 @@ USD: dict[str, str] = {
     "point_r01_hard": HARD_FALLOFF,
     "spot_offaxis": SPOT_DARK_FLOOR.format("blocks (19,13) and (19,14) -20% (-6.6 sigma)"),
     "spot_radius": SPOT_RADIUS_CORNER,
-    "sss_backlit": SSS_BACKLIT_CORNER,
-    "sss_wax": SSS_WAX_CORNER,
     "sun_angle": SUN_HALF_ANGLE,
 }
 

@@ -6,12 +6,13 @@ use crate::geometry::{Ray, SurfaceInteraction};
 use crate::materials::bsdf::{Bsdf, LobeFlags};
 use crate::math::{Frame, Spectrum, PI};
 use crate::media::MediumStack;
-use crate::photon::map::{EstimateFilter, GroupShare, Select, FLAG_FIRST_HIT};
+use crate::photon::map::{
+    EstimateFilter, GroupShare, Select, FLAG_FIRST_HIT, FLAG_SUBSURFACE_EXIT,
+};
 use crate::photon::KnnScratch;
 use crate::render::lightgroups::{scaled, Split};
 use crate::render::photons::PhotonMaps;
 use crate::render::terms::specular::{self, Follow};
-use crate::render::terms::subsurface;
 use crate::sampling::Rng;
 use crate::scene::{Scene, SceneHit};
 use glam::Vec3;
@@ -80,22 +81,13 @@ pub fn gather_radiance(
         };
         let bsdf = scene.shading_bsdf(mat, &mut si);
         let passes = bsdf.passes_through();
-        // A subsurface lobe: the ray walks below it, as a camera path does, and the exit's
-        // white Lambertian surface answers for it.
+        // A subsurface lobe: the light leaving it is that of the photons whose walks below
+        // the material ended here.
         let entry = bsdf.subsurface_entry(si.wo);
-        if let (Some((w, roughness)), Some(ss)) = (entry, mat.subsurface()) {
-            if let Some(exit) = subsurface::walk(scene, &si, ss, roughness, rng) {
-                let b = beta * w * exit.weight;
-                let hit = GatherHit {
-                    si: &exit.si,
-                    bsdf: &exit.bsdf,
-                    stack: &stack,
-                    near: false,
-                    glossy,
-                };
-                let mut sp = scaled(&mut split, b);
-                acc += b * hit_radiance(scene, global, &hit, maps, rng, scratch, sp.as_mut());
-            }
+        if let (Some((w, _)), Some(_)) = (entry, mat.subsurface()) {
+            let b = beta * w;
+            let mut sp = scaled(&mut split, b);
+            acc += b * subsurface_exitance(scene, global, &si, maps, scratch, sp.as_mut());
         }
         if bsdf.has_non_delta() && !passes {
             // The estimate answers for the lobes it can resolve; near-specular ones are
@@ -230,6 +222,45 @@ fn hit_radiance(
         }
     }
     direct + photons(bsdf, scratch, split)
+}
+
+/// Radiance leaving a subsurface material at a gather ray's hit `si`: the flux of the photons
+/// that left the surface there at the end of their walks below it (`FLAG_SUBSURFACE_EXIT`),
+/// per unit area, over pi (the exit is Lambertian), per unit of the lobe's weight towards the
+/// viewer (the walks' weights are in the photons' power). A density estimate over many walks, where walking below the surface
+/// at each gather hit gave each irradiance-cache record the noise of a few walks (blotches
+/// of colour on walls lit through the material).
+fn subsurface_exitance(
+    scene: &Scene,
+    global: &crate::photon::map::PhotonMap,
+    si: &SurfaceInteraction,
+    maps: &PhotonMaps,
+    scratch: &mut KnnScratch,
+    split: Option<&mut Split>,
+) -> Spectrum {
+    let select = Select::with(FLAG_SUBSURFACE_EXIT);
+    let e = match split {
+        Some(sp) => {
+            let mut groups = vec![Spectrum::ZERO; scene.light_groups.len()];
+            let e = global.irradiance_estimate_split(
+                si.p,
+                si.ng,
+                maps.gather,
+                maps.global_r2,
+                select,
+                scratch,
+                &mut groups,
+            );
+            for (g, v) in groups.into_iter().enumerate() {
+                sp.add(g, v / PI);
+            }
+            e
+        }
+        None => {
+            global.irradiance_estimate(si.p, si.ng, maps.gather, maps.global_r2, select, scratch)
+        }
+    };
+    e.irradiance / PI
 }
 
 /// The least probability of a gather hit's glossy estimate: its weight stays at most 16.
