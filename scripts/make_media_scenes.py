@@ -10,6 +10,9 @@ Outputs (all 128x128; world +Y up, lengths in scene units)
                                          disk light: a volume caustic and a floor caustic
     tests/data/scenes/thick_sphere.json  sphere of dense scattering medium (albedo 0.95) above a
                                          floor, lit by a rect light and a point light
+    tests/data/scenes/sss_sphere.json    sphere of an index-matched subsurface material under a
+                                         constant environment (64x64)
+    tests/data/scenes/sss_slab.json      slab of the same kind, turned to show three faces (64x64)
 
 Common layout: a white diffuse floor (y = 0) and back wall (z = -2), camera at z = 5 looking
 towards the origin. Medium boundaries are closed meshes with the `null` material and an
@@ -211,9 +214,50 @@ def thick_sphere():
     }
 
 
+def subsurface_material(name, color, radius):
+    """A Principled material whose subsurface walk Mitsuba renders exactly: roughness 0, IOR
+    1.01 (the least the renderer takes), specular 0, weight 1 (scripts/make_references.py,
+    `index_matched_subsurface`)."""
+    return {"type": "principled", "name": name, "base_color": color, "roughness": 0.0,
+            "ior": 1.01, "specular": 0.0,
+            "subsurface": {"weight": 1.0, "radius": radius}}
+
+
+def sss_sphere():
+    """A subsurface sphere (radius 1) under a constant white environment: each pixel is the
+    probability that a walk entering there leaves again, per channel."""
+    return {
+        "camera": camera((0.0, 0.0, 4.0), (0.0, 0.0, 0.0), 0.6),
+        "film": {"width": 64, "height": 64},
+        "materials": [subsurface_material("wax", [0.85, 0.65, 0.45], [4.0, 2.0, 1.3])],
+        "meshes": [sphere("sphere", (0.0, 0.0, 0.0), 1.0, 0)],
+        "environment": {"color": [1.0, 1.0, 1.0], "strength": 1.0},
+    }
+
+
+def sss_slab():
+    """A subsurface slab (2 x 1.4 x 0.3, flat-shaded, two triangles a face) turned to show
+    three faces, under a constant white environment."""
+    slab = box_mesh("slab", (-1.0, -0.7, -0.15), (1.0, 0.7, 0.15), 0)
+    ay, ax = math.radians(35.0), math.radians(20.0)
+    ry = np.array([[math.cos(ay), 0, math.sin(ay)], [0, 1, 0], [-math.sin(ay), 0, math.cos(ay)]])
+    rx = np.array([[1, 0, 0], [0, math.cos(ax), -math.sin(ax)], [0, math.sin(ax), math.cos(ax)]])
+    M = np.eye(4)
+    M[:3, :3] = rx @ ry
+    slab["transform"] = rounded(M, 7)
+    return {
+        "camera": camera((0.0, 0.0, 4.0), (0.0, 0.0, 0.0), 0.6),
+        "film": {"width": 64, "height": 64},
+        "materials": [subsurface_material("jade", [0.9, 0.7, 0.5], [1.0, 0.6, 0.4])],
+        "meshes": [slab],
+        "environment": {"color": [1.0, 1.0, 1.0], "strength": 1.0},
+    }
+
+
 def main():
     for name, fn in (("fog_spot", fog_spot), ("fog_glass", fog_glass),
-                     ("thick_sphere", thick_sphere)):
+                     ("thick_sphere", thick_sphere), ("sss_sphere", sss_sphere),
+                     ("sss_slab", sss_slab)):
         dump(fn(), os.path.join(ROOT, f"tests/data/scenes/{name}.json"))
     return 0
 

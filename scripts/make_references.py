@@ -83,6 +83,7 @@ SPP_FOG_SPOT_SINGLE = 16384
 SPP_FOG_SPOT_FULL = 8192
 SPP_FOG_GLASS_FULL = 8192
 SPP_THICK_SPHERE_FULL = 8192
+SPP_SSS = 8192
 
 # name -> (scene, integrator dict, total spp, batches)
 REFERENCES = {
@@ -133,6 +134,19 @@ REFERENCES = {
         "tests/data/scenes/thick_sphere.json",
         {"type": "volpath", "max_depth": -1, "rr_depth": 64},
         SPP_THICK_SPHERE_FULL,
+        16,
+    ),
+    # Subsurface scattering, index-matched (see index_matched_subsurface).
+    "sss_sphere_full": (
+        "tests/data/scenes/sss_sphere.json",
+        {"type": "volpath", "max_depth": -1, "rr_depth": 100000},
+        SPP_SSS,
+        16,
+    ),
+    "sss_slab_full": (
+        "tests/data/scenes/sss_slab.json",
+        {"type": "volpath", "max_depth": -1, "rr_depth": 100000},
+        SPP_SSS,
         16,
     ),
 }
@@ -201,6 +215,10 @@ def bsdf_of(m, where):
         return {"type": "diffuse", "reflectance": rgb([0, 0, 0])}, [c * s for c in col]
     if t == "null":
         # An invisible medium boundary: Mitsuba's `null` BSDF (rays pass, media switch).
+        return {"type": "null"}, None
+    if t == "principled" and m.get("subsurface") is not None:
+        # Index-matched subsurface (see subsurface_medium): the surface lets light in and out.
+        index_matched_subsurface(m, where)
         return {"type": "null"}, None
     raise Unsupported(f"{where}: material type {t!r} has no exact Mitsuba equivalent here")
 
@@ -274,6 +292,96 @@ def medium_object(md):
         "scale": scale,
         "phase": {"type": "hg", "g": float(md.get("g", 0.0))},
     })
+
+
+def chiang_single_scattering_albedo(albedo, g):
+    """Cycles' fit of the single-scattering albedo whose multiple scattering returns `albedo`
+    (Chiang, Kutz & Burley 2016; `subsurface_random_walk_remap`), as the renderer uses it."""
+    g2, g3, g4, g5, g6, g7 = g ** 2, g ** 3, g ** 4, g ** 5, g ** 6, g ** 7
+    a = (1.8260523782 - 1.28451056436 * g - 1.79904629312 * g2 + 9.19393289202 * g3
+         - 22.8215585862 * g4 + 32.0234874259 * g5 - 23.6264803333 * g6 + 7.21067002658 * g7)
+    b = 4.98511194385 + 0.127355959438 * math.exp(
+        31.1491581433 * g - 201.847017512 * g2 + 841.576016723 * g3 - 2018.09288505 * g4
+        + 2731.71560286 * g5 - 1935.41424244 * g6 + 559.009054474 * g7)
+    c = (1.09686102424 - 0.394704063468 * g + 1.05258115941 * g2 - 8.83963712726 * g3
+         + 28.8643230661 * g4 - 46.8802913581 * g5 + 38.5402837518 * g6 - 12.7181042538 * g7)
+    d = (0.496310210422 + 0.360146581622 * g - 2.15139309747 * g2 + 17.8896899217 * g3
+         - 55.2984010333 * g4 + 82.065982243 * g5 - 58.5106008578 * g6 + 15.8478295021 * g7)
+    e = 4.23190299701 + 0.00310603949088 * math.exp(
+        76.7316253952 * g - 594.356773233 * g2 + 2448.8834203 * g3 - 5576.68528998 * g4
+        + 7116.60171912 * g5 - 4763.54467887 * g6 + 1303.5318055 * g7)
+    f = (2.40602999408 - 2.51814844609 * g + 9.18494908356 * g2 - 79.2191708682 * g3
+         + 259.082868209 * g4 - 403.613804597 * g5 + 302.85712436 * g6 - 87.4370473567 * g7)
+    albedo = min(max(albedo, 0.0), 1.0)
+    blend = albedo ** 0.25
+    alpha = ((1 - blend) * a * math.atan(b * albedo) ** c
+             + blend * d * math.atan(e * albedo) ** f)
+    return min(max(alpha, 0.0), 0.999999)
+
+
+def index_matched_subsurface(m, where):
+    """Checks that a Principled material with a subsurface part is one whose walk Mitsuba's
+    `volpath` renders exactly, and returns its interior medium (our IR's homogeneous medium).
+
+    Our walk (Cycles' Random Walk) enters through a GGX interface of the material's IOR and
+    roughness, scatters in a homogeneous medium of extinction 4 pi / radius and the
+    single-scattering albedo of Chiang et al.'s fit, and leaves through a white Lambertian
+    surface. With roughness 0, IOR 1.01 (the least the renderer takes), specular 0 and weight 1,
+    the entry is a straight refraction (a 1% bend) with no reflection, and the walk's weight is
+    the medium's transmission: Mitsuba's medium behind a `null` surface. The exits differ
+    (Lambertian against straight on), so the two agree only where the light reaching the
+    surface is the same from every direction: a scene of one such object under a constant
+    environment (`translate` checks that)."""
+    sub = m["subsurface"]
+    checks = {
+        "weight": (float(sub.get("weight", 0.0)), 1.0),
+        "roughness": (float(m.get("roughness", 0.5)), 0.0),
+        "specular": (float(m.get("specular", 1.0)), 0.0),
+        "metallic": (float(m.get("metallic", 0.0)), 0.0),
+        "transmission": (float(m.get("transmission", 0.0)), 0.0),
+    }
+    for k, (v, want) in checks.items():
+        if v != want:
+            raise Unsupported(f"{where}: subsurface is translated with {k} {want} only, not {v}")
+    ior = float(sub.get("ior", m.get("ior", 1.5)))
+    if ior > 1.01:
+        raise Unsupported(f"{where}: subsurface is translated with IOR 1.01 at most, not {ior}")
+    if sub.get("method", "random_walk") != "random_walk":
+        raise Unsupported(f"{where}: subsurface method {sub.get('method')!r} is not translated")
+    g = min(max(float(sub.get("anisotropy", 0.0)), 0.0), 0.9)
+    color = sub.get("color") or m.get("base_color", [0.8, 0.8, 0.8])
+    color = color_value(color, where + "/subsurface/color")
+    radius = [float(r) for r in sub["radius"]]
+    sigma_t = [4 * math.pi / (r * (1 - g)) for r in radius]
+    alpha = [max(chiang_single_scattering_albedo(c, g), 0.2) for c in color]
+    if any(chiang_single_scattering_albedo(c, g) < 0.2 for c in color):
+        raise Unsupported(f"{where}: subsurface colours darker than the albedo fit's 0.2 floor "
+                          "are not translated")
+    return {"sigma_a": [st * (1 - a) for st, a in zip(sigma_t, alpha)],
+            "sigma_s": [st * a for st, a in zip(sigma_t, alpha)], "g": g}
+
+
+def subsurface_as_media(ir):
+    """A copy of `ir` where each mesh of an index-matched subsurface material has that material's
+    medium inside (`index_matched_subsurface`), for a scene that is one such object under a
+    constant environment and nothing else."""
+    mats = ir.get("materials", [])
+    sub = {i: index_matched_subsurface(m, f"/materials/{i}") for i, m in enumerate(mats)
+           if m["type"] == "principled" and m.get("subsurface") is not None}
+    if not sub:
+        return ir
+    meshes = ir.get("meshes", [])
+    if (len(meshes) != 1 or ir.get("instances") or ir.get("lights") or ir.get("media")
+            or ir.get("environment") is None or ir["environment"].get("texture") is not None):
+        raise Unsupported("a subsurface material is translated only in a scene of one mesh "
+                          "under a constant environment, with no lights or media")
+    ir = json.loads(json.dumps(ir))
+    mesh = ir["meshes"][0]
+    if mesh.get("material") not in sub:
+        raise Unsupported("/meshes/0: the subsurface scene's mesh has another material")
+    ir["media"] = [sub[mesh["material"]]]
+    mesh["interior_medium"] = 0
+    return ir
 
 
 def points_inside(P, F, Q):
@@ -527,6 +635,7 @@ def translate(ir, spp):
     """
     if ir.get("textures"):
         raise Unsupported("/textures: textures are not translated")
+    ir = subsurface_as_media(ir)
     mats = [bsdf_of(m, f"/materials/{i}") for i, m in enumerate(ir.get("materials", []))]
     media = [medium_object(md) for md in ir.get("media", [])]
     shapes, cam_medium = mesh_objects(ir, mats, media)
