@@ -207,10 +207,10 @@ fn damaged_files_are_clear_errors() {
         "{e}"
     );
     let mut other = good.clone();
-    other[8..12].copy_from_slice(&2u32.to_le_bytes());
+    other[8..12].copy_from_slice(&3u32.to_le_bytes());
     let e = load(&other).unwrap();
     assert!(
-        e.contains("photon-map file of format version 2") && e.contains("reads version 1"),
+        e.contains("photon-map file of format version 3") && e.contains("reads version 2"),
         "{e}"
     );
     let mut flipped = good.clone();
