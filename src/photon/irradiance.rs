@@ -7,7 +7,7 @@
 //! The points are kept in their own left-balanced kd-tree of 20-byte records.
 
 use super::kdtree::{KnnScratch, PhotonKdTree};
-use super::map::{PhotonMap, Select};
+use super::map::{PhotonMap, Select, FLAG_SUBSURFACE_EXIT};
 use super::photon::{decode_direction, encode_direction, rgbe_decode, rgbe_encode, KdRecord};
 use crate::math::{Spectrum, PI};
 use glam::Vec3;
@@ -23,6 +23,8 @@ const MIN_COS: f32 = 0.9;
 
 /// Points considered per query: the nearest with a matching normal among them answers.
 const CANDIDATES: usize = 4;
+/// Points averaged by [`IrradianceMap::lookup_smooth`].
+const SMOOTH_CANDIDATES: usize = 8;
 
 /// A point of precomputed irradiance: position, RGBE irradiance, the quantised normal (on the
 /// side the photons arrived from), and the kd-tree split axis.
@@ -263,6 +265,31 @@ impl IrradianceMap {
 
     /// The nearest point to `p` whose normal is within about 25 degrees of `n`, within the
     /// map's search radius, and its light-group fractions (empty without groups).
+    /// The mean of the points among the [`SMOOTH_CANDIDATES`] nearest to `p` whose normal
+    /// matches `n`, weighted by their distance's complement to the farthest candidate's
+    /// (a cone over the candidates); `None` when none matches. For the exitance points, where
+    /// the nearest point alone favours points in sparse (dim) parts.
+    pub fn lookup_smooth(&self, p: Vec3, n: Vec3, scratch: &mut KnnScratch) -> Option<Spectrum> {
+        let found = self.tree.knn(p, SMOOTH_CANDIDATES, self.max_r2, scratch);
+        let r = found
+            .iter()
+            .map(|nb| nb.dist2)
+            .fold(0.0f32, f32::max)
+            .sqrt()
+            * 1.01
+            + 1e-12;
+        let (mut sum, mut wsum) = (Spectrum::ZERO, 0.0f32);
+        for nb in found.iter() {
+            let pt = self.tree.get(nb.index);
+            if pt.normal().dot(n) >= MIN_COS {
+                let w = 1.0 - nb.dist2.sqrt() / r;
+                sum += w * pt.irradiance();
+                wsum += w;
+            }
+        }
+        (wsum > 0.0).then(|| sum / wsum)
+    }
+
     pub fn lookup(
         &self,
         p: Vec3,
@@ -314,7 +341,14 @@ impl PhotonMap {
         groups: &mut [Spectrum],
     ) -> IrradianceEstimate {
         let mut sum = Spectrum::ZERO;
-        let r2 = self.for_each_nearest(p, k, max_r2, scratch, n, |power, wi, flags| {
+        // An estimate of the subsurface exits' exitance leaves out an exit lying exactly at its
+        // centre: at a point placed on an exit photon, that photon would count in full, a bias
+        // of about one photon in the k.
+        let exits = select.require & FLAG_SUBSURFACE_EXIT != 0;
+        let r2 = self.for_each_nearest(p, k, max_r2, scratch, n, |power, wi, flags, d2| {
+            if exits && d2 == 0.0 {
+                return;
+            }
             if wi.dot(n) > 0.0 && select.takes(flags) {
                 sum += power;
                 if let Some(g) = groups.get_mut(super::map::group_of(flags)) {

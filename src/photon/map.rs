@@ -230,6 +230,9 @@ pub struct PhotonMap {
     pub tree: PhotonTree,
     /// Precomputed irradiance at a subset of the photons (global map only).
     pub irradiance: Option<super::irradiance::IrradianceMap>,
+    /// Precomputed exitance (flux leaving per unit area) of the subsurface exits at a subset
+    /// of them (global map of a scene with subsurface materials only).
+    pub exitance: Option<super::irradiance::IrradianceMap>,
     /// Photon paths emitted to fill the map (the photons' power is already divided by it).
     pub emitted: u64,
     /// Seconds the kd-tree took to build (balance).
@@ -342,14 +345,14 @@ fn for_each_nearest_in<P: PhotonRecord>(
     max_r2: f32,
     scratch: &mut KnnScratch,
     n: Vec3,
-    mut f: impl FnMut(Spectrum, Vec3, u16),
+    mut f: impl FnMut(Spectrum, Vec3, u16, f32),
 ) -> Option<f32> {
     let (found, r2, skip) = nearest(tree, p, k, max_r2, scratch)?;
     for (i, nb) in found.iter().enumerate() {
         if Some(i) != skip {
             let ph = tree.get(nb.index);
             if on_disc(ph.position(), p, n, r2.sqrt()) {
-                f(ph.power(), ph.incoming(), ph.user_flags());
+                f(ph.power(), ph.incoming(), ph.user_flags(), nb.dist2);
             }
         }
     }
@@ -392,6 +395,7 @@ impl PhotonMap {
             kind,
             tree,
             irradiance: None,
+            exitance: None,
             emitted: 0,
             build_seconds: 0.0,
         }
@@ -410,14 +414,16 @@ impl PhotonMap {
     }
     /// The photons' memory and the precomputed irradiance points'.
     pub fn memory_bytes(&self) -> usize {
-        self.tree.memory_bytes() + self.irradiance.as_ref().map_or(0, |m| m.memory_bytes())
+        self.tree.memory_bytes()
+            + self.irradiance.as_ref().map_or(0, |m| m.memory_bytes())
+            + self.exitance.as_ref().map_or(0, |m| m.memory_bytes())
     }
     /// Bytes per stored photon: 20 (RGBE power) or 28 (`f32` power).
     pub fn bytes_per_photon(&self) -> usize {
         self.tree.bytes_per_photon()
     }
 
-    /// Calls `f(power, incoming direction, user flags)` for the photons of a k-nearest estimate at `p`
+    /// Calls `f(power, incoming direction, user flags, distance²)` for the photons of a k-nearest estimate at `p`
     /// on the disc of normal `n` ([`on_disc`])
     /// (the k-th, on the boundary, left out) and returns the estimate's squared radius; None
     /// when no photon is within `max_r2`.
@@ -428,7 +434,7 @@ impl PhotonMap {
         max_r2: f32,
         scratch: &mut KnnScratch,
         n: Vec3,
-        f: impl FnMut(Spectrum, Vec3, u16),
+        f: impl FnMut(Spectrum, Vec3, u16, f32),
     ) -> Option<f32> {
         with_tree!(&self.tree, t => for_each_nearest_in(t, p, k, max_r2, scratch, n, f))
     }

@@ -35,8 +35,9 @@ const _: () = assert!(TRACED_PHOTON_BYTES == 28);
 const _: () = assert!(std::mem::size_of::<RawPhoton>() == 40);
 
 /// Where an irradiance point goes: a traced photon's position and its surface normal (as
-/// `encode_direction` bytes).
-type IrradianceSite = (Vec3, (u8, u8));
+/// `encode_direction` bytes), and whether it is a subsurface exit (then the point holds the
+/// exits' exitance, not irradiance).
+type IrradianceSite = (Vec3, (u8, u8), bool);
 
 /// A photon of a finished round, held until the number emitted is known (28 bytes): the
 /// power not yet divided by it (the records' RGBE needs the full `f32` product), the
@@ -574,7 +575,7 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
                     raw.iter()
                         .skip(skip)
                         .step_by(irradiance::STRIDE)
-                        .map(|r| (r.p, r.n))
+                        .map(|r| (r.p, r.n, r.flags & FLAG_SUBSURFACE_EXIT as u8 != 0))
                         .collect()
                 } else {
                     Vec::new()
@@ -626,15 +627,29 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
         kind: params.kind,
         tree,
         irradiance: None,
+        exitance: None,
         emitted,
         build_seconds: t.elapsed().as_secs_f64(),
     };
     if let Some((k, max_r2, select)) = params.irradiance {
-        let mut irr = IrradianceMap::build(&map, points, k, max_r2, select, params.cancel)?;
-        if !scene.light_groups.is_empty() {
-            irr.split_groups(&map, scene.light_groups.len(), k, select, params.cancel)?;
-        }
-        map.irradiance = Some(irr);
+        // The sites at subsurface exits hold the exits' exitance, the others irradiance.
+        let (exits, points): (Vec<_>, Vec<_>) = points.into_iter().partition(|s| s.2);
+        let strip = |v: Vec<IrradianceSite>| v.into_iter().map(|(p, n, _)| (p, n)).collect();
+        let build = |sites: Vec<(Vec3, (u8, u8))>, select: Select| {
+            let mut m = IrradianceMap::build(&map, sites, k, max_r2, select, params.cancel)?;
+            if !scene.light_groups.is_empty() {
+                m.split_groups(&map, scene.light_groups.len(), k, select, params.cancel)?;
+            }
+            Some(m)
+        };
+        let irradiance = build(strip(points), select)?;
+        let exitance = if exits.is_empty() {
+            None
+        } else {
+            Some(build(strip(exits), Select::with(FLAG_SUBSURFACE_EXIT))?)
+        };
+        map.irradiance = Some(irradiance);
+        map.exitance = exitance;
     }
     Some(map)
 }

@@ -326,7 +326,13 @@ fn write_map(w: &mut Writer, map: &Option<PhotonMap>) {
             }
         }
     }
-    match &m.irradiance {
+    write_points(w, &m.irradiance);
+    write_points(w, &m.exitance);
+}
+
+/// A map's precomputed points (irradiance, or the subsurface exits' exitance), if any.
+fn write_points(w: &mut Writer, points: &Option<IrradianceMap>) {
+    match points {
         Some(irr) => {
             w.u8(1);
             let (points, max_r2) = irr.parts();
@@ -341,6 +347,28 @@ fn write_map(w: &mut Writer, map: &Option<PhotonMap>) {
         }
         None => w.u8(0),
     }
+}
+
+/// The points of [`write_points`].
+fn read_points(r: &mut Reader) -> Result<Option<IrradianceMap>> {
+    if r.u8("points present")? == 0 {
+        return Ok(None);
+    }
+    let max_r2 = r.f32("points' radius")?;
+    let n = r.count(20, "precomputed points")?;
+    let b = r.take(n * 20, "precomputed points")?;
+    let points: Vec<IrradiancePoint> = b
+        .chunks_exact(20)
+        .map(IrradiancePoint::from_le_bytes)
+        .collect();
+    let groups = r.u64("points' light groups")? as usize;
+    let fractions = read_spectra(r, "points' light-group fractions")?;
+    if fractions.len() != points.len().saturating_mul(groups) {
+        return Err(r.corrupt("the points' light-group fractions do not match"));
+    }
+    Ok(Some(IrradianceMap::from_parts(
+        points, max_r2, groups, fractions,
+    )))
 }
 
 fn read_map(r: &mut Reader) -> Result<Option<PhotonMap>> {
@@ -376,27 +404,13 @@ fn read_map(r: &mut Reader) -> Result<Option<PhotonMap>> {
         }
         k => return Err(r.corrupt(format!("unknown photon record {k}"))),
     };
-    let irradiance = if r.u8("irradiance present")? != 0 {
-        let max_r2 = r.f32("irradiance radius")?;
-        let n = r.count(20, "irradiance points")?;
-        let b = r.take(n * 20, "irradiance points")?;
-        let points: Vec<IrradiancePoint> = b
-            .chunks_exact(20)
-            .map(IrradiancePoint::from_le_bytes)
-            .collect();
-        let groups = r.u64("irradiance light groups")? as usize;
-        let fractions = read_spectra(r, "irradiance light-group fractions")?;
-        if fractions.len() != points.len().saturating_mul(groups) {
-            return Err(r.corrupt("the irradiance points' light-group fractions do not match"));
-        }
-        Some(IrradianceMap::from_parts(points, max_r2, groups, fractions))
-    } else {
-        None
-    };
+    let irradiance = read_points(r)?;
+    let exitance = read_points(r)?;
     Ok(Some(PhotonMap {
         kind,
         tree,
         irradiance,
+        exitance,
         emitted,
         build_seconds,
     }))
@@ -624,6 +638,8 @@ fn parse_map_stats(text: &str) -> std::result::Result<Vec<MapStats>, String> {
         irradiance_points: u64,
         #[serde(default)]
         volume_points: u64,
+        #[serde(default)]
+        exitance_points: u64,
         skipped_because: Option<String>,
     }
     let v: Vec<In> = serde_json::from_str(text).map_err(|e| format!("map stats: {e}"))?;
@@ -647,6 +663,7 @@ fn parse_map_stats(text: &str) -> std::result::Result<Vec<MapStats>, String> {
                 kdtree_seconds: m.kdtree_seconds,
                 irradiance_points: m.irradiance_points,
                 volume_points: m.volume_points,
+                exitance_points: m.exitance_points,
                 skipped_because: m.skipped_because,
             })
         })

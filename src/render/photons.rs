@@ -44,6 +44,9 @@ pub struct MapStats {
     /// Points of precomputed volume radiance (volume map, scenes with an isotropic medium:
     /// every fourth photon).
     pub volume_points: u64,
+    /// Points of precomputed exitance at subsurface exits (global map, scenes with a
+    /// subsurface material: the exits among every fourth photon), in `memory_bytes`.
+    pub exitance_points: u64,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub skipped_because: Option<String>,
 }
@@ -157,6 +160,7 @@ pub fn build_with(
                 kdtree_seconds: 0.0,
                 irradiance_points: 0,
                 volume_points: 0,
+                exitance_points: 0,
                 skipped_because: Some(r),
             });
             return None;
@@ -192,6 +196,7 @@ pub fn build_with(
             kdtree_seconds: map.build_seconds,
             irradiance_points: map.irradiance.as_ref().map_or(0, |m| m.len() as u64),
             volume_points: 0,
+            exitance_points: map.exitance.as_ref().map_or(0, |m| m.len() as u64),
             skipped_because: None,
         });
         Some(map)

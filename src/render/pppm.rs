@@ -489,6 +489,8 @@ struct MapStatsIn {
     irradiance_points: u64,
     #[serde(default)]
     volume_points: u64,
+    #[serde(default)]
+    exitance_points: u64,
     skipped_because: Option<String>,
 }
 
@@ -511,6 +513,7 @@ impl MapStatsIn {
             kdtree_seconds: self.kdtree_seconds,
             irradiance_points: self.irradiance_points,
             volume_points: self.volume_points,
+            exitance_points: self.exitance_points,
             skipped_because: self.skipped_because,
         }
     }

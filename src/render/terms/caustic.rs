@@ -84,6 +84,7 @@ mod tests {
             kind: MapKind::Caustic,
             tree: PhotonTree::Rgbe(PhotonKdTree::build(photons)),
             irradiance: None,
+            exitance: None,
             emitted: 1,
             build_seconds: 0.0,
         };

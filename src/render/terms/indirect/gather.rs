@@ -238,6 +238,17 @@ fn subsurface_exitance(
     scratch: &mut KnnScratch,
     split: Option<&mut Split>,
 ) -> Spectrum {
+    if let Some(m) = global.exitance.as_ref() {
+        if let Some(e) = m.lookup_smooth(si.p, si.ng, scratch) {
+            let l = e / PI;
+            if let Some(sp) = split {
+                if let Some((_, fractions)) = m.lookup(si.p, si.ng, scratch) {
+                    sp.add_fractions(l, fractions);
+                }
+            }
+            return l;
+        }
+    }
     let select = Select::with(FLAG_SUBSURFACE_EXIT);
     let e = match split {
         Some(sp) => {
