@@ -90,12 +90,7 @@ pub fn walk(
     roughness: f32,
     rng: &mut Rng,
 ) -> Option<Exit> {
-    let ng = if si.ng.dot(si.wo) < 0.0 {
-        -si.ng
-    } else {
-        si.ng
-    };
-    let n = if si.ns.dot(ng) < 0.0 { -si.ns } else { si.ns };
+    let (ng, n) = outward_normals(si);
     let d = entry_direction(si, n, ss, roughness, rng)?;
     walk_from(scene, si, ng, d, ss, rng)
 }
@@ -110,15 +105,21 @@ pub fn photon_walk(
     ss: &Subsurface,
     rng: &mut Rng,
 ) -> Option<Exit> {
+    let (ng, n) = outward_normals(si);
+    let c = square_to_cosine_hemisphere(rng.vec2());
+    let d = Frame::from_normal(n).to_world(Vec3::new(c.x, c.y, -c.z));
+    walk_from(scene, si, ng, d, ss, rng)
+}
+
+/// The geometric and shading normals at `si`, both on the side of `si.wo` (outside).
+fn outward_normals(si: &SurfaceInteraction) -> (Vec3, Vec3) {
     let ng = if si.ng.dot(si.wo) < 0.0 {
         -si.ng
     } else {
         si.ng
     };
     let n = if si.ns.dot(ng) < 0.0 { -si.ns } else { si.ns };
-    let c = square_to_cosine_hemisphere(rng.vec2());
-    let d = Frame::from_normal(n).to_world(Vec3::new(c.x, c.y, -c.z));
-    walk_from(scene, si, ng, d, ss, rng)
+    (ng, n)
 }
 
 /// The walk from `si` along `d`, which points below the surface of geometric normal `ng`
