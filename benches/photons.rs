@@ -53,8 +53,8 @@ fn main() {
     let scene = Scene::build(&desc).expect("scene builds");
 
     println!("## Photon pass (default scene, global map, 1,000,000 photons stored)\n");
-    println!("| threads | paths/s | paths/s per thread | scaling |");
-    println!("|---|---|---|---|");
+    println!("| threads | paths/s | paths/s per thread | photons stored/s | scaling |");
+    println!("|---|---|---|---|---|");
     let mut base = 0.0;
     for threads in [1usize, 2] {
         let params = TraceParams {
@@ -72,14 +72,16 @@ fn main() {
         let map = pool(threads)
             .install(|| build_map(&scene, &params))
             .expect("map");
-        let rate = map.emitted as f64 / t.elapsed().as_secs_f64();
+        let secs = t.elapsed().as_secs_f64();
+        let rate = map.emitted as f64 / secs;
         if threads == 1 {
             base = rate;
         }
         println!(
-            "| {threads} | {:.0} | {:.0} | {:.2}x |",
+            "| {threads} | {:.0} | {:.0} | {:.0} | {:.2}x |",
             rate,
             rate / threads as f64,
+            map.len() as f64 / secs,
             rate / base
         );
     }
