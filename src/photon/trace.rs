@@ -528,7 +528,7 @@ fn trace_batch(scene: &Scene, params: &TraceParams, b: u64) -> Vec<RawPhoton> {
 /// irradiance points (20 + 20 / 4).
 pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
     let cancelled = || params.cancel.is_some_and(|c| c.load(Ordering::Relaxed));
-    let mut rounds: Vec<Vec<Traced>> = Vec::new();
+    let mut rounds: Vec<Vec<Vec<Traced>>> = Vec::new();
     // The irradiance points: every `irradiance::STRIDE`-th photon traced, counted over the
     // rounds in order.
     let take_points = params.irradiance.is_some();
@@ -583,14 +583,15 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
                 (raw.iter().filter_map(Traced::new).collect(), points)
             })
             .collect();
-        let kept = converted.iter().map(|c| c.0.len()).sum();
-        let mut round_photons = Vec::with_capacity(kept);
+        // The batches stay apart (no serial copy into one array); the records are made
+        // from them in order.
+        let mut round_batches = Vec::with_capacity(converted.len());
         for (traced, pts) in converted {
-            round_photons.extend_from_slice(&traced);
+            round_batches.push(traced);
             points.extend_from_slice(&pts);
         }
         stored += count;
-        rounds.push(round_photons);
+        rounds.push(round_batches);
         batches += n;
         // Size the next round from the storage rate seen so far (deterministic).
         let per_batch = stored as f64 / batches as f64;
@@ -674,7 +675,7 @@ fn balance<P: super::PhotonRecord>(
 /// converted and freed one at a time, so the traced photons and the records are never all
 /// live together.
 fn records<P: Send>(
-    rounds: Vec<Vec<Traced>>,
+    rounds: Vec<Vec<Vec<Traced>>>,
     stored: usize,
     inv: f32,
     new: impl Fn(Vec3, Vec3, (u8, u8)) -> Result<P, PhotonError> + Sync,
@@ -683,11 +684,16 @@ fn records<P: Send>(
     let mut photons: Vec<P> = Vec::with_capacity(stored);
     for traced in rounds {
         // In parallel, in order (rayon collects the pieces, then appends them in turn).
-        photons.par_extend(traced.par_iter().filter_map(|t| {
-            let mut ph = new(t.p, t.power * inv, t.dir).ok()?;
-            set_flags(&mut ph, t.flags);
-            Some(ph)
-        }));
+        photons.par_extend(
+            traced
+                .par_iter()
+                .flat_map_iter(|b| b.iter())
+                .filter_map(|t| {
+                    let mut ph = new(t.p, t.power * inv, t.dir).ok()?;
+                    set_flags(&mut ph, t.flags);
+                    Some(ph)
+                }),
+        );
     }
     photons
 }
