@@ -120,11 +120,10 @@ fn memory_estimate_follows_the_photon_size() {
         // No specular surfaces, no media: the global map only.
         assert_eq!(est.photons, 1_000_000);
         assert_eq!(est.photon_bytes, size * 1_000_000);
-        // While the map is traced each photon takes 28 B (its power not yet normalised), in
-        // place of its record: 8 B more than the map for RGBE, nothing more for f32. The
-        // kd-tree is balanced in place. A limit one byte under the peak fails, naming the
-        // record size.
-        assert_eq!(est.peak_bytes, est.total_bytes + (28 - size) * 1_000_000);
+        // Photons are traced as their records (the power scale divides by the paths emitted
+        // as they are read) and the kd-tree is balanced in place: the peak is the map. A
+        // limit one byte under the peak fails, naming the record size.
+        assert_eq!(est.peak_bytes, est.total_bytes);
         s.memory_limit = Some(est.peak_bytes - 1);
         let e = Renderer::new(&scene)
             .settings(s)

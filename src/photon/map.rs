@@ -109,18 +109,38 @@ pub enum EstimateFilter {
 /// power (the default; Jensen 2001, §6.4), or the 28-byte [`PhotonF32`] with `f32` power
 /// (`PhotonSettings::f32_power`), which trades memory for the RGBE quantisation (≤ 1/256 of a
 /// photon's largest channel).
+///
+/// The records hold each photon's power as traced, before the division by the photon paths
+/// emitted (which is known only once tracing stops); the `f32` beside the tree is that
+/// division's factor, the map's power scale (1 / emitted), applied to each photon's power as
+/// it is read ([`PhotonRef::power`]). So a traced photon is already its final record, and the
+/// photon pass holds nothing but the records. Power read is `decoded · scale`, one `f32`
+/// product, the same as dividing before storing for `f32` records; for RGBE records the
+/// quantisation falls on the traced power instead of the divided one.
 pub enum PhotonTree {
-    Rgbe(PhotonKdTree<Photon>),
-    F32(PhotonKdTree<PhotonF32>),
+    Rgbe(PhotonKdTree<Photon>, f32),
+    F32(PhotonKdTree<PhotonF32>, f32),
 }
 
-/// Calls `$body` with `$t` bound to the tree, whichever photon record it holds: one branch
-/// per query, then the monomorphised code of that record.
+/// Calls `$body` with `$t` bound to the tree, whichever photon record it holds (and `$s` to
+/// the map's power scale): one branch per query, then the monomorphised code of that record.
 macro_rules! with_tree {
     ($tree:expr, $t:ident => $body:expr) => {
         match $tree {
-            PhotonTree::Rgbe($t) => $body,
-            PhotonTree::F32($t) => $body,
+            PhotonTree::Rgbe($t, _) => $body,
+            PhotonTree::F32($t, _) => $body,
+        }
+    };
+    ($tree:expr, $t:ident, $s:ident => $body:expr) => {
+        match $tree {
+            PhotonTree::Rgbe($t, $s) => {
+                let $s = *$s;
+                $body
+            }
+            PhotonTree::F32($t, $s) => {
+                let $s = *$s;
+                $body
+            }
         }
     };
 }
@@ -138,9 +158,14 @@ impl PhotonTree {
     /// Bytes per stored photon: 20 (RGBE) or 28 (`f32` power).
     pub fn bytes_per_photon(&self) -> usize {
         match self {
-            PhotonTree::Rgbe(_) => std::mem::size_of::<Photon>(),
-            PhotonTree::F32(_) => std::mem::size_of::<PhotonF32>(),
+            PhotonTree::Rgbe(..) => std::mem::size_of::<Photon>(),
+            PhotonTree::F32(..) => std::mem::size_of::<PhotonF32>(),
         }
+    }
+
+    /// The factor applied to every photon's stored power as it is read (1 / paths emitted).
+    pub fn power_scale(&self) -> f32 {
+        with_tree!(self, _t, s => s)
     }
 
     /// The `k` photons nearest to `p` within `max_r2`, as [`PhotonKdTree::knn`].
@@ -159,8 +184,8 @@ impl PhotonTree {
     #[inline]
     pub fn get(&self, index: u32) -> PhotonRef<'_> {
         match self {
-            PhotonTree::Rgbe(t) => PhotonRef::Rgbe(t.get(index)),
-            PhotonTree::F32(t) => PhotonRef::F32(t.get(index)),
+            PhotonTree::Rgbe(t, s) => PhotonRef::Rgbe(t.get(index), *s),
+            PhotonTree::F32(t, s) => PhotonRef::F32(t.get(index), *s),
         }
     }
 
@@ -174,53 +199,55 @@ impl PhotonTree {
         mut visitor: impl FnMut(PhotonRef<'_>, f32),
     ) {
         match self {
-            PhotonTree::Rgbe(t) => {
-                t.for_each_in_radius(p, r2, |ph, d2| visitor(PhotonRef::Rgbe(ph), d2))
+            PhotonTree::Rgbe(t, s) => {
+                t.for_each_in_radius(p, r2, |ph, d2| visitor(PhotonRef::Rgbe(ph, *s), d2))
             }
-            PhotonTree::F32(t) => {
-                t.for_each_in_radius(p, r2, |ph, d2| visitor(PhotonRef::F32(ph), d2))
+            PhotonTree::F32(t, s) => {
+                t.for_each_in_radius(p, r2, |ph, d2| visitor(PhotonRef::F32(ph, *s), d2))
             }
         }
     }
 }
 
-/// A photon of a [`PhotonTree`], whichever record it is; decodes only what is asked for.
+/// A photon of a [`PhotonTree`], whichever record it is, with its map's power scale; decodes
+/// only what is asked for.
 #[derive(Clone, Copy, Debug)]
 pub enum PhotonRef<'a> {
-    Rgbe(&'a Photon),
-    F32(&'a PhotonF32),
+    Rgbe(&'a Photon, f32),
+    F32(&'a PhotonF32, f32),
 }
 
 impl PhotonRef<'_> {
     #[inline]
     pub fn position(self) -> Vec3 {
         match self {
-            PhotonRef::Rgbe(p) => KdRecord::position(p),
-            PhotonRef::F32(p) => KdRecord::position(p),
+            PhotonRef::Rgbe(p, _) => KdRecord::position(p),
+            PhotonRef::F32(p, _) => KdRecord::position(p),
         }
     }
-    /// Power (flux), decoded from RGBE if stored so.
+    /// Power (flux): the stored power, decoded from RGBE if stored so, times the map's power
+    /// scale.
     #[inline]
     pub fn power(self) -> Vec3 {
         match self {
-            PhotonRef::Rgbe(p) => PhotonRecord::power(p),
-            PhotonRef::F32(p) => PhotonRecord::power(p),
+            PhotonRef::Rgbe(p, s) => PhotonRecord::power(p) * s,
+            PhotonRef::F32(p, s) => PhotonRecord::power(p) * s,
         }
     }
     /// Unit vector from the surface back towards where the photon came from.
     #[inline]
     pub fn incoming(self) -> Vec3 {
         match self {
-            PhotonRef::Rgbe(p) => PhotonRecord::incoming(p),
-            PhotonRef::F32(p) => PhotonRecord::incoming(p),
+            PhotonRef::Rgbe(p, _) => PhotonRecord::incoming(p),
+            PhotonRef::F32(p, _) => PhotonRecord::incoming(p),
         }
     }
     /// The renderer's flag bits (`FLAG_*`).
     #[inline]
     pub fn user_flags(self) -> u16 {
         match self {
-            PhotonRef::Rgbe(p) => PhotonRecord::user_flags(p),
-            PhotonRef::F32(p) => PhotonRecord::user_flags(p),
+            PhotonRef::Rgbe(p, _) => PhotonRecord::user_flags(p),
+            PhotonRef::F32(p, _) => PhotonRecord::user_flags(p),
         }
     }
 }
@@ -233,7 +260,7 @@ pub struct PhotonMap {
     /// Precomputed exitance (flux leaving per unit area) of the subsurface exits at a subset
     /// of them (global map of a scene with subsurface materials only).
     pub exitance: Option<super::irradiance::IrradianceMap>,
-    /// Photon paths emitted to fill the map (the photons' power is already divided by it).
+    /// Photon paths emitted to fill the map (the tree's power scale is its inverse).
     pub emitted: u64,
     /// Seconds the kd-tree took to build (balance).
     pub build_seconds: f64,
@@ -276,6 +303,7 @@ fn nearest<'s, P: PhotonRecord>(
 #[inline]
 fn radiance_in<P: PhotonRecord>(
     tree: &PhotonKdTree<P>,
+    scale: f32,
     p: Vec3,
     n: Vec3,
     wo: Vec3,
@@ -314,7 +342,7 @@ fn radiance_in<P: PhotonRecord>(
             EstimateFilter::Constant => 1.0,
             EstimateFilter::Cone { k } => (1.0 - nb.dist2.sqrt() / (k * r)).max(0.0),
         };
-        let c = bsdf.eval(wo, wi) * ph.power() * w;
+        let c = bsdf.eval(wo, wi) * (ph.power() * scale) * w;
         sum += c;
         if let Some(f) = share.as_mut() {
             f(group_of(ph.user_flags()), c * inv);
@@ -340,6 +368,7 @@ pub fn on_disc(q: Vec3, p: Vec3, n: Vec3, r: f32) -> bool {
 #[inline]
 fn for_each_nearest_in<P: PhotonRecord>(
     tree: &PhotonKdTree<P>,
+    scale: f32,
     p: Vec3,
     k: usize,
     max_r2: f32,
@@ -352,7 +381,7 @@ fn for_each_nearest_in<P: PhotonRecord>(
         if Some(i) != skip {
             let ph = tree.get(nb.index);
             if on_disc(ph.position(), p, n, r2.sqrt()) {
-                f(ph.power(), ph.incoming(), ph.user_flags(), nb.dist2);
+                f(ph.power() * scale, ph.incoming(), ph.user_flags(), nb.dist2);
             }
         }
     }
@@ -363,6 +392,7 @@ fn for_each_nearest_in<P: PhotonRecord>(
 #[inline]
 fn volume_radiance_in<P: PhotonRecord>(
     tree: &PhotonKdTree<P>,
+    scale: f32,
     x: Vec3,
     wo: Vec3,
     phase: &crate::media::HenyeyGreenstein,
@@ -379,7 +409,7 @@ fn volume_radiance_in<P: PhotonRecord>(
             continue;
         }
         let ph = tree.get(nb.index);
-        let c = ph.power() * phase.eval(wo, ph.incoming());
+        let c = (ph.power() * scale) * phase.eval(wo, ph.incoming());
         sum += c;
         if let Some(f) = share.as_mut() {
             f(group_of(ph.user_flags()), c * inv);
@@ -436,7 +466,7 @@ impl PhotonMap {
         n: Vec3,
         f: impl FnMut(Spectrum, Vec3, u16, f32),
     ) -> Option<f32> {
-        with_tree!(&self.tree, t => for_each_nearest_in(t, p, k, max_r2, scratch, n, f))
+        with_tree!(&self.tree, t, s => for_each_nearest_in(t, s, p, k, max_r2, scratch, n, f))
     }
 
     /// Reflected radiance at `p` towards `wo` (Jensen 2001, eq. 7.6):
@@ -457,7 +487,7 @@ impl PhotonMap {
         scratch: &mut KnnScratch,
         share: Option<GroupShare>,
     ) -> Spectrum {
-        with_tree!(&self.tree, t => radiance_in(t, p, n, wo, bsdf, k, max_r2, filter, select, scratch, share))
+        with_tree!(&self.tree, t, s => radiance_in(t, s, p, n, wo, bsdf, k, max_r2, filter, select, scratch, share))
     }
 
     /// In-scattered radiance at `x` towards `wo` from a volume map (Jensen & Christensen 1998):
@@ -477,16 +507,16 @@ impl PhotonMap {
         scratch: &mut KnnScratch,
         share: Option<GroupShare>,
     ) -> Option<(Spectrum, f32)> {
-        with_tree!(&self.tree, t => volume_radiance_in(t, x, wo, phase, k, max_r2, scratch, share))
+        with_tree!(&self.tree, t, s => volume_radiance_in(t, s, x, wo, phase, k, max_r2, scratch, share))
     }
 
     /// Total power of the photons flagged as first hits (for the energy test).
     pub fn first_hit_power(&self) -> Spectrum {
-        with_tree!(&self.tree, t => t
+        with_tree!(&self.tree, t, s => t
             .photons()
             .iter()
             .filter(|p| p.user_flags() & FLAG_FIRST_HIT != 0)
-            .map(|p| p.power())
+            .map(|p| p.power() * s)
             .sum())
     }
 }

@@ -50,6 +50,11 @@ pub trait PhotonRecord: KdRecord {
     fn incoming(&self) -> Vec3;
     /// The 14 free flag bits (bits 2–15 of the flag word, shifted down).
     fn user_flags(&self) -> u16;
+    /// A record from a position, a power and the incoming direction already quantised
+    /// ([`encode_direction`] bytes), as the type's `with_direction_bytes`.
+    fn from_parts(pos: Vec3, power: Vec3, dir: (u8, u8)) -> Result<Self, PhotonError>;
+    /// Sets the 14 free flag bits, keeping the split axis.
+    fn set_flags(&mut self, bits: u16);
 }
 
 // ---------------------------------------------------------------------------
@@ -212,6 +217,14 @@ impl KdRecord for Photon {
 }
 
 impl PhotonRecord for Photon {
+    #[inline]
+    fn from_parts(pos: Vec3, power: Vec3, dir: (u8, u8)) -> Result<Self, PhotonError> {
+        Photon::with_direction_bytes(pos, power, dir)
+    }
+    #[inline]
+    fn set_flags(&mut self, bits: u16) {
+        self.set_user_flags(bits)
+    }
     #[inline]
     fn power(&self) -> Vec3 {
         rgbe_decode(self.rgbe)
@@ -377,6 +390,14 @@ impl KdRecord for PhotonF32 {
 }
 
 impl PhotonRecord for PhotonF32 {
+    #[inline]
+    fn from_parts(pos: Vec3, power: Vec3, dir: (u8, u8)) -> Result<Self, PhotonError> {
+        PhotonF32::with_direction_bytes(pos, power, dir)
+    }
+    #[inline]
+    fn set_flags(&mut self, bits: u16) {
+        self.set_user_flags(bits)
+    }
     #[inline]
     fn power(&self) -> Vec3 {
         Vec3::from_array(self.power)

@@ -11,7 +11,7 @@ use super::map::{
     MapKind, PhotonMap, PhotonTree, Select, FLAG_CAUSTIC_PATH, FLAG_FIRST_HIT, FLAG_FROM_MEDIUM,
     FLAG_SUBSURFACE_EXIT, GROUP_SHIFT,
 };
-use super::{encode_direction, Photon, PhotonError, PhotonF32, PhotonKdTree};
+use super::{encode_direction, Photon, PhotonF32, PhotonKdTree, PhotonRecord};
 use crate::geometry::{Ray, SurfaceInteraction};
 use crate::lights::{LeSample, Light, Target};
 use crate::materials::bsdf::{Bsdf, Component, LobeFlags};
@@ -28,10 +28,6 @@ use std::sync::atomic::{AtomicBool, Ordering};
 /// Photon paths per batch.
 pub const BATCH: u64 = 2048;
 
-/// Bytes a photon takes while its map is being traced, once its round is done and until the
-/// number emitted is known and it becomes a stored record ([`Traced`]).
-pub const TRACED_PHOTON_BYTES: u64 = std::mem::size_of::<Traced>() as u64;
-const _: () = assert!(TRACED_PHOTON_BYTES == 28);
 const _: () = assert!(std::mem::size_of::<RawPhoton>() == 40);
 
 /// Where an irradiance point goes: a traced photon's position and its surface normal (as
@@ -39,36 +35,18 @@ const _: () = assert!(std::mem::size_of::<RawPhoton>() == 40);
 /// exits' exitance, not irradiance).
 type IrradianceSite = (Vec3, (u8, u8), bool);
 
-/// A photon of a finished round, held until the number emitted is known (28 bytes): the
-/// power not yet divided by it (the records' RGBE needs the full `f32` product), the
-/// direction already quantised as the record stores it.
-#[derive(Clone, Copy)]
-struct Traced {
-    p: Vec3,
-    power: Spectrum,
-    /// The record's incoming-direction bytes (`encode_direction` of the reversed travel
-    /// direction).
-    dir: (u8, u8),
-    /// The record's user flags: `FLAG_*` bits and light group.
-    flags: u16,
-}
-
-impl Traced {
-    /// `None` when the record constructors would reject the position or the direction (the
-    /// power is checked once normalised).
-    #[inline]
-    fn new(r: &RawPhoton) -> Option<Traced> {
-        if !r.p.is_finite() {
-            return None;
-        }
-        let dir = super::photon::encode_travel_direction(r.d).ok()?;
-        Some(Traced {
-            p: r.p,
-            power: r.power,
-            dir,
-            flags: r.flags as u16 | (r.group as u16) << GROUP_SHIFT,
-        })
+/// The stored record of a traced photon, its power as traced (the map's power scale divides
+/// it by the paths emitted as it is read): `None` when the record's constructor rejects the
+/// position, the direction or the power.
+#[inline]
+fn record_of<P: PhotonRecord>(r: &RawPhoton) -> Option<P> {
+    if !r.p.is_finite() {
+        return None;
     }
+    let dir = super::photon::encode_travel_direction(r.d).ok()?;
+    let mut ph = P::from_parts(r.p, r.power, dir).ok()?;
+    ph.set_flags(r.flags as u16 | (r.group as u16) << GROUP_SHIFT);
+    Some(ph)
 }
 
 /// A photon before normalisation by the number emitted (40 bytes).
@@ -519,16 +497,31 @@ fn trace_batch(scene: &Scene, params: &TraceParams, b: u64) -> Vec<RawPhoton> {
 /// Returns `None` when cancelled; the cancel flag is read before every batch and within the
 /// kd-tree build.
 ///
-/// Memory: when a round is done its photons are quantised ([`Traced`], 28 bytes) and the
-/// irradiance points taken from them (16 bytes per point, one per `irradiance::STRIDE`
-/// photons); they become stored records only once the number emitted (their normalisation)
-/// is known, a round at a time, each round freed once converted; the kd-tree is then
-/// balanced in place. The peak is the traced photons and the points, 28 + 16 / 4 = 32 bytes a
-/// photon, plus one round in flight: 7 bytes a photon more than the finished map with its
-/// irradiance points (20 + 20 / 4).
+/// Memory: when a round is done each batch's photons become their stored records (20 bytes,
+/// or 28 with `f32` power), their power as traced: the division by the paths emitted, known
+/// only when tracing stops, is the map's power scale, applied as the photons are read
+/// ([`PhotonTree`]). The irradiance points are taken at the same time (16 bytes per point, one
+/// per `irradiance::STRIDE` photons). Once tracing stops the batches are moved into one array,
+/// a round at a time, each round freed once moved, and the kd-tree is balanced in place. So
+/// the photon pass holds the records and the points' sites (20 + 16 / 4 bytes a photon), less
+/// than the finished map with its irradiance points (20 + 20 / 4), plus one round in flight.
 pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
+    if params.f32_power {
+        build_map_of::<PhotonF32>(scene, params, PhotonTree::F32)
+    } else {
+        build_map_of::<Photon>(scene, params, PhotonTree::Rgbe)
+    }
+}
+
+/// [`build_map`] with records of type `P`; `tree` wraps the kd-tree and the power scale.
+fn build_map_of<P: PhotonRecord>(
+    scene: &Scene,
+    params: &TraceParams,
+    tree: fn(PhotonKdTree<P>, f32) -> PhotonTree,
+) -> Option<PhotonMap> {
     let cancelled = || params.cancel.is_some_and(|c| c.load(Ordering::Relaxed));
-    let mut rounds: Vec<Vec<Vec<Traced>>> = Vec::new();
+    // Round by round, batch by batch: the stored records.
+    let mut rounds: Vec<Vec<Vec<P>>> = Vec::new();
     // The irradiance points: every `irradiance::STRIDE`-th photon traced, counted over the
     // rounds in order.
     let take_points = params.irradiance.is_some();
@@ -555,9 +548,9 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
         if cancelled() {
             return None;
         }
-        // Quantise the round's photons and take its irradiance points, batch by batch in
-        // parallel; each batch knows the index of its first photon, so the points are the
-        // same for any thread count.
+        // The round's records and its irradiance points, batch by batch in parallel; each
+        // batch knows the index of its first photon, so the points are the same for any
+        // thread count. The batches stay apart (no copy into one array on one thread).
         let mut first = Vec::with_capacity(results.len());
         let mut count = 0usize;
         for r in &results {
@@ -565,7 +558,7 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
             count += r.len();
         }
         seen += count;
-        let converted: Vec<(Vec<Traced>, Vec<IrradianceSite>)> = results
+        let converted: Vec<(Vec<P>, Vec<IrradianceSite>)> = results
             .into_par_iter()
             .zip(first)
             .map(|(raw, first)| {
@@ -580,14 +573,12 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
                 } else {
                     Vec::new()
                 };
-                (raw.iter().filter_map(Traced::new).collect(), points)
+                (raw.iter().filter_map(record_of::<P>).collect(), points)
             })
             .collect();
-        // The batches stay apart (no serial copy into one array); the records are made
-        // from them in order.
         let mut round_batches = Vec::with_capacity(converted.len());
-        for (traced, pts) in converted {
-            round_batches.push(traced);
+        for (records, pts) in converted {
+            round_batches.push(records);
             points.extend_from_slice(&pts);
         }
         stored += count;
@@ -603,30 +594,11 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
         };
     }
     let emitted = batches * BATCH;
-    let inv = 1.0 / emitted as f32;
     let t = std::time::Instant::now();
-    let tree = if params.f32_power {
-        PhotonTree::F32(balance(
-            records(
-                rounds,
-                stored,
-                inv,
-                PhotonF32::with_direction_bytes,
-                |p, f| p.set_user_flags(f),
-            ),
-            params.cancel,
-        )?)
-    } else {
-        PhotonTree::Rgbe(balance(
-            records(rounds, stored, inv, Photon::with_direction_bytes, |p, f| {
-                p.set_user_flags(f)
-            }),
-            params.cancel,
-        )?)
-    };
+    let kd = balance(concatenate(rounds), params.cancel)?;
     let mut map = PhotonMap {
         kind: params.kind,
-        tree,
+        tree: tree(kd, 1.0 / emitted as f32),
         irradiance: None,
         exitance: None,
         emitted,
@@ -657,7 +629,7 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
 
 /// The kd-tree of `photons`, balanced with the cancel flag polled if there is one (`None`
 /// when cancelled).
-fn balance<P: super::PhotonRecord>(
+fn balance<P: PhotonRecord>(
     photons: Vec<P>,
     cancel: Option<&AtomicBool>,
 ) -> Option<PhotonKdTree<P>> {
@@ -670,30 +642,33 @@ fn balance<P: super::PhotonRecord>(
     }
 }
 
-/// The stored records of the traced photons, their power divided by the paths emitted (`inv`
-/// is 1 / emitted); photons whose power cannot be encoded (non-finite) are dropped. Rounds are
-/// converted and freed one at a time, so the traced photons and the records are never all
-/// live together.
-fn records<P: Send>(
-    rounds: Vec<Vec<Vec<Traced>>>,
-    stored: usize,
-    inv: f32,
-    new: impl Fn(Vec3, Vec3, (u8, u8)) -> Result<P, PhotonError> + Sync,
-    set_flags: impl Fn(&mut P, u16) + Sync,
-) -> Vec<P> {
-    let mut photons: Vec<P> = Vec::with_capacity(stored);
-    for traced in rounds {
-        // In parallel, in order (rayon collects the pieces, then appends them in turn).
-        photons.par_extend(
-            traced
-                .par_iter()
-                .flat_map_iter(|b| b.iter())
-                .filter_map(|t| {
-                    let mut ph = new(t.p, t.power * inv, t.dir).ok()?;
-                    set_flags(&mut ph, t.flags);
-                    Some(ph)
-                }),
-        );
+/// The records of every batch in one array, in order. Each round is moved in parallel, batch
+/// by batch, into its place and then freed, so the batches and the array are never all live
+/// together (the array's pages are taken as they are written).
+fn concatenate<P: Copy + Send + Sync>(rounds: Vec<Vec<Vec<P>>>) -> Vec<P> {
+    let total = rounds.iter().flatten().map(Vec::len).sum();
+    let mut photons: Vec<P> = Vec::with_capacity(total);
+    for round in rounds {
+        let len = photons.len();
+        let added: usize = round.iter().map(Vec::len).sum();
+        let mut slots = &mut photons.spare_capacity_mut()[..added];
+        let mut places = Vec::with_capacity(round.len());
+        for batch in &round {
+            let (place, rest) = std::mem::take(&mut slots).split_at_mut(batch.len());
+            places.push(place);
+            slots = rest;
+        }
+        places
+            .into_par_iter()
+            .zip(round.par_iter())
+            .for_each(|(place, batch)| {
+                for (slot, ph) in place.iter_mut().zip(batch) {
+                    slot.write(*ph);
+                }
+            });
+        // SAFETY: the `added` slots after `len` were each written above (the places split
+        // them exactly, one per record of the round).
+        unsafe { photons.set_len(len + added) };
     }
     photons
 }

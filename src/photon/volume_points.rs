@@ -217,7 +217,7 @@ mod tests {
             .collect();
         PhotonMap::from_tree(
             MapKind::Volume,
-            PhotonTree::Rgbe(PhotonKdTree::build(photons)),
+            PhotonTree::Rgbe(PhotonKdTree::build(photons), 1.0),
         )
     }
 

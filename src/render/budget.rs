@@ -23,7 +23,6 @@
 
 use super::cache_fill;
 use super::eye::{EyeCtx, EyeSettings};
-use super::memory::build_extra;
 use super::photons;
 use super::renderer::Renderer;
 use super::settings::{RenderSettings, BYTES_PER_TRIANGLE};
@@ -284,7 +283,7 @@ impl Renderer<'_> {
             if let Some(limit) = s.memory_limit {
                 let bvh = self.scene.triangle_count as u64 * BYTES_PER_TRIANGLE;
                 let record = s.photons.bytes_per_photon();
-                let fit = limit.saturating_sub(bvh) / (record + build_extra(record));
+                let fit = limit.saturating_sub(bvh) / record;
                 scale = scale.min(fit as f64 / preset_photons);
             }
         }

@@ -39,7 +39,7 @@ use std::path::{Path, PathBuf};
 /// The photon-map file (`.pmaps`): a container of this kind.
 pub const MAP_FILE: Kind = Kind {
     magic: *b"PMAPS\0\r\n",
-    version: 2,
+    version: 3,
     what: "photon-map file",
 };
 
@@ -311,15 +311,17 @@ fn write_map(w: &mut Writer, map: &Option<PhotonMap>) {
     w.u64(m.emitted);
     w.f64(m.build_seconds);
     match &m.tree {
-        PhotonTree::Rgbe(t) => {
+        PhotonTree::Rgbe(t, scale) => {
             w.u8(0);
+            w.f32(*scale);
             w.u64(t.len() as u64);
             for p in t.photons() {
                 w.buf.extend_from_slice(&p.to_le_bytes());
             }
         }
-        PhotonTree::F32(t) => {
+        PhotonTree::F32(t, scale) => {
             w.u8(1);
+            w.f32(*scale);
             w.u64(t.len() as u64);
             for p in t.photons() {
                 w.buf.extend_from_slice(&p.to_le_bytes());
@@ -385,22 +387,30 @@ fn read_map(r: &mut Reader) -> Result<Option<PhotonMap>> {
     let build_seconds = r.f64("build seconds")?;
     let tree = match r.u8("photon record")? {
         0 => {
+            let scale = r.f32("power scale")?;
             let n = r.count(Photon::BYTES, "photons")?;
             let b = r.take(n * Photon::BYTES, "photons")?;
-            PhotonTree::Rgbe(PhotonKdTree::from_heap(
-                b.chunks_exact(Photon::BYTES)
-                    .map(Photon::from_le_bytes)
-                    .collect(),
-            ))
+            PhotonTree::Rgbe(
+                PhotonKdTree::from_heap(
+                    b.chunks_exact(Photon::BYTES)
+                        .map(Photon::from_le_bytes)
+                        .collect(),
+                ),
+                scale,
+            )
         }
         1 => {
+            let scale = r.f32("power scale")?;
             let n = r.count(PhotonF32::BYTES, "photons")?;
             let b = r.take(n * PhotonF32::BYTES, "photons")?;
-            PhotonTree::F32(PhotonKdTree::from_heap(
-                b.chunks_exact(PhotonF32::BYTES)
-                    .map(PhotonF32::from_le_bytes)
-                    .collect(),
-            ))
+            PhotonTree::F32(
+                PhotonKdTree::from_heap(
+                    b.chunks_exact(PhotonF32::BYTES)
+                        .map(PhotonF32::from_le_bytes)
+                        .collect(),
+                ),
+                scale,
+            )
         }
         k => return Err(r.corrupt(format!("unknown photon record {k}"))),
     };

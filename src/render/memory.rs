@@ -6,14 +6,6 @@ use super::renderer::Renderer;
 use super::settings::BYTES_PER_TRIANGLE;
 use serde::Serialize;
 
-/// Bytes per photon held, besides the finished record, while a map is built: the traced
-/// photon (`TRACED_PHOTON_BYTES`, 28) is held until the number emitted is known, in place of
-/// the record; the kd-tree is balanced in place. So 8 B for 20-byte records, 0 for 28-byte
-/// ones.
-pub(super) fn build_extra(record: u64) -> u64 {
-    crate::photon::trace::TRACED_PHOTON_BYTES.saturating_sub(record)
-}
-
 /// Memory that the photon maps and the BVH of a render take, estimated before the photon
 /// pass from the stored-photon targets of the maps that will be built.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
@@ -31,8 +23,9 @@ pub struct MemoryEstimate {
     /// `photon_bytes + bvh_bytes + irradiance_bytes`.
     pub total_bytes: u64,
     /// The most the render holds at once, which the memory limit is checked against: the
-    /// BVH, the maps, and, while the largest map is traced, what its traced photons take
-    /// beyond its records (`TRACED_PHOTON_BYTES` less the record, each).
+    /// BVH and the maps. A map's photons are traced as their stored records and its kd-tree
+    /// is balanced in place, so building the maps holds no more than the maps
+    /// (`trace::build_map`).
     pub peak_bytes: u64,
 }
 
@@ -68,7 +61,6 @@ impl Renderer<'_> {
             .saturating_mul(
                 std::mem::size_of::<crate::photon::irradiance::IrradiancePoint>() as u64,
             );
-        let largest = built.iter().copied().max().unwrap_or(0);
         let triangles = self.scene.triangle_count as u64;
         let record = p.bytes_per_photon();
         let photon_bytes = photons.saturating_mul(record);
@@ -83,7 +75,7 @@ impl Renderer<'_> {
             bvh_bytes,
             irradiance_bytes,
             total_bytes,
-            peak_bytes: total_bytes.saturating_add(largest.saturating_mul(build_extra(record))),
+            peak_bytes: total_bytes,
         }
     }
 }

@@ -224,8 +224,7 @@ impl<'a> Renderer<'a> {
                     message: format!(
                         "the render needs an estimated {} bytes at its peak ({} photons x {} B \
                          = {} B for the photon maps, {} B of precomputed irradiance, {} \
-                         triangles x {} B = {} B for the BVH, {} B in all, plus {} B per photon \
-                         of the largest map while it is traced), over the limit of {limit} \
+                         triangles x {} B = {} B for the BVH), over the limit of {limit} \
                          bytes; store fewer photons or raise the limit",
                         estimate.peak_bytes,
                         estimate.photons,
@@ -235,8 +234,6 @@ impl<'a> Renderer<'a> {
                         estimate.triangles,
                         BYTES_PER_TRIANGLE,
                         estimate.bvh_bytes,
-                        estimate.total_bytes,
-                        super::memory::build_extra(s.photons.bytes_per_photon())
                     ),
                 });
             }

@@ -107,11 +107,10 @@ def test_a_panic_in_the_core_is_a_photonmap_error(monkeypatch):
 
 @pytest.mark.parametrize("limit", ["512M", 512 * 2**20, "1G"])
 def test_memory_limit_stops_a_huge_request_up_front(limit):
-    # 10^8 photons x 20 B, 2.5e7 irradiance points x 20 B, and 8 B more per photon while the
-    # map is traced (28 B each until the paths emitted are known). Up front: no phase of the
-    # render starts.
+    # 10^8 photons x 20 B and 2.5e7 irradiance points x 20 B: the photons are traced as their
+    # records, so that is the peak. Up front: no phase of the render starts.
     phases = []
-    with pytest.raises(ValueError, match=r"`memory_limit`.*estimated 3300\d{6} bytes at its peak") as e:
+    with pytest.raises(ValueError, match=r"`memory_limit`.*estimated 2500\d{6} bytes at its peak") as e:
         photonmap.render(default_scene(16), photons=10**8, caustic_photons=0, spp=1,
                          memory_limit=limit, progress=lambda f, phase: phases.append(phase))
     assert phases == []

@@ -82,7 +82,7 @@ mod tests {
         }
         let map = PhotonMap {
             kind: MapKind::Caustic,
-            tree: PhotonTree::Rgbe(PhotonKdTree::build(photons)),
+            tree: PhotonTree::Rgbe(PhotonKdTree::build(photons), 1.0),
             irradiance: None,
             exitance: None,
             emitted: 1,
