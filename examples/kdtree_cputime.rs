@@ -45,18 +45,27 @@ fn morton(p: &[f32; 3]) -> u32 {
     spread(q[0]) | (spread(q[1]) << 1) | (spread(q[2]) << 2)
 }
 
+/// Query sets timed together: the thread's CPU time advances in scheduler ticks (4 ms
+/// here), so each timing spans several sets to keep the tick a few percent of it.
+const REPEAT: usize = 4;
+
 /// Best-of-`rounds` ns per query for `a` and `b`, interleaved.
 fn ab(rounds: usize, nq: usize, mut a: impl FnMut(), mut b: impl FnMut()) -> (f64, f64) {
     let (mut ta, mut tb) = (u64::MAX, u64::MAX);
     for _ in 0..rounds {
         let t = cpu_ns();
-        a();
+        for _ in 0..REPEAT {
+            a();
+        }
         ta = ta.min(cpu_ns() - t);
         let t = cpu_ns();
-        b();
+        for _ in 0..REPEAT {
+            b();
+        }
         tb = tb.min(cpu_ns() - t);
     }
-    (ta as f64 / nq as f64, tb as f64 / nq as f64)
+    let per = (nq * REPEAT) as f64;
+    (ta as f64 / per, tb as f64 / per)
 }
 
 /// Asserts that both trees give the same results on every query before anything is timed:
