@@ -4,7 +4,7 @@
 //! - the gain of aiming caustic photons at specular objects;
 //! - the irradiance cache's speed-up and error against gathering at every pixel sample.
 //!
-//! Run: `cargo bench --bench photons`.
+//! Run: `cargo bench --bench photons` (`-- --one-core`: the photon pass on one thread only).
 
 use photonmap::io::exr::read_rgb_layers;
 use photonmap::photon::map::MapKind;
@@ -52,11 +52,14 @@ fn main() {
         .expect("scene");
     let scene = Scene::build(&desc).expect("scene builds");
 
+    // `-- --one-core`: the 1-thread row alone (for a run pinned to one core beside LuxCore).
+    let one_core = std::env::args().any(|a| a == "--one-core");
     println!("## Photon pass (default scene, global map, 1,000,000 photons stored)\n");
     println!("| threads | paths/s | paths/s per thread | photons stored/s | scaling |");
     println!("|---|---|---|---|---|");
     let mut base = 0.0;
-    for threads in [1usize, 2] {
+    let threads_run: &[usize] = if one_core { &[1] } else { &[1, 2] };
+    for &threads in threads_run {
         let params = TraceParams {
             kind: MapKind::Global,
             target: 1_000_000,
@@ -86,6 +89,9 @@ fn main() {
         );
     }
 
+    if one_core {
+        return;
+    }
     println!("\n## Caustic photons aimed at specular objects (200,000 stored)\n");
     println!("| emission | paths emitted | stored per 1000 paths | seconds |");
     println!("|---|---|---|---|");
