@@ -211,8 +211,10 @@ fn damaged_files_are_clear_errors() {
     other[8..12].copy_from_slice(&(version + 1).to_le_bytes());
     let e = load(&other).unwrap();
     assert!(
-        e.contains(&format!("photon-map file of format version {}", version + 1))
-            && e.contains(&format!("reads version {version}")),
+        e.contains(&format!(
+            "photon-map file of format version {}",
+            version + 1
+        )) && e.contains(&format!("reads version {version}")),
         "{e}"
     );
     let mut flipped = good.clone();

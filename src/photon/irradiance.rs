@@ -6,6 +6,7 @@
 //!
 //! The points are kept in their own left-balanced kd-tree of 20-byte records.
 
+use super::append::append_parallel;
 use super::kdtree::{KnnScratch, PhotonKdTree};
 use super::map::{PhotonMap, Select, FLAG_SUBSURFACE_EXIT};
 use super::photon::{decode_direction, encode_direction, rgbe_decode, rgbe_encode, KdRecord};
@@ -101,6 +102,9 @@ impl IrradiancePoint {
     }
 }
 
+/// Points whose records [`IrradianceMap::build`] makes at a time, from the back.
+const BUILD_PIECE: usize = 1 << 20;
+
 /// The irradiance points of a global map.
 pub struct IrradianceMap {
     tree: PhotonKdTree<IrradiancePoint>,
@@ -115,8 +119,9 @@ impl IrradianceMap {
     /// Irradiance at each of `points` (position, and normal on the photons' side as
     /// [`encode_direction`] bytes) from the photons `select` takes among the `k` nearest of
     /// `global` within `max_r2`; None when cancelled. Deterministic: each point's estimate
-    /// depends on the map alone. The points are consumed and freed before the points' tree
-    /// is balanced (in place, in the records' own array).
+    /// depends on the map alone. The points are consumed and freed as their records are made
+    /// (`BUILD_PIECE` at a time), and the points' tree is balanced in place, in the records'
+    /// own array.
     pub fn build(
         global: &PhotonMap,
         points: Vec<(Vec3, (u8, u8))>,
@@ -126,43 +131,53 @@ impl IrradianceMap {
         cancel: Option<&AtomicBool>,
     ) -> Option<IrradianceMap> {
         let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
-        // One record per point, written in place; the points whose irradiance cannot be
-        // encoded are marked and dropped afterwards, keeping the others' order.
-        let blank = IrradiancePoint {
-            pos: [0.0; 3],
-            rgbe: [0; 4],
-            normal: (0, 0),
-            axis: 0,
-            _pad: 0,
-        };
-        let mut records = vec![blank; points.len()];
-        let mut kept = vec![false; points.len()];
-        records
-            .par_chunks_mut(4096)
-            .zip(kept.par_chunks_mut(4096))
-            .zip(points.par_chunks(4096))
-            .for_each_init(KnnScratch::new, |scratch, ((out, keep), chunk)| {
-                if cancelled() {
-                    return;
-                }
-                for ((o, kp), &(p, nb)) in out.iter_mut().zip(keep.iter_mut()).zip(chunk) {
-                    let n = decode_direction(nb.0, nb.1);
-                    let est = global.irradiance_estimate(p, n, k, max_r2, select, scratch);
-                    if let Some(r) = IrradiancePoint::new(p, n, &est) {
-                        (*o, *kp) = (r, true);
+        // The records are made a piece of points at a time from the back, each piece's points
+        // freed once its records are made, so the points and the records are never all live
+        // together. The points whose irradiance cannot be encoded are dropped, keeping the
+        // others' order.
+        let mut points = points;
+        let mut pieces: Vec<Vec<IrradiancePoint>> = Vec::new();
+        while !points.is_empty() {
+            let start = points.len().saturating_sub(BUILD_PIECE);
+            let piece: Vec<Vec<IrradiancePoint>> = points[start..]
+                .par_chunks(4096)
+                .map_init(KnnScratch::new, |scratch, chunk| {
+                    if cancelled() {
+                        return Vec::new();
                     }
-                }
-            });
-        if cancelled() {
-            return None;
+                    chunk
+                        .iter()
+                        .filter_map(|&(p, nb)| {
+                            let n = decode_direction(nb.0, nb.1);
+                            let est = global.irradiance_estimate(p, n, k, max_r2, select, scratch);
+                            IrradiancePoint::new(p, n, &est)
+                        })
+                        .collect()
+                })
+                .collect();
+            if cancelled() {
+                return None;
+            }
+            points.truncate(start);
+            points.shrink_to_fit();
+            let mut records = Vec::new();
+            append_parallel(
+                &mut records,
+                &piece.iter().map(|c| &c[..]).collect::<Vec<_>>(),
+            );
+            pieces.push(records);
         }
         drop(points);
-        let mut i = 0;
-        records.retain(|_| {
-            i += 1;
-            kept[i - 1]
-        });
-        drop(kept);
+        let records = match pieces.len() {
+            0 | 1 => pieces.pop().unwrap_or_default(),
+            _ => {
+                let mut records = Vec::with_capacity(pieces.iter().map(Vec::len).sum());
+                while let Some(piece) = pieces.pop() {
+                    append_parallel(&mut records, &[&piece[..]]);
+                }
+                records
+            }
+        };
         let tree = PhotonKdTree::build(records);
         Some(IrradianceMap {
             tree,

@@ -15,6 +15,7 @@
 //!   ([`PhotonKdTree::knn`]) and radius ([`PhotonKdTree::for_each_in_radius`])
 //!   queries.
 
+mod append;
 pub mod irradiance;
 pub mod kdtree;
 mod kdtree_balance;

@@ -6,6 +6,7 @@
 //! until the map holds its target number of photons (Jensen shoots until N are stored) or the
 //! emission cap is reached. The result does not depend on the thread count.
 
+use super::append::append_parallel;
 use super::irradiance::{self, IrradianceMap};
 use super::map::{
     MapKind, PhotonMap, PhotonTree, Select, FLAG_CAUSTIC_PATH, FLAG_FIRST_HIT, FLAG_FROM_MEDIUM,
@@ -501,10 +502,11 @@ fn trace_batch(scene: &Scene, params: &TraceParams, b: u64) -> Vec<RawPhoton> {
 /// or 28 with `f32` power), their power as traced: the division by the paths emitted, known
 /// only when tracing stops, is the map's power scale, applied as the photons are read
 /// ([`PhotonTree`]). The irradiance points are taken at the same time (16 bytes per point, one
-/// per `irradiance::STRIDE` photons). Once tracing stops the batches are moved into one array,
-/// a round at a time, each round freed once moved, and the kd-tree is balanced in place. So
-/// the photon pass holds the records and the points' sites (20 + 16 / 4 bytes a photon), less
-/// than the finished map with its irradiance points (20 + 20 / 4), plus one round in flight.
+/// per `irradiance::STRIDE` photons). Each round's records are appended to one array, in
+/// parallel, and the round's batches freed; once tracing stops the kd-tree is balanced in that
+/// array, in place. So the photon pass holds the records and the points' sites (20 + 16 / 4
+/// bytes a photon), less than the finished map with its irradiance points (20 + 20 / 4), plus
+/// one round in flight.
 pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
     if params.f32_power {
         build_map_of::<PhotonF32>(scene, params, PhotonTree::F32)
@@ -520,8 +522,8 @@ fn build_map_of<P: PhotonRecord>(
     tree: fn(PhotonKdTree<P>, f32) -> PhotonTree,
 ) -> Option<PhotonMap> {
     let cancelled = || params.cancel.is_some_and(|c| c.load(Ordering::Relaxed));
-    // Round by round, batch by batch: the stored records.
-    let mut rounds: Vec<Vec<Vec<P>>> = Vec::new();
+    // The stored records, in batch order; each round's are appended in parallel.
+    let mut photons: Vec<P> = Vec::new();
     // The irradiance points: every `irradiance::STRIDE`-th photon traced, counted over the
     // rounds in order.
     let take_points = params.irradiance.is_some();
@@ -576,13 +578,13 @@ fn build_map_of<P: PhotonRecord>(
                 (raw.iter().filter_map(record_of::<P>).collect(), points)
             })
             .collect();
-        let mut round_batches = Vec::with_capacity(converted.len());
-        for (records, pts) in converted {
-            round_batches.push(records);
-            points.extend_from_slice(&pts);
+        let batches_done: Vec<&[P]> = converted.iter().map(|c| &c.0[..]).collect();
+        append_parallel(&mut photons, &batches_done);
+        for (_, pts) in &converted {
+            points.extend_from_slice(pts);
         }
+        drop(converted);
         stored += count;
-        rounds.push(round_batches);
         batches += n;
         // Size the next round from the storage rate seen so far (deterministic).
         let per_batch = stored as f64 / batches as f64;
@@ -595,7 +597,7 @@ fn build_map_of<P: PhotonRecord>(
     }
     let emitted = batches * BATCH;
     let t = std::time::Instant::now();
-    let kd = balance(concatenate(rounds), params.cancel)?;
+    let kd = balance(photons, params.cancel)?;
     let mut map = PhotonMap {
         kind: params.kind,
         tree: tree(kd, 1.0 / emitted as f32),
@@ -606,7 +608,11 @@ fn build_map_of<P: PhotonRecord>(
     };
     if let Some((k, max_r2, select)) = params.irradiance {
         // The sites at subsurface exits hold the exits' exitance, the others irradiance.
-        let (exits, points): (Vec<_>, Vec<_>) = points.into_iter().partition(|s| s.2);
+        // (In place: the others stay in the sites' own array.)
+        let exits: Vec<IrradianceSite> = points.iter().filter(|s| s.2).copied().collect();
+        if !exits.is_empty() {
+            points.retain(|s| !s.2);
+        }
         let strip = |v: Vec<IrradianceSite>| v.into_iter().map(|(p, n, _)| (p, n)).collect();
         let build = |sites: Vec<(Vec3, (u8, u8))>, select: Select| {
             let mut m = IrradianceMap::build(&map, sites, k, max_r2, select, params.cancel)?;
@@ -640,35 +646,4 @@ fn balance<P: PhotonRecord>(
         Some(flag) => PhotonKdTree::build_cancellable(photons, flag),
         None => Some(PhotonKdTree::build(photons)),
     }
-}
-
-/// The records of every batch in one array, in order. Each round is moved in parallel, batch
-/// by batch, into its place and then freed, so the batches and the array are never all live
-/// together (the array's pages are taken as they are written).
-fn concatenate<P: Copy + Send + Sync>(rounds: Vec<Vec<Vec<P>>>) -> Vec<P> {
-    let total = rounds.iter().flatten().map(Vec::len).sum();
-    let mut photons: Vec<P> = Vec::with_capacity(total);
-    for round in rounds {
-        let len = photons.len();
-        let added: usize = round.iter().map(Vec::len).sum();
-        let mut slots = &mut photons.spare_capacity_mut()[..added];
-        let mut places = Vec::with_capacity(round.len());
-        for batch in &round {
-            let (place, rest) = std::mem::take(&mut slots).split_at_mut(batch.len());
-            places.push(place);
-            slots = rest;
-        }
-        places
-            .into_par_iter()
-            .zip(round.par_iter())
-            .for_each(|(place, batch)| {
-                for (slot, ph) in place.iter_mut().zip(batch) {
-                    slot.write(*ph);
-                }
-            });
-        // SAFETY: the `added` slots after `len` were each written above (the places split
-        // them exactly, one per record of the round).
-        unsafe { photons.set_len(len + added) };
-    }
-    photons
 }
