@@ -59,7 +59,6 @@ SUN_HALF_ANGLE = ("exporter: the sun's angle is written halved: penumbrae twice 
 #: scene -> reason, for the add-on path (tests/blender/test_corpus.py).
 ADDON: dict[str, str] = {
     "area_disk": CEILING_EDGE.format("(17,0) -6.2% (-7.3 sigma)", "-2.3%"),
-    "area_spread60": CEILING_EDGE.format("(11,0) +13.4% (+5.9 sigma)", "+12.0%"),
     "emission_principled": EMISSIVE_SPHERE,
     "point_r01_hard": POINT_WALL_BLOCK,
     "spot_offaxis": SPOT_DARK_FLOOR.format("block (8,14) -13.3% (-5.3 sigma), -12.5% before"),
