@@ -163,11 +163,6 @@ impl PhotonTree {
         }
     }
 
-    /// The factor applied to every photon's stored power as it is read (1 / paths emitted).
-    pub fn power_scale(&self) -> f32 {
-        with_tree!(self, _t, s => s)
-    }
-
     /// The `k` photons nearest to `p` within `max_r2`, as [`PhotonKdTree::knn`].
     #[inline]
     pub fn knn<'s>(

@@ -552,7 +552,7 @@ fn build_map_of<P: PhotonRecord>(
         }
         // The round's records and its irradiance points, batch by batch in parallel; each
         // batch knows the index of its first photon, so the points are the same for any
-        // thread count. The batches stay apart (no copy into one array on one thread).
+        // thread count. The records are then appended to the map's array, in parallel.
         let mut first = Vec::with_capacity(results.len());
         let mut count = 0usize;
         for r in &results {
