@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 import math
-import time
 
 import bpy
 import numpy as np
@@ -291,26 +290,49 @@ def test_render_border_renders_only_the_border(photonmap_scene, addon, tmp_path,
 
 
 def test_escape_cancels_the_render(photonmap_scene, addon, reports, monkeypatch, tmp_path):
+    """Esc (``test_break`` true) as soon as the core has reported a phase: the engine sets the
+    job's cancel token, the core stops with RenderCancelled in that phase (no later phase
+    starts, the phase never reports itself finished), and no result is written. At the final
+    preset and 256x256 an uncancelled render runs to the end and writes its result."""
     sc = photonmap_scene(scenes.cornell_area, quality="final")
     sc.render.resolution_x = sc.render.resolution_y = 256
-    state = {"start": None, "broke": None}
+    jobs = []
+
+    class Job(addon.engine.RenderJob):
+        def __init__(self, *a, **k):
+            super().__init__(*a, **k)
+            self.reports = []
+            jobs.append(self)
+
+        def _progress(self, fraction, phase):
+            super()._progress(fraction, phase)
+            self.reports.append((float(fraction), phase))
+
+    state = {"polls": 0, "broke_in": None}
 
     def test_break(self):
-        now = time.monotonic()
-        if state["start"] is None:
-            state["start"] = now
-        if now - state["start"] > 0.5:
-            state["broke"] = state["broke"] or now
-            return True
-        return False
+        state["polls"] += 1
+        job = jobs[-1] if jobs else None
+        if job is not None and job.reports and state["broke_in"] is None:
+            state["broke_in"] = job.reports[-1][1]
+            state["reports_at_break"] = len(job.reports)
+        return state["broke_in"] is not None
 
+    monkeypatch.setattr(addon.engine, "RenderJob", Job)
     monkeypatch.setattr(addon.engine.PhotonMapRenderEngine, "_test_break", test_break)
     wrote = []
     monkeypatch.setattr(addon.passes, "write_result", lambda *a, **k: wrote.append(1))
     bpy.ops.render.render()
-    end = time.monotonic()
-    assert state["broke"] is not None, "the engine never polled test_break"
-    assert end - state["broke"] < 1.0, end - state["broke"]
+    assert state["polls"] > 0, "the engine never polled test_break"
+    assert state["broke_in"] is not None, "the core reported no phase"
+    (job,) = jobs
+    print(f"\nEsc in `{state['broke_in']}` after {state['polls']} polls; the job reported "
+          f"{job.reports}")
+    assert job.token.cancelled, "Esc did not reach the job's cancel token"
+    assert isinstance(job.error, addon.engine.photonmap.RenderCancelled), job.error
+    assert job.out is None
+    after = job.reports[state["reports_at_break"]:]
+    assert all(p == state["broke_in"] and f < 1.0 for f, p in after), (state, after)
     assert not wrote, "a cancelled render wrote a result"
     assert not reports.of("ERROR"), reports.items
 

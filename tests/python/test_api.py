@@ -3,7 +3,6 @@ import os
 import subprocess
 import sys
 import threading
-import time
 
 import numpy as np
 import pytest
@@ -92,7 +91,7 @@ def test_progress_exception_cancels_and_propagates():
 
 
 CTRL_C = r"""
-import _thread, signal, sys, threading, time
+import _thread, json, signal, sys, threading
 import photonmap
 from test_api import numpy_scene
 
@@ -100,28 +99,46 @@ from test_api import numpy_scene
 # and Python then installs no handler for it: Ctrl-C is Python's again here.
 signal.signal(signal.SIGINT, signal.default_int_handler)
 
-threading.Timer(0.3, _thread.interrupt_main).start()
-t0 = time.monotonic()
+token = photonmap.CancelToken()
+seen = []
+
+
+def progress(fraction, phase):
+    seen.append((fraction, phase))
+    # Ctrl-C once the camera pass has reported itself, from another thread, as a user would.
+    if phase == "render" and len([p for _, p in seen if p == "render"]) == 1:
+        threading.Thread(target=_thread.interrupt_main).start()
+
+
 try:
-    photonmap.render(numpy_scene(200), spp=2048)
+    # 10^6 samples per pixel: hours of camera pass; only a cancel ends it.
+    photonmap.render(numpy_scene(64), spp=1_000_000, cancel=token, progress=progress)
 except KeyboardInterrupt:
-    print(f"interrupted after {time.monotonic() - t0:.2f} s")
+    print(json.dumps({"interrupted": True, "cancelled": token.cancelled, "seen": seen}))
     sys.exit(0)
-print(f"not interrupted: the render ran {time.monotonic() - t0:.2f} s")
+print(json.dumps({"interrupted": False, "cancelled": token.cancelled, "seen": seen}))
 sys.exit(1)
 """
 
 
 def test_keyboard_interrupt_cancels():
     """Ctrl-C during a render (SIGINT raised in the main thread from another one) cancels it:
-    the calling thread checks for signals every 50 ms and raises KeyboardInterrupt long before
-    the render would end (2048 samples per pixel take over 20 s here). In a process of its
-    own, with Python's SIGINT handler installed (a test run started in the background of a
-    shell has SIGINT ignored, and then no interrupt reaches Python at all)."""
+    the calling thread checks for signals every 50 ms, sets the core's cancel flag (the token
+    passed in reads it) and raises KeyboardInterrupt once the render thread has stopped. The
+    camera pass asked for (10^6 samples per pixel) would take hours: a Ctrl-C that did not
+    stop the core would hang the test until its timeout. In a process of its own, with Python's
+    SIGINT handler installed (a test run started in the background of a shell has SIGINT
+    ignored, and then no interrupt reaches Python at all)."""
+    import json
+
     r = subprocess.run([sys.executable, "-c", CTRL_C], cwd=os.path.dirname(__file__),
-                       capture_output=True, text=True, timeout=300)
+                       capture_output=True, text=True, timeout=600)
     assert r.returncode == 0, r.stdout + r.stderr
-    assert float(r.stdout.split()[2]) < 10.0, r.stdout
+    got = json.loads(r.stdout.strip().splitlines()[-1])
+    assert got["interrupted"] and got["cancelled"], got
+    camera = [f for f, p in got["seen"] if p == "render"]
+    # Interrupted in the camera pass, which never reported itself finished.
+    assert camera and max(camera) < 1.0, got["seen"]
 
 
 def test_invalid_dict_is_a_scene_error_naming_the_field():
