@@ -23,6 +23,14 @@ sys.path.insert(0, str(HERE))
 import bpy  # noqa: E402
 import pytest  # noqa: E402
 
+sys.path.append(str(HERE.parent))
+import skip_policy  # noqa: E402
+
+
+def pytest_configure(config):
+    # Skips are listed at the end; on CI one not allowed by tests/skip_policy.py fails the run.
+    skip_policy.register(config)
+
 MODULE = "bl_ext.user_default.photonmap"
 
 
