@@ -24,7 +24,11 @@ fn scene_64() -> Scene {
 }
 
 /// Renders, and returns the progress fractions reported under `phase`, in order.
-fn render(scene: &Scene, settings: RenderSettings, phase: &'static str) -> (RenderOutput, Vec<f32>) {
+fn render(
+    scene: &Scene,
+    settings: RenderSettings,
+    phase: &'static str,
+) -> (RenderOutput, Vec<f32>) {
     let reports: Arc<Mutex<Vec<f32>>> = Arc::default();
     let sink = reports.clone();
     let progress: Arc<ProgressFn> = Arc::new(move |f: f32, name: &str| {
@@ -152,7 +156,10 @@ fn budget_stops_at_the_deadline_and_scales_the_plan() {
         let ratio = preset.caustic as f64 / preset.global as f64;
         if bs.photons_caustic > MIN_PHOTONS && bs.photons_global > MIN_PHOTONS {
             let off = (bs.photons_caustic as f64 - ratio * bs.photons_global as f64).abs();
-            assert!(off <= 1.0 + ratio, "photon targets off the preset's ratio: {bs:?}");
+            assert!(
+                off <= 1.0 + ratio,
+                "photon targets off the preset's ratio: {bs:?}"
+            );
         }
         // Final gathering: never more rays than the preset's, never fewer than the floor.
         assert!(
@@ -278,5 +285,8 @@ fn progressive_mode_stops_at_the_deadline_and_replays() {
         }
         passes.push(bs.passes);
     }
-    assert!(passes[2] > passes[0], "4 s ran no more passes than 1 s: {passes:?}");
+    assert!(
+        passes[2] > passes[0],
+        "4 s ran no more passes than 1 s: {passes:?}"
+    );
 }

@@ -134,12 +134,19 @@ def test_passes_in_the_result_and_in_multilayer_exr(photonmap_scene, addon, tmp_
     names = {n.split(".", 1)[1] for n in parts if n.startswith(layer + ".")}
     assert names == {"Combined", *photonmap.PASS_NAMES, photonmap.ERROR_PASS}, names
     comb = np.stack([parts[f"{layer}.Combined"][f"{layer}.Combined.{c}"] for c in "RGB"], -1)
-    total = sum(np.stack([parts[f"{layer}.{p}"][f"{layer}.{p}.{c}"] for c in "RGB"], -1)
-                for p in photonmap.PASS_NAMES)
     assert comb.mean() > 0.05
-    np.testing.assert_allclose(comb, total, rtol=1e-4, atol=1e-5)
-    # Blender's rows go bottom to top: the EXR (top row first) equals the core's image.
-    np.testing.assert_allclose(comb, seen["out"]["combined"], rtol=1e-5, atol=1e-6)
+    # Blender's rows go bottom to top: the EXR (top row first) equals the core's image, and
+    # each pass the core's term of its name (the sum rule itself is the core's, checked
+    # against terms rendered alone in tests/render_invariants.rs).
+    out = seen["out"]
+    np.testing.assert_allclose(comb, out["combined"], rtol=1e-5, atol=1e-6)
+    for term, name in zip(photonmap.TERMS, photonmap.PASS_NAMES):
+        got = np.stack([parts[f"{layer}.{name}"][f"{layer}.{name}.{c}"] for c in "RGB"], -1)
+        np.testing.assert_allclose(got, out[term], rtol=1e-5, atol=1e-6, err_msg=name)
+    e = photonmap.ERROR_PASS
+    got = np.stack([parts[f"{layer}.{e}"][f"{layer}.{e}.{c}"] for c in "RGB"], -1)
+    np.testing.assert_allclose(got, out[photonmap.ERROR_AOV], rtol=1e-5, atol=1e-6)
+    assert {t for t in photonmap.TERMS if out[t].any()} >= {"direct", "indirect"}
     # The compositor's Render Layers node offers every pass.
     tree = bpy.data.node_groups.new("Compositing", "CompositorNodeTree")
     node = tree.nodes.new("CompositorNodeRLayers")

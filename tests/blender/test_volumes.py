@@ -174,11 +174,19 @@ def _pass(parts, layer, name):
     return np.stack([parts[f"{layer}.{name}"][f"{layer}.{name}.{c}"] for c in "RGB"], -1)
 
 
-def test_fog_scene_renders_a_volume_pass(photonmap_scene, reports, tmp_path):
+def test_fog_scene_renders_a_volume_pass(photonmap_scene, addon, reports, tmp_path, monkeypatch):
     sc = photonmap_scene(scenes.fog_spot)
     sc.render.resolution_x = sc.render.resolution_y = 48
     path = tmp_path / "fog.exr"
     set_multilayer_exr(sc, path)
+    seen = {}
+    write = addon.passes.write_result
+
+    def spy(engine, out, window, layer_name=""):
+        seen["out"] = out
+        write(engine, out, window, layer_name)
+
+    monkeypatch.setattr(addon.passes, "write_result", spy)
     bpy.ops.render.render(write_still=True)
     assert not reports.of("ERROR"), reports.items
     assert not [w for w in reports.of("WARNING") if "volume" in w.lower()], reports.items
@@ -188,8 +196,13 @@ def test_fog_scene_renders_a_volume_pass(photonmap_scene, reports, tmp_path):
     vol = _pass(parts, layer, "Volume")
     assert np.all(np.isfinite(comb)) and np.all(np.isfinite(vol))
     assert vol.mean() > 1e-3, vol.mean()
-    total = sum(_pass(parts, layer, p) for p in photonmap.PASS_NAMES)
-    np.testing.assert_allclose(comb, total, rtol=1e-4, atol=1e-5)
+    # Each pass in the file is the core's term of its name (the sum rule is the core's,
+    # checked against terms rendered alone in tests/render_invariants.rs).
+    out = seen["out"]
+    np.testing.assert_allclose(comb, out["combined"], rtol=1e-5, atol=1e-6)
+    for term, name in zip(photonmap.TERMS, photonmap.PASS_NAMES):
+        np.testing.assert_allclose(_pass(parts, layer, name), out[term], rtol=1e-5, atol=1e-6,
+                                   err_msg=name)
 
 
 def test_fog_brightness_matches_cycles(photonmap_scene, tmp_path, record_property):
