@@ -235,8 +235,9 @@ pub fn media_full_each(
 
 // -- 8x8 blocks: full global illumination ---------------------------------------------------
 
-/// The 8x8-block relMSE (the worst 2 of 256 blocks left out) with 10^6 photons may reach:
-/// a 2x margin over the measured figures (seed 11); a 2% brightness error alone adds 4e-4.
+/// The 8x8-block relMSE (over all 256 blocks) with 10^6 photons may reach: a 2x margin over
+/// the figures measured with the worst 2 blocks left out (seed 11; 6.6e-5 and 1.3e-4 with
+/// every block); a 2% brightness error alone adds 4e-4.
 pub fn full_gi_limit(reference: &str) -> f64 {
     match reference {
         "cornell_diffuse_full" => 1.2e-4,
@@ -245,7 +246,10 @@ pub fn full_gi_limit(reference: &str) -> f64 {
     }
 }
 
-/// (relMSE, trimmed 8x8-block relMSE) of a full render with `n` global and caustic photons.
+/// (relMSE, 8x8-block relMSE) of a full render with `n` global and caustic photons. Prints the
+/// blocks farthest off in standard errors (ours from the `error` AOV, which leaves out the
+/// photon maps' and the irradiance cache's errors, shared by every sample; the reference's
+/// from its stderr EXR).
 pub fn full_gi(desc: &SceneDesc, reference: &str, n: usize, scale: Scale) -> (f64, f64) {
     let photons = PhotonSettings {
         global: n,
@@ -265,17 +269,24 @@ pub fn full_gi(desc: &SceneDesc, reference: &str, n: usize, scale: Scale) -> (f6
         },
     );
     let ours = scaled_sum(&out, &Term::ALL, scale);
-    let refm = reference_mean(reference);
-    // The worst two of 256 blocks are left out: at 16 spp a rare path through the glass
-    // sphere's rim to the light is a firefly worth 2e-4 on its own.
-    let (e, eb) = (
-        rel_mse(&ours, &refm),
-        block_rel_mse_trimmed(&ours, &refm, 8, 2),
-    );
+    let (refm, ref_var) = super::compare::reference(reference);
+    // Every block counts: a block far off is what the comparison is for.
+    let (e, eb) = (rel_mse(&ours, &refm), block_rel_mse(&ours, &refm, 8));
+    let mut our_var = out.film.error.clone();
+    for p in our_var.data.iter_mut() {
+        for c in p.iter_mut() {
+            *c *= *c;
+        }
+    }
+    let z = block_z(&ours, &refm, &our_var, &ref_var, 8);
+    let mut worst: Vec<_> = z.iter().collect();
+    worst.sort_by(|a, b| b.2.abs().total_cmp(&a.2.abs()));
     eprintln!(
-        "{reference} with {n} photons: relMSE {e:.3e}, 8x8-block relMSE {eb:.3e}, mean {:?} vs {:?}",
+        "{reference} with {n} photons: relMSE {e:.3e}, 8x8-block relMSE {eb:.3e}, mean {:?} vs \
+         {:?}; largest block z (bx, by, z, ours/ref): {:?}",
         ours.mean(),
-        refm.mean()
+        refm.mean(),
+        &worst[..4]
     );
     (e, eb)
 }
@@ -285,4 +296,42 @@ pub fn reference_mean(name: &str) -> Image {
         .expect("reference EXR")
         .0[""]
         .clone()
+}
+
+/// Per block x block block: (bx, by, z, ours/ref) of the channel with the largest |z|, z the
+/// difference of the block means over the standard error of that difference from the
+/// per-pixel variances `var_a` and `var_b` (pixels independent: a box filter).
+pub fn block_z(
+    a: &Image,
+    b: &Image,
+    var_a: &Image,
+    var_b: &Image,
+    block: usize,
+) -> Vec<(usize, usize, f64, f64)> {
+    let (bw, bh) = (b.width / block, b.height / block);
+    let n = (block * block) as f64;
+    let mut out = Vec::with_capacity(bw * bh);
+    for by in 0..bh {
+        for bx in 0..bw {
+            let (mut p, mut q, mut v) = ([0.0f64; 3], [0.0f64; 3], [0.0f64; 3]);
+            for y in by * block..(by + 1) * block {
+                for x in bx * block..(bx + 1) * block {
+                    for c in 0..3 {
+                        p[c] += a.get(x, y)[c] as f64 / n;
+                        q[c] += b.get(x, y)[c] as f64 / n;
+                        v[c] += (var_a.get(x, y)[c] + var_b.get(x, y)[c]) as f64 / (n * n);
+                    }
+                }
+            }
+            let c = (0..3)
+                .max_by(|&i, &j| {
+                    let z = |c: usize| ((p[c] - q[c]) / v[c].sqrt().max(1e-12)).abs();
+                    z(i).total_cmp(&z(j))
+                })
+                .unwrap();
+            let z = (p[c] - q[c]) / v[c].sqrt().max(1e-12);
+            out.push((bx, by, z, p[c] / q[c]));
+        }
+    }
+    out
 }
