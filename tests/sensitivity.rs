@@ -7,7 +7,8 @@
 //! | mirror and glass, per pixel (`reference_mitsuba.rs`) | the same | light +2% |
 //! | single scattering, per pixel (`media_reference.rs`) | the same | spot turned by 5 deg, volume term x 0.95 |
 //! | glass in fog, 8x8 blocks and mean (`media_reference.rs`) | block relMSE < 4e-3, mean within 1.5% | volume term x 0.95, caustic photons dropped |
-//! | full GI, 8x8 blocks at 10^6 photons (`photon_terms.rs`) | trimmed block relMSE < 2e-4 | caustic photons dropped, light +2% |
+//! | thick sphere, 8x8 blocks and mean (`media_reference.rs`) | every block's t-test (8 seeds) at a family-wise 10^-3, mean within 1.5% | volume term x 0.95 and x 1.05, direct term x 0.9 |
+//! | full GI, 8x8 blocks at 10^6 photons (`photon_terms.rs`) | block relMSE < 2e-4 | caustic photons dropped, light +2% |
 //!
 //! The corpus against Cycles has its own sensitivity tests (tests/blender/test_corpus.py).
 
@@ -149,6 +150,25 @@ fn glass_in_fog_sees_the_volume_term_low_and_the_caustic_photons_dropped() {
     let res = media_full_each("fog_glass", &load_scene("fog_glass"), "fog_glass", &scales);
     for (what, r) in ["volume x 0.95", "dropped caustics"].iter().zip(&res) {
         assert!(!r.passed(), "{what} went unnoticed: {r:?}");
+    }
+}
+
+/// One set of renders of thick_sphere, judged with the volume term 5% low, 5% high, and with
+/// the direct term 10% low: each fails the per-block t-tests (not only the mean).
+#[test]
+fn thick_sphere_blocks_see_the_volume_and_direct_terms_off() {
+    let scales: [Scale; 3] = [
+        &[(Term::Volume, 0.95)],
+        &[(Term::Volume, 1.05)],
+        &[(Term::Direct, 0.9)],
+    ];
+    let desc = load_scene("thick_sphere");
+    let res = media_blocks_each("thick_sphere", &desc, "thick_sphere", &scales);
+    for (what, r) in ["volume x 0.95", "volume x 1.05", "direct x 0.9"]
+        .iter()
+        .zip(&res)
+    {
+        assert!(r.blocks_over > 0, "{what}: no block off: {r:?}");
     }
 }
 
