@@ -7,8 +7,15 @@ light's world-space area. An IR area light of area A and radiance L has power P 
 sphere light of radius r has P = L*4*pi^2*r^2. Distant lights: irradiance = intensity *
 2^exposure. Inputs are read with or without the ``inputs:`` prefix (old files).
 
-Blender's exporter writes a sun of strength S and angle A as intensity S/4 and angle A/2
-(UsdLux's `angle` is the angular diameter); such lights are read per UsdLux and noted.
+Stages written by Blender (a layer's `doc` or `customLayerData` `creator` "Blender vX.Y.Z",
+or `userProperties:blender:*` on the light) are read the way Blender renders the scene, each
+correction noted:
+
+- Soft Falloff on point and spot lights with a radius (Blender's default; not written).
+- Lights hidden from camera rays (Blender's default; its exporter writes no camera
+  visibility), unless the light says otherwise (`camera_visibility_opinion`).
+- Suns read per UsdLux: Blender's exporter writes a sun of strength S and angle A as
+  intensity S/4 and angle A/2 (UsdLux's `angle` is the angular diameter).
 
 | UsdLux | IR |
 |---|---|
@@ -25,7 +32,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from pxr import UsdLux
+from pxr import UsdGeom, UsdLux
 
 from .textures import resolve_asset
 from .xform import ir_matrix, split_scale
@@ -65,11 +72,72 @@ def area_power(L: float, area: float, normalize: bool) -> float:
     return L * math.pi if normalize else L * math.pi * area
 
 
+def _layer_writer(layer) -> str | None:
+    """"Blender v5.0.1" when the layer says Blender wrote it (its `doc`, or the `creator` of
+    its customLayerData), else None."""
+    creator = layer.customLayerData.get("creator", "") if layer.customLayerData else ""
+    for s in (layer.documentation or "", creator if isinstance(creator, str) else ""):
+        if s.startswith("Blender"):
+            return s.strip()
+    return None
+
+
+def blender_writer(prim) -> str | None:
+    """The Blender that wrote the prim: "Blender v5.0.1" from a layer of its prim stack or the
+    root layer, "Blender" when only its `userProperties:blender:*` say so; None otherwise."""
+    for spec in prim.GetPrimStack():
+        w = _layer_writer(spec.layer)
+        if w:
+            return w
+    w = _layer_writer(prim.GetStage().GetRootLayer())
+    if w:
+        return w
+    if any(n.startswith("userProperties:blender:") for n in prim.GetPropertyNames()):
+        return "Blender"
+    return None
+
+
 def _blender_authored(prim) -> bool:
-    """Written by Blender's USD exporter (its layer doc, or its `userProperties:blender:*`)."""
-    doc = prim.GetStage().GetRootLayer().documentation or ""
-    return doc.startswith("Blender") or any(
-        n.startswith("userProperties:blender:") for n in prim.GetPropertyNames())
+    return blender_writer(prim) is not None
+
+
+def _camera_visibility_attrs(prim):
+    """The attributes that may say whether camera rays see a light, in the order read: the
+    renderer's `primvars:photonmap:camera_visible`, Karma's `karma:light:renderlightgeo`,
+    RenderMan's `primvars:ri:attributes:visibility:camera` (primvars inherited down the
+    namespace)."""
+    primvars = UsdGeom.PrimvarsAPI(prim)
+    yield primvars.FindPrimvarWithInheritance("photonmap:camera_visible").GetAttr()
+    yield prim.GetAttribute("karma:light:renderlightgeo")
+    yield primvars.FindPrimvarWithInheritance("ri:attributes:visibility:camera").GetAttr()
+
+
+def camera_visibility_opinion(prim, time) -> tuple[bool, str] | None:
+    """(visible, the attribute's path) from the first authored camera-visibility opinion (a
+    bool or number, non-zero: visible); None when the stage has none for this light."""
+    for a in _camera_visibility_attrs(prim):
+        if a and a.HasAuthoredValue():
+            v = a.Get(time)
+            if isinstance(v, (bool, int, float)):
+                return bool(v), str(a.GetPath())
+    return None
+
+
+def camera_visible(prim, time, diag) -> bool:
+    """Whether camera rays see the light: an authored opinion (`camera_visibility_opinion`)
+    decides; without one, Blender's stages hide their lights (as Blender renders them: hidden
+    from the camera by default, and its exporter writes no visibility), others show them
+    (USD's default)."""
+    opinion = camera_visibility_opinion(prim, time)
+    if opinion is not None:
+        return opinion[0]
+    writer = blender_writer(prim)
+    if writer is None:
+        return True
+    diag.note(prim, f"written by {writer}: hidden from the camera, as Blender renders its "
+                    f"lights by default (its exporter writes no camera visibility; "
+                    f"primvars:photonmap:camera_visible = 1 shows it)")
+    return False
 
 
 def read_light(prim, world: np.ndarray, time, diag, up_axis: str, textures):
@@ -84,6 +152,9 @@ def read_light(prim, world: np.ndarray, time, diag, up_axis: str, textures):
     else:
         diag.warn(prim, f"unsupported light type `{t}`; skipped")
         return None
+    # Lights at infinity are never seen by camera rays in the IR: no visibility to read.
+    at_infinity = t in ("DistantLight", "DomeLight", "DomeLight_1")
+    visible = True if at_infinity else camera_visible(prim, time, diag)
     shaping = prim.HasAPI(UsdLux.ShapingAPI) or prim.GetAttribute("inputs:shaping:cone:angle").HasAuthoredValue()
     if shaping and t not in ("SphereLight",):
         diag.warn(prim, "ShapingAPI is supported on sphere lights only; ignored")
@@ -94,7 +165,8 @@ def read_light(prim, world: np.ndarray, time, diag, up_axis: str, textures):
         if _get(prim, "texture:file", None, time):
             diag.warn(prim, "textured rect lights are not supported; the light's colour is used")
         return "light", {"type": "rect", "name": name, "transform": ir_matrix(rigid), "width": w,
-                         "height": h, "power": area_power(L, area, normalize), "color": color.tolist()}
+                         "height": h, "power": area_power(L, area, normalize), "color": color.tolist(),
+                         "camera_visible": visible}
     if t == "DiskLight":
         r = float(_get(prim, "radius", 0.5, time))
         rr = r * math.sqrt(abs(scale[0] * scale[1]))
@@ -102,7 +174,8 @@ def read_light(prim, world: np.ndarray, time, diag, up_axis: str, textures):
             diag.warn(prim, "non-uniformly scaled disk light: a disk of equal area is used")
         area = math.pi * rr * rr
         return "light", {"type": "disk", "name": name, "transform": ir_matrix(rigid), "radius": rr,
-                         "power": area_power(L, area, normalize), "color": color.tolist()}
+                         "power": area_power(L, area, normalize), "color": color.tolist(),
+                         "camera_visible": visible}
     if t in ("SphereLight", "CylinderLight"):
         s = float(np.mean(scale))
         if np.ptp(scale) > 1e-4 * s:
@@ -134,17 +207,18 @@ def read_light(prim, world: np.ndarray, time, diag, up_axis: str, textures):
                                  "direction": forward.tolist(), "power": power,
                                  "color": color.tolist(), "cone_angle": math.radians(2 * angle),
                                  "blend": min(1.0, max(0.0, softness)), "radius": radius,
-                                 "soft_falloff": soft}
+                                 "soft_falloff": soft, "camera_visible": visible}
         if radius == 0.0:
             if power == 0.0 and L > 0:
                 diag.warn(prim, "point light of zero radius without normalize emits nothing")
             return "light", {"type": "point", "name": name, "position": pos, "power": power,
-                             "color": color.tolist()}
+                             "color": color.tolist(), "camera_visible": visible}
         if soft:
             return "light", {"type": "point", "name": name, "position": pos, "radius": radius,
-                             "power": power, "color": color.tolist(), "soft_falloff": True}
+                             "power": power, "color": color.tolist(), "soft_falloff": True,
+                             "camera_visible": visible}
         return "light", {"type": "sphere", "name": name, "position": pos, "radius": radius,
-                         "power": power, "color": color.tolist()}
+                         "power": power, "color": color.tolist(), "camera_visible": visible}
     if t == "DistantLight":
         angle = float(_get(prim, "angle", 0.53, time))
         if _blender_authored(prim):

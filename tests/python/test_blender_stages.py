@@ -9,6 +9,8 @@ What Blender writes, and what these tests pin down:
   full cone angle halved in `shaping:cone:angle` and its blend as `shaping:cone:softness`.
   A sun of strength S and angle A becomes a DistantLight with intensity S/4 and angle A/2,
   while UsdLux's `angle` is the angular diameter: read per UsdLux (a note says so).
+  No camera visibility is written: the lights are hidden from the camera, as Blender renders
+  them by default (noted).
   `enableColorTemperature = 1` on every light (6500 K fallback): applied per UsdLux, noted.
 - Materials: a UsdPreviewSurface (opacity 1 even for glass) and a MaterialX OpenPBR network on
   `outputs:mtlx:surface`; the importer prefers the OpenPBR network.
@@ -95,6 +97,7 @@ def test_cornell_area_light_is_100_watts_with_the_colour_temperature_noted():
     assert light["color"] == pytest.approx(TINT_6500, abs=1e-3)
     notes = [m for p, m in r.diagnostics.notes if p == "/root/AreaLight/Area"]
     assert any("colour temperature 6500 K" in m for m in notes), r.diagnostics.notes
+    assert light["camera_visible"] is False  # Blender's default; not written
 
 
 # -- glass, mirror and every light kind ---------------------------------------------------
@@ -144,6 +147,10 @@ def test_point_light_200_watts_radius_0_1():
     assert pt["power"] == pytest.approx(200.0, rel=1e-6)
     assert pt["position"] == pytest.approx([0, 0, 1.7], abs=1e-6)
     assert pt["color"] == pytest.approx(TINT_6500, abs=1e-3)
+    # Blender hides lights from the camera by default; its exporter writes no visibility.
+    assert pt["camera_visible"] is False
+    assert any("hidden from the camera" in m for p, m in r.diagnostics.notes
+               if p == "/root/PointLight/Point")
 
 
 def test_sun_read_per_usdlux_with_blenders_convention_noted():
@@ -176,6 +183,7 @@ def test_spot_cone_and_blend():
     assert spot["radius"] == pytest.approx(0.05)
     assert spot["position"] == pytest.approx([0, -0.5, 1.9], abs=1e-6)
     assert spot["direction"] == pytest.approx([0, math.sin(0.2), -math.cos(0.2)], abs=1e-6)
+    assert spot["camera_visible"] is False
 
 
 def test_every_blender_light_notes_its_colour_temperature():

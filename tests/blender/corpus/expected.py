@@ -46,13 +46,21 @@ EMISSION_CACHE_NOISE = ("noise: block (14,12) -10.0% against a tolerance of 9.98
 # Blender 5.0.1's USD exporter writes something else than the scene has; the USD render then
 # differs from Cycles' render of the Blender scene by more than the comparison allows.
 ELLIPSE = ("exporter: an ellipse area light (0.8 x 0.3) is written as a DiskLight of radius "
-           "(0.8 + 0.3) / 4; the disk shows in frame where the ellipse does not")
-HIDDEN = ("exporter: a light's camera visibility is not written; the importer draws UsdLux "
-          "lights (Blender's default hides them), so the light shows in frame")
+           "(0.8 + 0.3) / 4, 'float inputs:radius = 0.275', and its camera visibility (on) is "
+           "not written: the importer hides it as Blender does by default, where Cycles shows "
+           "the ellipse: block (12,1) -98.1% (-190 sigma), pooled -6.4%")
+# Camera visibility (Object > Visibility > Camera) is not written: the light's prim is the same
+# as area_hidden's, whose light Blender hides. The importer hides Blender's lights from the
+# camera, as Blender does by default; these scenes turn it on, and Cycles shows the light.
+CAMERA_VISIBLE = ("exporter: the light's camera visibility (on here) is not written: "
+                  "'def {}' has no visibility attribute; the importer hides Blender's lights "
+                  "from the camera (its default), so the light is missing from frame: {}")
 SPREAD = ("exporter: an area light's Spread is not written (no shaping:cone:angle): the "
           "60 deg light emits into the hemisphere, pooled -43%")
-HARD_FALLOFF = ("exporter: Soft Falloff is not written; the importer reads Blender's point "
-                "lights with its default (on), this scene has it off: pooled -2.8%")
+HARD_FALLOFF = ("exporter: neither Soft Falloff (off here) nor camera visibility (on here) is "
+                "written, only 'float inputs:radius = 0.1': the importer reads Blender's "
+                "defaults, Soft Falloff on and the light hidden from the camera, so the sphere "
+                "is missing from frame: block (8,2) -90.4% (-308 sigma), pooled -7.5%")
 SUN_HALF_ANGLE = ("exporter: the sun's angle is written halved: penumbrae twice as sharp, "
                   "blocks to -34%")
 
@@ -66,14 +74,21 @@ ADDON: dict[str, str] = {
 
 #: scene -> reason, for the USD path (tests/python/test_corpus_usd.py).
 USD: dict[str, str] = {
+    "area_disk": CAMERA_VISIBLE.format('DiskLight "Area"', "block (9,2) -99.3% (-436 sigma), "
+                                                          "pooled -19.9%"),
     "area_ellipse": ELLIPSE,
-    "area_hidden": HIDDEN,
+    "area_rect": CAMERA_VISIBLE.format('RectLight "Area"', "block (12,2) -99.1% (-172 sigma), "
+                                                          "pooled -5.4%"),
     "area_spread60": SPREAD,
+    "area_square": CAMERA_VISIBLE.format('RectLight "Area"', "block (9,1) -99.2% (-439 sigma), "
+                                                            "pooled -29.0%"),
     "emission_principled": EMISSION_CACHE_NOISE,
     "light_exposure": CUBE_FOOT_EXPOSURE,
     "mat_default": CUBE_FOOT,
     "metal_rough": METAL_ROUGH_USD,
     "point_r01_hard": HARD_FALLOFF,
+    "point_r01_soft": CAMERA_VISIBLE.format('SphereLight "Point"', "block (8,2) -90.2% (-299 "
+                                                                  "sigma), pooled -4.5%"),
     "spot_offaxis": SPOT_DARK_FLOOR.format("blocks (19,13) and (19,14) -20% (-6.6 sigma)"),
     "spot_radius": SPOT_RADIUS_CORNER,
     "sun_angle": SUN_HALF_ANGLE,
