@@ -14,8 +14,8 @@ correction noted:
 - Soft Falloff on point and spot lights with a radius (Blender's default; not written).
 - Lights hidden from camera rays (Blender's default; its exporter writes no camera
   visibility), unless the light says otherwise (`camera_visibility_opinion`).
-- Suns read per UsdLux: Blender's exporter writes a sun of strength S and angle A as
-  intensity S/4 and angle A/2 (UsdLux's `angle` is the angular diameter).
+- A sun's `angle` doubled where Blender's exporter is known to write half its Angle (5.0).
+  Its intensity, S/4 for a sun of strength S, is read per UsdLux.
 
 | UsdLux | IR |
 |---|---|
@@ -30,6 +30,7 @@ correction noted:
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 from pxr import UsdGeom, UsdLux
@@ -99,6 +100,29 @@ def blender_writer(prim) -> str | None:
 
 def _blender_authored(prim) -> bool:
     return blender_writer(prim) is not None
+
+
+def _value_writer(prim, name, time) -> str | None:
+    """The Blender that wrote the value of input `name` that is read (the layer of its
+    strongest opinion), or None."""
+    for attr_name in (f"inputs:{name}", name):
+        a = prim.GetAttribute(attr_name)
+        if a and a.HasAuthoredValue():
+            stack = a.GetPropertyStack(time)
+            return _layer_writer(stack[0].layer) if stack else None
+    return None
+
+
+def blender_version(writer: str | None) -> tuple[int, int] | None:
+    """(major, minor) of "Blender v5.0.1" (or "Blender 4.2.3 LTS"); None if it has none."""
+    m = re.match(r"Blender\s+v?(\d+)\.(\d+)", writer or "")
+    return (int(m.group(1)), int(m.group(2))) if m else None
+
+
+#: Blender versions (major, minor) whose USD exporter writes a sun's `inputs:angle` as half of
+#: its Angle (5.0.1: Angle 10 deg written as `float inputs:angle = 5`). Other versions are read
+#: per UsdLux (noted).
+HALVED_SUN_ANGLE = {(5, 0)}
 
 
 def _camera_visibility_attrs(prim):
@@ -221,10 +245,21 @@ def read_light(prim, world: np.ndarray, time, diag, up_axis: str, textures):
                          "power": power, "color": color.tolist(), "camera_visible": visible}
     if t == "DistantLight":
         angle = float(_get(prim, "angle", 0.53, time))
-        if _blender_authored(prim):
-            diag.note(prim, f"read per UsdLux: irradiance {L:g}, angular diameter {angle:g} deg; "
-                            f"Blender's exporter writes a sun of strength S and angle A as intensity "
-                            f"S/4 and angle A/2 (in Blender: strength {4 * L:g}, angle {2 * angle:g} deg)")
+        writer = blender_writer(prim)
+        if writer is not None:
+            # The Blender that wrote the angle read (its strongest opinion's layer) decides.
+            angle_writer = _value_writer(prim, "angle", time)
+            if angle_writer is not None and blender_version(angle_writer) in HALVED_SUN_ANGLE:
+                diag.note(prim, f"written by {angle_writer}, whose exporter writes a sun's angle "
+                                f"halved: angle {angle:g} deg read as {2 * angle:g} deg (Blender's "
+                                f"Angle)")
+                angle *= 2.0
+            elif angle_writer is not None:
+                diag.note(prim, f"written by {angle_writer}: angle {angle:g} deg read per UsdLux "
+                                f"(the angular diameter); Blender 5.0's exporter writes half the "
+                                f"Angle, this version is not known to")
+            diag.note(prim, f"irradiance {L:g} read per UsdLux; Blender's exporter writes a sun of "
+                            f"strength S as intensity S/4 (in Blender: strength {4 * L:g})")
         return "light", {"type": "distant", "name": name, "direction": forward.tolist(),
                          "irradiance": L, "color": color.tolist(),
                          "angle": math.radians(max(0.0, angle))}

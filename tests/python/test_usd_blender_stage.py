@@ -1,22 +1,26 @@
 """Stages written by Blender, read the way Blender renders them (usd_delegate/lights.py):
-lights hidden from the camera unless the stage says otherwise. Small stages built in memory, with the
+lights hidden from the camera unless the stage says otherwise, and the sun's angle that
+Blender 5.0's exporter writes halved doubled back. Small stages built in memory, with the
 metadata Blender 5.0.1 writes (copied from tests/blender/corpus/usd/*.usda: the layer's
 `doc = "Blender v5.0.1"`, `customData` on the root prim, `userProperties:blender:*` on each
 prim); the same stages without that metadata are read per UsdLux."""
+
+import math
 
 import pytest
 from pxr import Sdf, Usd, UsdGeom, UsdLux
 
 import photonmap
+import usd_delegate
 from usd_delegate.stage import import_stage
 
 BLENDER_DOC = "Blender v5.0.1"
 
 
-def stage_with(light_type="SphereLight", blender=True, doc=BLENDER_DOC):
+def stage_with(light_type="SphereLight", blender=True, doc=BLENDER_DOC, layer=None):
     """/root/Light/Light of ``light_type`` the way Blender 5.0.1 writes it (with
     ``blender``: its layer metadata and user properties), and a 2x2 floor."""
-    stage = Usd.Stage.CreateInMemory()
+    stage = Usd.Stage.Open(layer) if layer is not None else Usd.Stage.CreateInMemory()
     root_layer = stage.GetRootLayer()
     if blender and doc:
         root_layer.documentation = doc
@@ -38,6 +42,9 @@ def stage_with(light_type="SphereLight", blender=True, doc=BLENDER_DOC):
         a("inputs:height", Sdf.ValueTypeNames.Float).Set(0.5)
     elif light_type in ("DiskLight", "SphereLight"):
         a("inputs:radius", Sdf.ValueTypeNames.Float).Set(0.1)
+    elif light_type == "DistantLight":
+        a("inputs:angle", Sdf.ValueTypeNames.Float).Set(5.0)
+        a("inputs:intensity", Sdf.ValueTypeNames.Float).Set(0.75)
     if blender:
         a("userProperties:blender:data_name", Sdf.ValueTypeNames.String, custom=True).Set("Light")
     floor = UsdGeom.Mesh.Define(stage, "/root/Floor")
@@ -172,3 +179,65 @@ def test_an_unauthored_visibility_attribute_is_no_opinion():
         "karma:light:renderlightgeo", Sdf.ValueTypeNames.Bool)  # declared, no value
     light, _ = read(stage)
     assert light["camera_visible"] is False
+
+
+# -- the sun's angle ----------------------------------------------------------------------
+
+
+def test_blender_5_0_suns_angle_is_doubled_with_a_note():
+    light, r = read(stage_with("DistantLight"))
+    assert light["type"] == "distant"
+    # Blender's Angle 10 deg, written `float inputs:angle = 5`.
+    assert light["angle"] == pytest.approx(math.radians(10.0))
+    assert light["irradiance"] == pytest.approx(0.75)  # intensity read per UsdLux
+    assert "camera_visible" not in light  # the IR's distant lights take none
+    notes = notes_of(r)
+    assert any("Blender v5.0.1" in m and "angle 5 deg read as 10 deg" in m for m in notes), notes
+
+
+def test_a_non_blender_suns_angle_is_read_per_usdlux():
+    light, r = read(stage_with("DistantLight", blender=False))
+    assert light["angle"] == pytest.approx(math.radians(5.0))
+    assert not any("Blender" in m for m in r.diagnostics.messages())
+
+
+@pytest.mark.parametrize("doc", ["Blender v4.2.3 LTS", "Blender v5.1.0"])
+def test_other_blender_versions_are_read_per_usdlux_and_noted(doc):
+    light, r = read(stage_with("DistantLight", doc=doc))
+    assert light["angle"] == pytest.approx(math.radians(5.0))
+    assert any(doc in m and "read per UsdLux" in m for m in notes_of(r)), r.diagnostics.notes
+
+
+def test_no_version_no_doubling():
+    light, _ = read(stage_with("DistantLight", doc=None))  # only userProperties:blender:*
+    assert light["angle"] == pytest.approx(math.radians(5.0))
+
+
+def test_the_layer_of_the_angles_strongest_opinion_decides():
+    """A Blender 5.0.1 layer under a stage of another writer: its own angle is doubled, an
+    angle overridden in the stronger layer is not."""
+    blender_layer = Sdf.Layer.CreateAnonymous(".usda")
+    stage_with("DistantLight", layer=blender_layer)
+    top = Sdf.Layer.CreateAnonymous(".usda")
+    top.subLayerPaths.append(blender_layer.identifier)
+    stage = Usd.Stage.Open(top)
+    assert stage.GetRootLayer().documentation == ""
+    light, r = read(stage)
+    assert light["angle"] == pytest.approx(math.radians(10.0))
+    stage.GetPrimAtPath("/root/Light/Light").GetAttribute("inputs:angle").Set(8.0)
+    light, r = read(stage)
+    assert light["angle"] == pytest.approx(math.radians(8.0))
+
+
+def test_the_committed_blender_stage_reads_its_sun_as_blender_has_it():
+    """tests/blender/corpus/usd/sun_angle.usda: Blender's sun of Angle 10 deg, written as
+    `float inputs:angle = 5`."""
+    import os
+
+    here = os.path.dirname(os.path.abspath(__file__))
+    path = os.path.join(here, "..", "blender", "corpus", "usd", "sun_angle.usda")
+    with open(path) as f:
+        assert "float inputs:angle = 5\n" in f.read()
+    r = usd_delegate.load_stage(path)
+    (sun,) = [x for x in r.ir["lights"] if x["type"] == "distant"]
+    assert sun["angle"] == pytest.approx(math.radians(10.0))

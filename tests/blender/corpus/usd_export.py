@@ -10,7 +10,7 @@ following the UsdLux spec, deliberately carries into the render:
   (1.043, 0.984, 1.035). Luminance is kept; the colour is not;
 - a sun of strength S (the irradiance, W/m^2) is written as a DistantLight of intensity S/4,
   with ``normalize``: per UsdLux an irradiance of S/4. (Its angle A is written as A/2, which
-  no factor undoes: the penumbrae stay twice as sharp.)
+  no factor undoes; the importer doubles it back for Blender 5.0's stages.)
 
 Light transport is linear in the emitters, so when every emitter of a stage is a light whose
 change is the same per-channel factor f, the render of the stage is f times the render of the
