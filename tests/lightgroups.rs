@@ -104,7 +104,7 @@ fn assert_groups_sum_to_the_beauty(film: &Film, names: &[&str]) {
 
 /// Each group against a render with only its light, in both modes: 4x4-block relMSE within
 /// a few times what two seeds of the single-light render give each other (their noise), and
-/// the mean within 2%.
+/// the mean within 2% (3% with the irradiance cache).
 fn check_mode(mode: RenderMode) {
     let d = two_lights();
     let out = render_settings(&d, settings(1, mode));
@@ -143,7 +143,13 @@ fn check_mode(mode: RenderMode) {
             err < 1.5 * noise,
             "{name}: {err:.3e} against the noise {noise:.3e}"
         );
-        assert!((m / ma - 1.0).abs() < 0.02, "{name}: mean {m} against {ma}");
+        // The irradiance cache (Jensen) places and sizes its records by each render's own
+        // irradiance, so the group and the lone light interpolate from different records:
+        // with 40,000 photons and 64 gather rays each sat within 1.3% of the renders without
+        // the cache (key: group 0.2048, alone 0.2003; without the cache 0.2029 and
+        // 0.2004-0.2048 over three seeds), so their means may differ by twice that.
+        let mean_tol = if mode == RenderMode::Jensen { 0.03 } else { 0.02 };
+        assert!((m / ma - 1.0).abs() < mean_tol, "{name}: mean {m} against {ma}");
         // The other light's render is far off: the comparison tells groups apart.
         let other = render_settings(&only(&d, 1 - keep), settings(2, mode))
             .film

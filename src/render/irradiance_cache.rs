@@ -8,13 +8,18 @@
 //! where a is the tolerance. E(x) = sum w_i (E_i + (n_i x n) . grad_r + (x - x_i) . grad_t) / sum w_i.
 //!
 //! The cache is filled in deterministic rounds (see `render::renderer`), then only read, so
-//! images do not depend on the thread count.
+//! images do not depend on the thread count. Each record inserted clamps its neighbours' radii
+//! and its own (see [`IrradianceCache::insert`]).
 
 use crate::math::Spectrum;
 use crate::render::lightgroups::Split;
 use crate::render::terms::indirect::HemisphereGather;
 use glam::Vec3;
 use std::collections::HashMap;
+
+/// Records whose normals agree to within this cosine limit each other's radius by the change
+/// of irradiance between them (see [`IrradianceCache::insert`]).
+const DIFFERENCE_COS: f32 = 0.95;
 
 #[derive(Clone, Debug)]
 pub struct Record {
@@ -23,6 +28,8 @@ pub struct Record {
     pub irradiance: Spectrum,
     /// Harmonic mean distance, clamped.
     pub r: f32,
+    /// The least radius the record may be clamped to.
+    pub r_min: f32,
     pub grad_r: [Vec3; 3],
     pub grad_t: [Vec3; 3],
     /// With light groups: each group's fraction of `irradiance`, per channel (empty
@@ -53,6 +60,7 @@ impl Record {
             n,
             irradiance: g.irradiance,
             r,
+            r_min,
             grad_r: g.grad_r,
             grad_t: g.grad_t.map(|v| v * scale),
             groups: Vec::new(),
@@ -101,7 +109,26 @@ impl IrradianceCache {
         (q.x as i32, q.y as i32, q.z as i32)
     }
 
-    pub fn insert(&mut self, rec: Record) {
+    /// Adds `rec` after clamping its radius and its neighbours' (the records that reach its
+    /// grid cell and face the same side), both ways:
+    /// - neighbour clamping (Křivánek et al. 2006): two records at distance d differ in
+    ///   radius by at most d, so a record placed early, over an open view, does not reach
+    ///   across the small features later records find;
+    /// - the gradient limit of [`Record::new`] over the pair: where two records of nearly the
+    ///   same normal differ in irradiance by dE at distance d, neither reaches farther than
+    ///   the distance over which that change, E d / dE, would be 100% of its own irradiance.
+    ///   A record's own gradient, from a few dozen gather rays, misses much of a smooth
+    ///   change over a record's radius; the difference between records measures it.
+    pub fn insert(&mut self, mut rec: Record) {
+        if let Some(list) = self.grid.get(&self.key(rec.p)) {
+            for &j in list {
+                rec.r = clamped(&rec, &self.records[j as usize]);
+            }
+            for &j in list {
+                let other = &mut self.records[j as usize];
+                other.r = clamped(other, &rec);
+            }
+        }
         let idx = self.records.len() as u32;
         let reach = rec.r * self.tolerance;
         let lo = self.key(rec.p - Vec3::splat(reach));
@@ -169,4 +196,22 @@ impl IrradianceCache {
         }
         Some(e)
     }
+}
+
+/// The radius of `rec` clamped by its neighbour `other` (see [`IrradianceCache::insert`]).
+fn clamped(rec: &Record, other: &Record) -> f32 {
+    let cos = other.n.dot(rec.n);
+    if cos <= 0.0 {
+        return rec.r;
+    }
+    let d = (other.p - rec.p).length();
+    let mut r = rec.r.min(other.r + d);
+    if cos > DIFFERENCE_COS {
+        let lum = crate::math::luminance(rec.irradiance);
+        let diff = (crate::math::luminance(other.irradiance) - lum).abs();
+        if diff > 0.0 {
+            r = r.min((lum * d / diff).max(rec.r_min));
+        }
+    }
+    r
 }

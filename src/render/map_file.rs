@@ -486,6 +486,9 @@ fn read_record(r: &mut Reader) -> Result<Record> {
         n,
         irradiance,
         r: radius,
+        // A stored record was clamped by its neighbours when its cache was filled; extending
+        // the cache for another view does not shrink it further.
+        r_min: radius,
         grad_r: [g[0], g[1], g[2]],
         grad_t: [g[3], g[4], g[5]],
         groups: read_spectra(r, "cache record light groups")?,
