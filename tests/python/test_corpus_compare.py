@@ -36,7 +36,8 @@ def test_noise_alone_passes():
         r = compare.compare("noise", ours, ref, ours_error=0.2 * t)
         assert r.passed, r.message
         assert abs(r.max_sigma) < compare.K_BLOCK
-        r2 = compare.compare("noise pair", (noisy(rng, t, 0.2), noisy(rng, t, 0.2)), ref)
+        seeds = [noisy(rng, t, 0.2) for _ in range(compare.MIN_SEEDS)]
+        r2 = compare.compare("noise seeds", seeds, ref)
         assert r2.passed, r2.message
 
 
@@ -47,7 +48,7 @@ def test_a_two_percent_bias_fails_by_the_pooled_deviation(pair):
     ref = (noisy(rng, t, 0.01), noisy(rng, t, 0.01))
     for bias, should_pass in ((0.0, True), (0.02, False)):
         if pair:
-            ours = (noisy(rng, t, 0.02) * (1 + bias), noisy(rng, t, 0.02) * (1 + bias))
+            ours = [noisy(rng, t, 0.02) * (1 + bias) for _ in range(compare.MIN_SEEDS)]
             r = compare.compare("bias", ours, ref)
         else:
             r = compare.compare("bias", noisy(rng, t, 0.02) * (1 + bias), ref, 0.02 * t)
@@ -90,3 +91,33 @@ def test_dark_blocks_are_not_judged():
     ours[:40] *= 3
     r = compare.compare("dark", ours, ref, 0.01 * t)
     assert r.block_passed and r.n_blocks == (H - 40) // 8 * (W // 8)
+
+
+def test_fewer_seeds_than_the_noise_model_needs_are_refused():
+    rng = np.random.default_rng(5)
+    t = truth()
+    ref = (noisy(rng, t, 0.01), noisy(rng, t, 0.01))
+    with pytest.raises(ValueError, match="at least"):
+        compare.compare("two", [noisy(rng, t, 0.02) for _ in range(2)], ref)
+
+
+def test_a_block_noisier_than_its_neighbours_keeps_its_own_noise():
+    """Noise shared by a block's pixels (an irradiance cache record differs by seed) in one
+    block only: with the neighbours' noise alone the block would fail on noise; its own
+    scatter over the seeds keeps it within tolerance, and its sigma is its own."""
+    rng = np.random.default_rng(6)
+    t = truth()
+    ref = (noisy(rng, t, 0.005), noisy(rng, t, 0.005))
+    seeds = []
+    for f in (1.25, 1.25, 1.25, 0.95):  # block (10,5) over four seeds: +17.5%, 2.3 of its SE
+        img = noisy(rng, t, 0.01)
+        img[40:48, 80:88] *= f
+        seeds.append(img)
+    r = compare.compare("noisy block", seeds, ref)
+    b = [x for x in r.all_blocks if (x.x, x.y) == (10, 5)][0]
+    # Its own scatter: a standard error of 7.5% (its neighbours' smoothed in, 2.5%, would
+    # put the tolerance at 12.8% and fail it).
+    assert 0.06 < b.sigma < 0.09, r.message
+    assert r.block_passed, r.message
+    neighbour = [x for x in r.all_blocks if (x.x, x.y) == (12, 5)][0]
+    assert neighbour.sigma < 0.01, r.message

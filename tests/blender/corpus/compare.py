@@ -2,9 +2,11 @@
 
 The reference is two renders of different seeds, r1 and r2, and is used as their mean
 r = (r1 + r2) / 2. Ours is one render with its ``error`` AOV (the per-pixel standard error the
-core estimates), or two renders of different seeds (then their mean, and their spread as its
-noise). Every tolerance comes from these noise floors plus a stated systematic allowance;
-none comes from an image mean.
+core estimates), or ``MIN_SEEDS`` or more renders of different seeds (then their mean, and
+their scatter as its noise: photon maps and the irradiance cache change with the seed, and
+their error is shared by many pixels, so only the seeds' scatter measures it). Every
+tolerance comes from these noise floors plus a stated systematic allowance; none comes from
+an image mean.
 
 **Per block** (8x8 pixels; luminance Y = 0.2126 R + 0.7152 G + 0.0722 B). For block b with
 reference mean R_b and our mean O_b the deviation is d_b = (O_b - R_b) / R_b, judged where
@@ -15,9 +17,13 @@ blocks have no relative deviation worth the name). Its standard error:
     var(R_b)  = sum_p (r1_p - r2_p)^2 / 4 / n^2         (Cycles' pixels are independent)
     var(O_b)  = sum_p err_p^2 / n^2                      (one render: the error AOV, its
                                                           channels taken as correlated), or
-                max((O1_b - O2_b)^2 / 4 smoothed over the 3x3 neighbouring blocks,
-                    sum_p (o1_p - o2_p)^2 / 4 / n^2)     (two renders: photon-map noise is
-                                                          correlated across pixels)
+                max(s_b^2 / m smoothed over the 3x3 neighbouring blocks,
+                    s_b^2 / m,
+                    sum_p s_p^2 / m / n^2)               (m seeds, s^2 their sample variance:
+                                                          m - 1 degrees of freedom per block,
+                                                          about 9 (m - 1) once smoothed; a
+                                                          block keeps its own where it is
+                                                          noisier than its neighbours)
 
 and the block fails when |d_b| > K_BLOCK sigma_b + SYSTEMATIC. The largest |d_b| is reported
 in % and in sigmas (d_b / sigma_b), with the worst blocks by |d_b| / tolerance.
@@ -25,16 +31,16 @@ in % and in sigmas (d_b / sigma_b), with the worst blocks by |d_b| / tolerance.
 **Pooled over the blocks.** A uniform error of scale (a light 2% too bright) hides below each
 block's noise at any affordable sample count, but not below the noise of all blocks together:
 D = sum_b w_b d_b / sum_b w_b with w_b = 1 / sigma_b^2, whose standard error is
-sqrt(sum_b w_b^2 sigma_b^2) / sum_b w_b (with two renders of ours, at least the spread of the
-two seeds' own D, since photon-map noise is correlated across the image). It fails when
+sqrt(sum_b w_b^2 sigma_b^2) / sum_b w_b (with m seeds of ours, at least the sample variance of
+the seeds' own D over m, since photon-map noise is correlated across the image). It fails when
 |D| > K_POOLED sigma_D + POOLED_SYSTEMATIC. The tolerance, like the others, comes from the
 noise floors and a stated allowance.
 
 **Per pixel** (every channel). relMSE = mean (o - r)^2 / (r^2 + eps^2) with eps = ``EPS`` x the
 99th percentile of the reference's luminance, against the value pure noise gives,
 N = mean (var_o + var_r) / (r^2 + eps^2) (var_r = (r1 - r2)^2 / 4; var_o = err^2 or
-(o1 - o2)^2 / 4). It fails when relMSE > K_PIXEL N + SYSTEMATIC^2: more error than the noise
-floors explain, beyond a uniform relative bias of SYSTEMATIC.
+the seeds' sample variance over m). It fails when relMSE > K_PIXEL N + SYSTEMATIC^2: more
+error than the noise floors explain, beyond a uniform relative bias of SYSTEMATIC.
 """
 
 from __future__ import annotations
@@ -46,12 +52,15 @@ import numpy as np
 LUMA = np.array([0.2126, 0.7152, 0.0722])
 BLOCK = 8
 #: Sigmas a block may deviate beyond the systematic allowance (about 300 blocks per image:
-#: 4.5 sigma leaves a false alarm in ~1 image in 500 with exact noise estimates).
+#: 4.5 sigma leaves a false alarm in ~1 image in 500 with exact noise estimates; the rate
+#: measured with the seeds' estimates is what scripts/corpus_noise_check.py prints).
 K_BLOCK = 4.5
+#: Fewest renders of ours whose scatter may serve as our noise.
+MIN_SEEDS = 4
 #: Relative systematic allowance per block, and as a uniform bias in the per-pixel test.
 SYSTEMATIC = 0.015
 #: The per-pixel relMSE may exceed the noise's by this factor (the noise estimates themselves
-#: are estimates: 1 degree of freedom per pixel from two seeds, 3 from the error AOV).
+#: are estimates: m - 1 degrees of freedom per pixel from m seeds, 3 from the error AOV).
 K_PIXEL = 1.5
 #: The pooled deviation (every judged block, weighted by 1 / sigma_b^2) may differ from 0 by
 #: this many of its sigmas beyond POOLED_SYSTEMATIC: a uniform error of scale (a light a few
@@ -151,21 +160,41 @@ def _smooth3(a: np.ndarray, mask: np.ndarray) -> np.ndarray:
     return np.where(c > 0, s / np.maximum(c, 1), a)
 
 
+def seeds_block_variance(seed_blocks: np.ndarray, R: np.ndarray, judged: np.ndarray,
+                         var_pix: np.ndarray) -> np.ndarray:
+    """Variance of the mean of m seeds' block means ``seed_blocks`` (m, H, W): each block's
+    relative sample variance (m - 1 degrees of freedom) smoothed over its 3x3 judged
+    neighbours (a block's noise is about its neighbours'), never below the block's own sample
+    variance (a block noisier than its neighbours, such as a concave corner whose irradiance
+    cache records differ by seed, keeps its own), nor below the independent-pixel value
+    ``var_pix``."""
+    m = len(seed_blocks)
+    own = seed_blocks.var(axis=0, ddof=1) / m
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel = np.where(judged, own / np.maximum(R, 1e-30) ** 2, 0.0)
+    return np.maximum(np.maximum(_smooth3(rel, judged) * R ** 2, own), var_pix)
+
+
 def compare(name: str, ours, ref, ours_error=None, *, k_block: float = K_BLOCK,
             systematic: float = SYSTEMATIC, k_pixel: float = K_PIXEL, block: int = BLOCK,
             ref_rounding: float = REF_ROUNDING, n_worst: int = 3) -> Result:
     """Compares ``ours`` with the reference ``ref = (r1, r2)``.
 
     ``ours`` is an (H, W, 3) image with ``ours_error`` its per-pixel standard error (the
-    error AOV), or a pair of images of different seeds (``ours_error`` then unused)."""
+    error AOV), or a sequence of at least ``MIN_SEEDS`` images of different seeds
+    (``ours_error`` then unused)."""
     r1, r2 = (_f64(x) for x in ref)
     r = 0.5 * (r1 + r2)
     q2 = ref_rounding ** 2 / 3.0  # relative variance of the references' rounding
     var_r = 0.25 * (r1 - r2) ** 2 + q2 * r ** 2
     if isinstance(ours, (tuple, list)):
-        o1, o2 = (_f64(x) for x in ours)
-        o = 0.5 * (o1 + o2)
-        var_o = 0.25 * (o1 - o2) ** 2
+        seeds = np.stack([_f64(x) for x in ours])
+        m = len(seeds)
+        if m < MIN_SEEDS:
+            raise ValueError(f"{name}: {m} renders of ours; their scatter is our noise floor, "
+                             f"which needs at least {MIN_SEEDS}")
+        o = seeds.mean(axis=0)
+        var_o = seeds.var(axis=0, ddof=1) / m
         pair = True
     else:
         o = _f64(ours)
@@ -185,18 +214,15 @@ def compare(name: str, ours, ref, ours_error=None, *, k_block: float = K_BLOCK,
     # Luminance noise from the luminance of each seed (the channels' noise is correlated).
     var_R = _blocks(0.25 * ((r1 - r2) @ ly) ** 2, block) * block * block / n2 + q2 * R ** 2
     if pair:
-        d12 = _blocks(o1 @ ly, block) - _blocks(o2 @ ly, block)
-        var_O_pix = _blocks(0.25 * ((o1 - o2) @ ly) ** 2, block) * block * block / n2
+        seed_blocks = np.stack([_blocks(x @ ly, block) for x in seeds])
+        var_O_pix = _blocks((seeds @ ly).var(axis=0, ddof=1) / m, block) * block * block / n2
     else:
         # The channels' errors taken as fully correlated: SE(Y) = sum_c l_c SE_c.
         var_O_pix = _blocks((_f64(ours_error) @ ly) ** 2, block) * block * block / n2
     floor = JUDGE_FLOOR * float(np.percentile(R, 95)) if R.size else 0.0
     judged = (R > floor) & (R > 0)
     if pair:
-        # Relative block variance from the two seeds, smoothed over the neighbours (1 degree
-        # of freedom per block is too few), and never below the independent-pixel value.
-        rel = np.where(judged, (0.25 * d12 ** 2) / np.maximum(R, 1e-30) ** 2, 0.0)
-        var_O = np.maximum(_smooth3(rel, judged) * R ** 2, var_O_pix)
+        var_O = seeds_block_variance(seed_blocks, R, judged, var_O_pix)
     else:
         var_O = var_O_pix
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -217,8 +243,9 @@ def compare(name: str, ours, ref, ours_error=None, *, k_block: float = K_BLOCK,
             var_pr = float((wn ** 2 * np.where(judged, var_R / R ** 2, 0.0)).sum())
             var_po = float((wn ** 2 * np.where(judged, var_O / R ** 2, 0.0)).sum())
             if pair:
-                g = float((wn * np.where(judged, d12 / R, 0.0)).sum())
-                var_po = max(var_po, 0.25 * g * g)
+                per_seed = np.array([(wn * np.where(judged, (b - R) / R, 0.0)).sum()
+                                     for b in seed_blocks])
+                var_po = max(var_po, float(per_seed.var(ddof=1)) / m)
         pooled_sigma = float(np.sqrt(var_pr + var_po))
     else:
         pooled, pooled_sigma = 0.0, 0.0
