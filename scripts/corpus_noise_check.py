@@ -53,7 +53,10 @@ def check(name: str, setting_name: str, seeds: int, save: str | None) -> dict:
     judged = (R > compare.JUDGE_FLOOR * np.percentile(R, 95)) & (R > 0)
     (a, va), (b, vb) = (half_blocks(h, R, judged) for h in (imgs[: seeds // 2],
                                                              imgs[seeds // 2:]))
-    z = ((a - b) / np.sqrt(va + vb))[judged]
+    diff, var = (a - b)[judged], (va + vb)[judged]
+    # A block both halves render identically (an emitter seen directly, no noise) is a z of 0.
+    with np.errstate(divide="ignore", invalid="ignore"):
+        z = np.where(var > 0, diff / np.sqrt(var), np.where(diff == 0, 0.0, np.inf))
     return {"name": name, "blocks": int(judged.sum()), "z2": float(np.mean(z ** 2)),
             "over": int((np.abs(z) > compare.K_BLOCK).sum()), "max": float(np.abs(z).max()),
             "seconds": time.time() - t}

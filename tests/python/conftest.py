@@ -134,3 +134,13 @@ def write_scene_usda(path, desc, camera_x=(0.0,), frame_start=1):
     stage.SetEndTimeCode(frame_start + len(camera_x) - 1)
     stage.GetRootLayer().Save()
     return path
+
+
+def pytest_terminal_summary(terminalreporter):
+    """The corpus sensitivity table (test_corpus_sensitivity.py), when its cases ran."""
+    mod = sys.modules.get("corpus.sensitivity")
+    if mod is not None and mod.TABLE:
+        terminalreporter.section("corpus sensitivity at 'ci': margins beyond the tolerance")
+        terminalreporter.line(mod.HEADER)
+        for line in mod.TABLE:
+            terminalreporter.line(line)

@@ -48,7 +48,8 @@ SEEDS = (1, 2)
 DEFAULT_SPP = 1024
 #: Samples per pixel per scene, from a calibration at 256 spp: the least power of two (1024 to
 #: 4096) that brings the median 8x8-block standard error of the two seeds' mean to about
-#: 0.25%; 2048 for the sensitivity tests' scenes (test_corpus.py), whose noise must be lowest.
+#: 0.25%; 2048 for the sensitivity tests' scenes (corpus/sensitivity.py), whose noise must be
+#: lowest.
 SPP: dict[str, int] = {
     "area_edge": 2048, "area_spread60": 4096, "fog_spot_in": 4096, "fog_spot_out": 4096,
     "glass_bsdf": 2048, "glass_r0": 2048, "glossy_bsdf": 2048, "metal_smooth": 2048,

@@ -385,7 +385,7 @@ def courtyard(wall_height=1.2):
 
 
 @scene("sun_angle", "Sun (strength 3, angle 10 deg) from the front left at 50 deg elevation "
-       "into a roofless courtyard: soft shadows.")
+       "into a roofless courtyard: soft shadows.", tags=("sun",))
 def sun_angle():
     sc = reset()
     courtyard()
