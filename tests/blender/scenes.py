@@ -1,8 +1,5 @@
-"""Test scenes built with bpy, shared by the tests and make_cycles_references.py.
-
-Every scene is 64x64, diffuse, black world, and keeps its emitters out of the frame (light
-objects are made invisible to Cycles' camera rays too), so that the image mean compares the
-light the two renderers put on the walls.
+"""Small test scenes built with bpy for the add-on's tests (64x64, diffuse, black world,
+emitters out of frame). Comparisons with Cycles are the corpus' (tests/blender/corpus/).
 """
 
 from __future__ import annotations
@@ -111,8 +108,6 @@ def sun_floor():
     return sc
 
 
-SCENES = {"area": cornell_area, "point": cornell_point, "sun": sun_floor}
-
 
 def volume_material(name, kind="ShaderNodeVolumePrincipled", surface=None, **inputs):
     """A material whose Volume output is fed by the node ``kind`` (inputs set by socket name,
@@ -157,5 +152,3 @@ def fog_spot():
     camera((0, -6, 1.5), (82, 0, 0), lens=30.0)
     return sc
 
-
-SCENES["fog"] = fog_spot

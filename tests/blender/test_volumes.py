@@ -9,8 +9,6 @@ import pytest
 import scenes
 from conftest import exr_parts, set_multilayer_exr
 
-FOG_TOLERANCE = 0.05
-
 
 def _export(addon):
     return addon.export.export_scene(bpy.context.evaluated_depsgraph_get())
@@ -203,36 +201,6 @@ def test_fog_scene_renders_a_volume_pass(photonmap_scene, addon, reports, tmp_pa
     for term, name in zip(photonmap.TERMS, photonmap.PASS_NAMES):
         np.testing.assert_allclose(_pass(parts, layer, name), out[term], rtol=1e-5, atol=1e-6,
                                    err_msg=name)
-
-
-def test_fog_brightness_matches_cycles(photonmap_scene, tmp_path, record_property):
-    """Image mean against Cycles' within FOG_TOLERANCE; measured 1.044 at 'high' (10^6 global
-    photons)."""
-    import OpenImageIO as oiio
-
-    ref = scenes_dir() / "cycles_fog.exr"
-    if not ref.exists():
-        pytest.skip("no Cycles reference (make_cycles_references.py --only fog)")
-    sc = photonmap_scene(scenes.fog_spot, quality="high")
-    path = tmp_path / "fog.exr"
-    set_multilayer_exr(sc, path)
-    bpy.ops.render.render(write_still=True)
-    parts = exr_parts(path)
-    layer = bpy.context.view_layer.name
-    ours = _pass(parts, layer, "Combined")
-    vol = _pass(parts, layer, "Volume")
-    cycles = oiio.ImageBuf(str(ref), 0, 0).get_pixels(oiio.FLOAT)[..., :3]
-    ratio = float(ours.mean() / cycles.mean())
-    record_property("ratio", ratio)
-    print(f"\nfog: PhotonMap mean {ours.mean():.4f} (volume pass {vol.mean():.4f}), "
-          f"Cycles {cycles.mean():.4f}, ratio {ratio:.4f}")
-    assert abs(ratio - 1.0) < FOG_TOLERANCE, ratio
-
-
-def scenes_dir():
-    from pathlib import Path
-
-    return Path(scenes.__file__).resolve().parent / "data"
 
 
 
