@@ -167,5 +167,6 @@ pub fn extend(
         }
         progress((round + 1) as f32 / strides.len() as f32);
     }
+    cache.settle();
     Ok(cache)
 }

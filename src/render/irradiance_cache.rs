@@ -129,6 +129,25 @@ impl IrradianceCache {
                 other.r = clamped(other, &rec);
             }
         }
+        self.insert_stored(rec);
+    }
+
+    /// Ends a fill: each record's radius as clamped becomes its least radius, and the grid
+    /// holds each record where its final radius reaches. The cache is then in the state it
+    /// is read back in from a map file ([`IrradianceCache::insert_stored`] of its records in
+    /// order), so that extending it for another view gives the same records either way.
+    pub fn settle(&mut self) {
+        let records = std::mem::take(&mut self.records);
+        self.grid.clear();
+        for mut rec in records {
+            rec.r_min = rec.r;
+            self.insert_stored(rec);
+        }
+    }
+
+    /// Adds `rec` as it is, without clamping: a record read back from a cache that was
+    /// filled (and clamped) before, so that the cache answers as it did.
+    pub fn insert_stored(&mut self, rec: Record) {
         let idx = self.records.len() as u32;
         let reach = rec.r * self.tolerance;
         let lo = self.key(rec.p - Vec3::splat(reach));

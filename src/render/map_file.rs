@@ -486,8 +486,9 @@ fn read_record(r: &mut Reader) -> Result<Record> {
         n,
         irradiance,
         r: radius,
-        // A stored record was clamped by its neighbours when its cache was filled; extending
-        // the cache for another view does not shrink it further.
+        // A stored record was clamped by its neighbours when its cache was filled (it is read
+        // back unclamped); extending the cache for another view may shrink it by distance to
+        // new records, not by their irradiance.
         r_min: radius,
         grad_r: [g[0], g[1], g[2]],
         grad_t: [g[3], g[4], g[5]],
@@ -596,7 +597,7 @@ impl MapSet {
             let n = r.count(RECORD_FLOATS * 4, "cache records")?;
             let mut c = IrradianceCache::new(tolerance, cell);
             for _ in 0..n {
-                c.insert(read_record(&mut r)?);
+                c.insert_stored(read_record(&mut r)?);
             }
             Some(c)
         } else {
