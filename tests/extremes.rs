@@ -571,7 +571,10 @@ fn extreme_gather_sizes_and_radii_stay_finite() {
             // final gather finds only what it reaches through specular bounces.
             assert_eq!(r.of(Term::Caustic).0, 0.0, "{label}: caustic");
             let (ind, twin) = r.of(Term::Indirect);
-            assert!(ind < 0.5 * twin, "{label}: indirect {ind:.4e}, twin {twin:.4e}");
+            assert!(
+                ind < 0.5 * twin,
+                "{label}: indirect {ind:.4e}, twin {twin:.4e}"
+            );
         }
     }
 }

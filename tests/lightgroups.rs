@@ -148,8 +148,15 @@ fn check_mode(mode: RenderMode) {
         // with 40,000 photons and 64 gather rays each sat within 1.3% of the renders without
         // the cache (key: group 0.2048, alone 0.2003; without the cache 0.2029 and
         // 0.2004-0.2048 over three seeds), so their means may differ by twice that.
-        let mean_tol = if mode == RenderMode::Jensen { 0.03 } else { 0.02 };
-        assert!((m / ma - 1.0).abs() < mean_tol, "{name}: mean {m} against {ma}");
+        let mean_tol = if mode == RenderMode::Jensen {
+            0.03
+        } else {
+            0.02
+        };
+        assert!(
+            (m / ma - 1.0).abs() < mean_tol,
+            "{name}: mean {m} against {ma}"
+        );
         // The other light's render is far off: the comparison tells groups apart.
         let other = render_settings(&only(&d, 1 - keep), settings(2, mode))
             .film
