@@ -14,8 +14,8 @@ every corpus scene
   ``usd_delegate`` and rendered by ``photonmap.render`` in this process;
 
 with ``--seeds`` (default 1 2 3 4: their scatter is our own noise floor, photon-map noise
-included, and needs at least four; one seed uses the error AOV), compares each with its two Cycles references
-(tests/blender/corpus/compare.py; through USD with the references times the known factor of
+included, and needs at least four; one seed uses the error AOV), compares each with its two
+Cycles references (tests/blender/corpus/compare.py; through USD with the references times the known factor of
 Blender's exporter bugs, the 6500 K tint and the sun's S/4, where one holds:
 tests/blender/corpus/usd_export.py) and prints per scene and path the largest block deviation
 (% and sigmas), the number of blocks beyond tolerance, and the per-pixel relMSE against its
