@@ -15,6 +15,7 @@ pub mod diffuse;
 pub mod fresnel;
 pub mod glass_albedo;
 pub mod glossy;
+pub mod graph;
 pub mod layer;
 pub mod lobe;
 pub mod microfacet;

@@ -1,0 +1,1 @@
+//! Converter nodes, as Cycles evaluates them.

@@ -1,0 +1,1 @@
+//! Procedural textures, as Cycles evaluates them.
