@@ -1,1 +1,46 @@
 //! Procedural textures, as Cycles evaluates them.
+//!
+//! Each node is a parameter struct holding the node's properties (built from
+//! Blender's RNA identifiers with `from_blender`), an inputs struct holding
+//! its socket values (the Vector input already transformed: texture
+//! coordinates and the Mapping node are handled by the caller) and an `eval`
+//! returning the node's outputs.  Results match Blender's Cycles to float
+//! rounding; the tests compare against values produced by Blender itself
+//! (`make_references.py`).
+
+pub mod fractal;
+pub mod hash;
+pub mod noise;
+pub mod noise_texture;
+
+#[cfg(test)]
+mod reference;
+
+pub use noise_texture::{NoiseInputs, NoiseOutput, NoiseTexture, NoiseType};
+
+/// Dimensionality of the Noise, Voronoi and White Noise textures.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Dimensions {
+    /// W only.
+    D1,
+    /// Vector x and y.
+    D2,
+    /// Vector (the nodes' default).
+    #[default]
+    D3,
+    /// Vector and W.
+    D4,
+}
+
+impl Dimensions {
+    /// From Blender's RNA identifiers `"1D"` to `"4D"`.
+    pub fn from_blender(identifier: &str) -> Option<Self> {
+        Some(match identifier {
+            "1D" => Self::D1,
+            "2D" => Self::D2,
+            "3D" => Self::D3,
+            "4D" => Self::D4,
+            _ => return None,
+        })
+    }
+}
