@@ -12,11 +12,13 @@ pub mod fractal;
 pub mod hash;
 pub mod noise;
 pub mod noise_texture;
+pub mod voronoi;
 
 #[cfg(test)]
 mod reference;
 
 pub use noise_texture::{NoiseInputs, NoiseOutput, NoiseTexture, NoiseType};
+pub use voronoi::{VoronoiFeature, VoronoiInputs, VoronoiMetric, VoronoiOutput, VoronoiTexture};
 
 /// Dimensionality of the Noise, Voronoi and White Noise textures.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
