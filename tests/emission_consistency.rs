@@ -198,6 +198,7 @@ fn photons_deliver_what_light_sampling_sees() {
     let textures: Vec<Texture> = vec![];
     let ctx = LightCtx {
         materials: &materials,
+        objects: &[],
         textures: &textures,
         scene_center: Vec3::ZERO,
         scene_radius: 3.0,
@@ -229,6 +230,7 @@ fn the_emission_comparison_catches_a_wrong_emitter() {
     let textures: Vec<Texture> = vec![];
     let ctx = LightCtx {
         materials: &materials,
+        objects: &[],
         textures: &textures,
         scene_center: Vec3::ZERO,
         scene_radius: 3.0,
@@ -278,6 +280,7 @@ fn spot_with_radius_keeps_its_cone() {
     let textures: Vec<Texture> = vec![];
     let ctx = LightCtx {
         materials: &materials,
+        objects: &[],
         textures: &textures,
         scene_center: Vec3::ZERO,
         scene_radius: 3.0,

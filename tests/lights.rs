@@ -21,6 +21,7 @@ fn ctx<'a>(materials: &'a [Material], textures: &'a [Texture]) -> LightCtx<'a> {
     LightCtx {
         materials,
         textures,
+        objects: &[],
         scene_center: Vec3::ZERO,
         scene_radius: 10.0,
     }

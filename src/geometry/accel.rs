@@ -479,6 +479,37 @@ impl Accel {
         }
     }
 
+    /// World-space dp/dv at a hit (from the triangle's UVs; zero without UVs or when they
+    /// are degenerate).
+    pub fn dpdv(&self, si: &SurfaceInteraction) -> Vec3 {
+        let Some(inst) = self.instances.get(si.instance as usize) else {
+            return Vec3::ZERO;
+        };
+        let Some(m) = self.meshes.get(inst.mesh as usize) else {
+            return Vec3::ZERO;
+        };
+        let Some(uv) = tri_attr(m.uvs.as_deref(), m.indices.get(si.prim as usize)) else {
+            return Vec3::ZERO;
+        };
+        let p = m.triangle(si.prim);
+        let (duv02, duv12) = (uv[0] - uv[2], uv[1] - uv[2]);
+        let det = duv02.x * duv12.y - duv02.y * duv12.x;
+        if !(det.abs() > 1e-20) {
+            return Vec3::ZERO;
+        }
+        let d = (duv02.x * (p[1] - p[2]) - duv12.x * (p[0] - p[2])) / det;
+        let d = if self.inst.get(si.instance as usize).is_none_or_identity() {
+            d
+        } else {
+            inst.transform.vector(d)
+        };
+        if d.is_finite() {
+            d
+        } else {
+            Vec3::ZERO
+        }
+    }
+
     /// World bounds of the scene (empty when nothing can be hit).
     pub fn bounds(&self) -> Bounds3 {
         self.top.bounds()

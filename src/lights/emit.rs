@@ -85,7 +85,7 @@ impl Light {
         }
         match self {
             Light::Area(a) => a.emitted(cos) * cos.abs(),
-            Light::Triangle(t) => t.emission(lp.uv, ctx) * cos.abs(),
+            Light::Triangle(t) => t.emission(lp.p, lp.uv, ctx) * cos.abs(),
             _ => Spectrum::ZERO,
         }
     }

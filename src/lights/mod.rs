@@ -28,6 +28,8 @@ use glam::{Vec2, Vec3};
 pub struct LightCtx<'a> {
     pub materials: &'a [Material],
     pub textures: &'a [Texture],
+    /// Per instance, what shading graphs read of its object (empty when none reads it).
+    pub objects: &'a [crate::materials::graph::point::ObjectCoords],
     /// Centre and radius of a sphere bounding the scene (for lights at infinity).
     pub scene_center: Vec3,
     pub scene_radius: f32,

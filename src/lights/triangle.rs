@@ -34,10 +34,22 @@ impl TriangleLight {
         }
     }
 
-    pub fn emission(&self, uv: Vec2, ctx: &LightCtx) -> Spectrum {
-        ctx.materials
-            .get(self.material as usize)
-            .map_or(Spectrum::ZERO, |m| m.emission(uv, ctx.textures))
+    /// Emitted radiance at the point `p` of UV `uv` (a shading graph's emission reads the
+    /// point and its object).
+    pub fn emission(&self, p: Vec3, uv: Vec2, ctx: &LightCtx) -> Spectrum {
+        match ctx.materials.get(self.material as usize) {
+            None => Spectrum::ZERO,
+            Some(m @ crate::materials::Material::Graph(_)) => {
+                let mut sp = crate::materials::graph::point::ShadingPoint::at(p, self.n, uv);
+                sp.object = ctx
+                    .objects
+                    .get(self.instance as usize)
+                    .copied()
+                    .unwrap_or_default();
+                m.emission_at(&sp, ctx.textures)
+            }
+            Some(m) => m.emission(uv, ctx.textures),
+        }
     }
 
     pub fn sample_li(&self, p: Vec3, u: Vec2, ctx: &LightCtx) -> Option<LightSample> {
@@ -58,7 +70,7 @@ impl TriangleLight {
         let cos_l = wi.dot(self.n);
         Some(LightSample {
             wi,
-            li: self.emission(uv, ctx),
+            li: self.emission(pl, uv, ctx),
             pdf: warp::area_to_solid_angle(1.0 / self.area, d2, cos_l),
             dist,
             p: pl,
@@ -79,6 +91,7 @@ impl TriangleLight {
     /// Power of both faces, with the emission at the centroid's UV.
     pub fn power(&self, ctx: &LightCtx) -> Spectrum {
         let uv = (self.uv[0] + self.uv[1] + self.uv[2]) / 3.0;
-        self.emission(uv, ctx) * (2.0 * PI * self.area)
+        let c = (self.v[0] + self.v[1] + self.v[2]) / 3.0;
+        self.emission(c, uv, ctx) * (2.0 * PI * self.area)
     }
 }

@@ -275,6 +275,25 @@ impl Bsdf {
         }
     }
 
+    /// Adds every lobe of `other` (built in the same frame) with its weight times `w`,
+    /// keeping its coat and subsurface marks; one coat per BSDF (a second coat's lobes are
+    /// added uncoated).
+    pub fn absorb(&mut self, other: &Bsdf, w: f32) {
+        for i in 0..other.count {
+            if !self.add(other.weights[i] * w, other.lobes[i]) {
+                continue;
+            }
+            let k = self.count - 1;
+            if other.coated[i] && other.coat.is_some() && (self.coat.is_none() || self.coat == other.coat) {
+                self.coat = other.coat;
+                self.coated[k] = true;
+            }
+            if other.subsurface == Some(i as u8) {
+                self.subsurface = Some(k as u8);
+            }
+        }
+    }
+
     /// Adds `weight * lobe`. Non-positive or non-finite weights and lobes beyond
     /// [`MAX_LOBES`] are ignored; returns whether the lobe was added.
     pub fn add(&mut self, weight: f32, lobe: Lobe) -> bool {

@@ -16,6 +16,7 @@ pub mod fresnel;
 pub mod glass_albedo;
 pub mod glossy;
 pub mod graph;
+mod graph_constant;
 pub mod layer;
 pub mod lobe;
 pub mod microfacet;
@@ -175,6 +176,8 @@ pub enum Material {
     },
     /// Blender Principled BSDF / OpenPBR; see [`Principled`] for the mapping.
     Principled(Box<Principled>),
+    /// A shading graph ([`graph::ShaderGraph`]): closures over node expressions.
+    Graph(Box<graph::ShaderGraph>),
 }
 
 fn rgb(c: &[f32; 3]) -> Spectrum {
@@ -260,6 +263,23 @@ impl Material {
             },
             MaterialDesc::Null { name } => Material::Null { name: name.clone() },
             MaterialDesc::Principled(p) => Material::Principled(Box::new(Principled::from_desc(p))),
+            MaterialDesc::Graph(g) => Material::from_graph(g, "", usize::MAX),
+        }
+    }
+
+    /// The material of graph `g` (at JSON pointer `pointer`, in a scene of `n_textures`):
+    /// one closure with constant inputs becomes the plain material it is; a graph that does
+    /// not compile (validation reports it first) renders grey diffuse.
+    pub fn from_graph(g: &crate::scene::graph_desc::GraphDesc, pointer: &str, n_textures: usize) -> Material {
+        match graph::ShaderGraph::new(g, pointer, n_textures) {
+            Ok(sg) => match sg.as_constant().and_then(|(k, v)| graph_constant::plain(&g.name, k, &v)) {
+                Some(desc) => Material::from_desc(&desc),
+                None => Material::Graph(Box::new(sg)),
+            },
+            Err(_) => Material::Diffuse {
+                name: g.name.clone(),
+                color: ColorParam::Const(Vec3::splat(0.8)),
+            },
         }
     }
 
@@ -278,6 +298,7 @@ impl Material {
             | Material::Emission { name, .. }
             | Material::Null { name } => name,
             Material::Principled(p) => &p.name,
+            Material::Graph(g) => &g.name,
         }
     }
 
@@ -325,12 +346,30 @@ impl Material {
             ),
             Material::Emission { .. } => b,
             Material::Principled(p) => p.bsdf(frame, uv, textures),
+            Material::Graph(g) => {
+                let mut sp = graph::point::ShadingPoint::at(Vec3::ZERO, frame.n, uv);
+                sp.dpdu = frame.s;
+                g.shade(&sp, textures, graph::Want::All).bsdf
+            }
         }
     }
 
-    /// Emitted radiance at `uv` (zero for non-emitters).
+    /// Emitted radiance at shading point `sp` (zero for non-emitters).
+    pub fn emission_at(&self, sp: &graph::point::ShadingPoint, textures: &[Texture]) -> Spectrum {
+        match self {
+            Material::Graph(g) => g.shade(sp, textures, graph::Want::Light).emission,
+            _ => self.emission(sp.uv, textures),
+        }
+    }
+
+    /// Emitted radiance at `uv` (zero for non-emitters; a graph's is that of
+    /// [`Material::emission_at`] at a point that knows only `uv`).
     pub fn emission(&self, uv: Vec2, textures: &[Texture]) -> Spectrum {
         match self {
+            Material::Graph(g) => {
+                let sp = graph::point::ShadingPoint::at(Vec3::ZERO, Vec3::Z, uv);
+                g.shade(&sp, textures, graph::Want::Light).emission
+            }
             Material::Emission {
                 color, strength, ..
             } => color.eval(uv, textures).max(Vec3::ZERO) * *strength,
@@ -356,6 +395,7 @@ impl Material {
                 color, strength, ..
             } => *strength > 0.0 && !color.is_black(),
             Material::Principled(p) => p.emission_strength > 0.0 && !p.emission_color.is_black(),
+            Material::Graph(g) => g.is_emissive(),
             _ => false,
         }
     }
@@ -370,6 +410,7 @@ impl Material {
                 *roughness <= microfacet::NEAR_SPECULAR_ROUGHNESS
             }
             Material::Principled(p) => p.has_specular(),
+            Material::Graph(g) => g.has_specular(),
         }
     }
 }

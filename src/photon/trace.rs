@@ -21,6 +21,7 @@ use crate::math::{is_finite3, Spectrum};
 use crate::media::{Medium, MediumStack};
 use crate::render::terms::subsurface;
 use crate::sampling::Rng;
+use crate::scene::shading::{Crossing, MAX_TRANSPARENT};
 use crate::scene::Scene;
 use glam::Vec3;
 use rayon::prelude::*;
@@ -124,6 +125,7 @@ fn trace_path(
     let mut interactions = 0u32;
     let mut specular_bounces = 0u32;
     let mut crossings = 0u32;
+    let mut transparent_hits = 0u32;
     let mut last_scatter = false;
     // Distance travelled before the first interaction, against the light's `min_travel`.
     let mut travelled = 0.0f32;
@@ -186,12 +188,23 @@ fn trace_path(
         let Some(mat) = scene.materials.get(si.material as usize) else {
             break;
         };
-        if mat.is_null() {
-            scene.update_stack(&mut stack, &si, ray.d);
-            ray = si.spawn_ray(ray.d);
-            crossings += 1;
-            travelled += dist;
-            continue;
+        match scene.crossing(mat, &si, || rng.f32()) {
+            Crossing::Pass(w) => {
+                // An invisible boundary or a transparent surface: the photon goes on.
+                if !mat.is_null() {
+                    transparent_hits += 1;
+                    if transparent_hits > MAX_TRANSPARENT {
+                        break;
+                    }
+                }
+                power *= w;
+                scene.update_stack(&mut stack, &si, ray.d);
+                ray = si.spawn_ray(ray.d);
+                crossings += 1;
+                travelled += dist;
+                continue;
+            }
+            Crossing::Stop(w) => power *= w,
         }
         if too_near(dist) {
             break;

@@ -15,6 +15,7 @@ use crate::geometry::{Ray, SurfaceInteraction};
 use crate::math::Spectrum;
 use crate::photon::KnnScratch;
 use crate::sampling::Rng;
+use crate::scene::shading::Crossing;
 use crate::scene::SceneHit;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
@@ -51,8 +52,9 @@ fn first_diffuse(
         };
         length += si.t * ray.d.length();
         let mat = scene.materials.get(si.material as usize)?;
-        if mat.is_null() {
-            // An invisible medium boundary: the camera pass crosses it, and so does the fill.
+        if let Crossing::Pass(_) = scene.crossing(mat, &si, || rng.f32()) {
+            // An invisible medium boundary or a transparent surface: the camera pass crosses
+            // it, and so does the fill.
             crossings += 1;
             if crossings > MAX_CROSSINGS {
                 return None;

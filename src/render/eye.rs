@@ -16,6 +16,7 @@ use crate::materials::bsdf::{Bsdf, LobeFlags};
 use crate::math::{is_finite3, Spectrum};
 use crate::photon::KnnScratch;
 use crate::sampling::Rng;
+use crate::scene::shading::{Crossing, MAX_TRANSPARENT};
 use crate::scene::{Scene, SceneHit};
 
 /// Samples of the environment at the surfaces a camera path reaches (one at final-gather
@@ -154,6 +155,7 @@ pub fn trace_split(
     };
     let mut stack = scene.camera_stack;
     let mut crossings = 0u32;
+    let mut transparent_hits = 0u32;
     let mut skip_emission = false;
     loop {
         let hit = scene.intersect(&ray);
@@ -232,15 +234,23 @@ pub fn trace_split(
                 let Some(mat) = scene.materials.get(si.material as usize) else {
                     break;
                 };
-                if mat.is_null() {
-                    // An invisible medium boundary: cross it and go on.
-                    crossings += 1;
-                    if crossings > 64 {
-                        break;
+                match scene.crossing(mat, &si, || rng.f32()) {
+                    Crossing::Pass(w) => {
+                        // An invisible medium boundary or a transparent surface: cross it
+                        // and go on.
+                        crossings += 1;
+                        if !mat.is_null() {
+                            transparent_hits += 1;
+                        }
+                        if crossings > 64 || transparent_hits > MAX_TRANSPARENT {
+                            break;
+                        }
+                        beta *= w;
+                        scene.update_stack(&mut stack, &si, ray.d);
+                        ray = si.spawn_ray(ray.d);
+                        continue;
                     }
-                    scene.update_stack(&mut stack, &si, ray.d);
-                    ray = si.spawn_ray(ray.d);
-                    continue;
+                    Crossing::Stop(w) => beta *= w,
                 }
                 if want_first_hit && bounces == 0 && first_hit.is_none() {
                     *first_hit = Some((si.instance, si.material));

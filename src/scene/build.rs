@@ -55,8 +55,14 @@ pub struct Scene {
     /// Per light, the index of its group in `light_groups` (all 0 without groups).
     pub light_group: Vec<u8>,
     /// What the scene's IR does that renders other than it says, each naming the material
-    /// or mesh (`scene::subsurface::warnings`); the stats carry them.
+    /// or mesh (`scene::subsurface::warnings`, shading graphs); the stats carry them.
     pub warnings: Vec<String>,
+    /// Whether a material lets light pass straight through somewhere (a graph's Transparent
+    /// BSDF or Alpha): shadow rays then look through surfaces.
+    pub transparent: bool,
+    /// Per instance of the acceleration structure, the coordinate systems shading graphs
+    /// read; empty when no graph reads them.
+    pub objects: Vec<crate::materials::graph::point::ObjectCoords>,
 }
 
 /// What a ray found first. Analytic lights are not surfaces: they never occlude, and rays
@@ -95,7 +101,17 @@ impl Scene {
             return Err(Error::Cancelled);
         }
         let textures: Vec<Texture> = desc.textures.iter().map(Texture::from_desc).collect();
-        let materials: Vec<Material> = desc.materials.iter().map(Material::from_desc).collect();
+        let materials: Vec<Material> = desc
+            .materials
+            .iter()
+            .enumerate()
+            .map(|(i, m)| match m {
+                crate::scene::desc::MaterialDesc::Graph(g) => {
+                    Material::from_graph(g, &format!("/materials/{i}"), textures.len())
+                }
+                m => Material::from_desc(m),
+            })
+            .collect();
         // The GGX albedo tables, built once per process here on the caller's thread rather
         // than by the first render worker that needs them.
         crate::materials::layer::SchlickAlbedoTable::get();
@@ -164,6 +180,7 @@ impl Scene {
         }
         let accel = Accel::build_cancellable(meshes, instances, cancel).ok_or(Error::Cancelled)?;
         let mut bounds = accel.bounds();
+        let objects = super::objects::object_coords(desc, &accel, &materials, &instance_names);
 
         let mut lights = Vec::new();
         // Each light's group; `None` = the default group.
@@ -226,6 +243,7 @@ impl Scene {
         let ctx = LightCtx {
             materials: &materials,
             textures: &textures,
+            objects: &objects,
             scene_center: center,
             scene_radius: radius,
         };
@@ -246,6 +264,16 @@ impl Scene {
             })
             .collect();
 
+        let warnings = super::subsurface::warnings(desc)
+            .into_iter()
+            .chain(materials.iter().flat_map(|m| match m {
+                Material::Graph(g) => g.warnings().to_vec(),
+                _ => Vec::new(),
+            }))
+            .collect();
+        let transparent = materials
+            .iter()
+            .any(|m| matches!(m, Material::Graph(g) if g.can_pass()));
         // The IR's lights come first; emissive triangles and the environment follow.
         let lights_len = lights.len();
         let mut scene = Scene {
@@ -279,7 +307,9 @@ impl Scene {
             instance_names,
             light_groups: Vec::new(),
             light_group: Vec::new(),
-            warnings: super::subsurface::warnings(desc),
+            warnings,
+            transparent,
+            objects,
             material_names: desc
                 .materials
                 .iter()
@@ -309,6 +339,7 @@ impl Scene {
         LightCtx {
             materials: &self.materials,
             textures: &self.textures,
+            objects: &self.objects,
             scene_center: self.center,
             scene_radius: self.radius,
         }

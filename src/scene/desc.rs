@@ -407,6 +407,7 @@ pub enum FloatInput {
 /// | `emission` | `color`, `strength`: radiance = color x strength; reflects nothing |
 /// | `null` | an invisible surface: the boundary of a medium (Blender's volume-only material) |
 /// | `principled` | Blender Principled BSDF / OpenPBR: `base_color`, `metallic`, `roughness`, `transmission`, `ior`, `specular`, `emission_color`, `emission_strength` |
+/// | `graph` | a shading graph: `nodes` and the `surface` closure ([`super::graph_desc::GraphDesc`]) |
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
 pub enum MaterialDesc {
@@ -469,6 +470,9 @@ pub enum MaterialDesc {
         name: String,
     },
     Principled(Box<PrincipledDesc>),
+    /// A shading graph (`graph_desc::GraphDesc`): closures combined by Mix and Add over
+    /// node expressions.
+    Graph(Box<super::graph_desc::GraphDesc>),
 }
 
 /// Blender Principled BSDF / OpenPBR parameters.
@@ -603,6 +607,7 @@ impl MaterialDesc {
             | MaterialDesc::Emission { name, .. }
             | MaterialDesc::Null { name } => name,
             MaterialDesc::Principled(p) => &p.name,
+            MaterialDesc::Graph(g) => &g.name,
         }
     }
 }

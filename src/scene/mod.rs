@@ -2,7 +2,9 @@
 pub mod build;
 pub mod camera;
 pub mod desc;
-mod shading;
+pub mod graph_desc;
+mod objects;
+pub mod shading;
 pub mod subsurface;
 mod transmit;
 mod validate;

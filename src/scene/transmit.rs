@@ -29,7 +29,7 @@ impl Scene {
     /// surface blocks it, else the product of the media's transmittances through any
     /// invisible boundaries. Without media this is the plain any-hit test.
     pub fn transmittance(&self, ray: &Ray, stack: &MediumStack) -> Spectrum {
-        if !self.has_media() {
+        if !self.has_media() && !self.transparent {
             return if self.accel.occluded(ray) {
                 Spectrum::ZERO
             } else {
@@ -44,6 +44,7 @@ impl Scene {
             None
         };
         let mut t = Spectrum::ONE;
+        let mut transparent_hits = 0u32;
         for _ in 0..MAX_CROSSINGS {
             let hit = self.accel.intersect(&ray);
             let seg = match &hit {
@@ -55,7 +56,20 @@ impl Scene {
             }
             let Some(h) = hit else { return t };
             let si = self.accel.interaction(&ray, &h);
-            if !self.is_null(&si) || t.max_element() <= 0.0 {
+            if !self.is_null(&si) {
+                // A transparent surface lets its transparency through (Cycles' transparent
+                // shadows), up to the transparent bounce limit.
+                let pass = match self.materials.get(si.material as usize) {
+                    Some(m) if self.transparent => self.transparency(m, &si),
+                    _ => Spectrum::ZERO,
+                };
+                transparent_hits += 1;
+                if transparent_hits > super::shading::MAX_TRANSPARENT {
+                    return Spectrum::ZERO;
+                }
+                t *= pass;
+            }
+            if t.max_element() <= 0.0 {
                 return Spectrum::ZERO;
             }
             self.update_stack(&mut stack, &si, ray.d);

@@ -8,7 +8,7 @@ use crate::scene::Scene;
 /// Radiance emitted by the surface towards the ray's origin (both faces emit, as in Cycles).
 pub fn surface_emission(scene: &Scene, si: &SurfaceInteraction) -> Spectrum {
     match scene.materials.get(si.material as usize) {
-        Some(m) if m.is_emissive() => m.emission(si.uv, &scene.textures),
+        Some(m) if m.is_emissive() => scene.emission_at(m, si),
         _ => Spectrum::ZERO,
     }
 }

@@ -14,6 +14,7 @@ use crate::render::lightgroups::{scaled, Split};
 use crate::render::photons::PhotonMaps;
 use crate::render::terms::specular::{self, Follow};
 use crate::sampling::Rng;
+use crate::scene::shading::Crossing;
 use crate::scene::{Scene, SceneHit};
 use glam::Vec3;
 
@@ -79,6 +80,16 @@ pub fn gather_radiance(
         let Some(mat) = scene.materials.get(si.material as usize) else {
             break;
         };
+        match scene.crossing(mat, &si, || rng.f32()) {
+            Crossing::Pass(w) => {
+                // A transparent surface (each counts as one of the chain's vertices).
+                beta *= w;
+                scene.update_stack(&mut stack, &si, ray.d);
+                ray = si.spawn_ray(ray.d);
+                continue;
+            }
+            Crossing::Stop(w) => beta *= w,
+        }
         let bsdf = scene.shading_bsdf(mat, &mut si);
         let passes = bsdf.passes_through();
         // A subsurface lobe: the light leaving it is that of the photons whose walks below

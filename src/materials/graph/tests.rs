@@ -1,0 +1,191 @@
+//! The compiler and the closure sum, on small graphs with known answers.
+
+use super::point::ShadingPoint;
+use super::{ShaderGraph, Want};
+use crate::error::Error;
+use crate::materials::Material;
+use crate::scene::graph_desc::GraphDesc;
+use glam::{Vec2, Vec3};
+
+fn graph(v: serde_json::Value) -> GraphDesc {
+    serde_json::from_value(v).expect("graph IR")
+}
+
+fn point() -> ShadingPoint {
+    let mut sp = ShadingPoint::at(Vec3::new(0.2, 0.4, 0.0), Vec3::Z, Vec2::new(0.25, 0.75));
+    sp.wo = Vec3::new(0.6, 0.0, 0.8);
+    sp.dpdu = Vec3::X;
+    sp.dpdv = Vec3::Y;
+    sp
+}
+
+fn err_of(g: &GraphDesc) -> (String, String) {
+    match ShaderGraph::new(g, "/materials/0", 1) {
+        Err(Error::InvalidScene {
+            pointer, message, ..
+        }) => (pointer, message),
+        other => panic!("expected an invalid-scene error, got {other:?}"),
+    }
+}
+
+#[test]
+fn plastic_mixes_by_the_layer_weight_fresnel() {
+    let g = graph(serde_json::json!({
+        "name": "plastic",
+        "nodes": [
+            {"type": "layer_weight", "inputs": {"blend": 0.3}},
+            {"type": "diffuse", "inputs": {"color": [0.8, 0.1, 0.1]}},
+            {"type": "glossy", "inputs": {"roughness": 0.3}},
+            {"type": "mix_shader", "inputs": {
+                "fac": {"node": 0, "output": "fresnel"},
+                "shader1": {"node": 1}, "shader2": {"node": 2}}}
+        ],
+        "surface": {"node": 3}
+    }));
+    let sg = ShaderGraph::new(&g, "/materials/0", 0).unwrap();
+    let sp = point();
+    let (fres, _) = super::geometry_nodes::layer_weight(&sp, 0.3, None);
+    assert!(fres > 0.0 && fres < 1.0);
+    let sh = sg.shade(&sp, &[], Want::All);
+    let w: Vec<f32> = sh.bsdf.lobes().map(|(w, _)| w).collect();
+    assert_eq!(w.len(), 2);
+    assert!(
+        (w[0] - (1.0 - fres)).abs() < 1e-6 && (w[1] - fres).abs() < 1e-6,
+        "{w:?} vs {fres}"
+    );
+    assert_eq!(sh.emission, Vec3::ZERO);
+    assert_eq!(sh.transparency, Vec3::ZERO);
+    // Glossy at roughness 0.3 is not near-specular; nothing emits or passes.
+    assert!(!sg.has_specular() && !sg.is_emissive() && !sg.can_pass());
+}
+
+#[test]
+fn a_constant_graph_is_the_plain_material() {
+    let g = graph(serde_json::json!({
+        "name": "red",
+        "nodes": [
+            {"type": "value", "params": {"value": 0.25}},
+            {"type": "principled", "inputs": {"base_color": [0.8, 0.2, 0.1],
+                                               "roughness": {"node": 0, "output": "value"}}}
+        ],
+        "surface": {"node": 1}
+    }));
+    match Material::from_graph(&g, "/materials/0", 0) {
+        Material::Principled(p) => {
+            assert_eq!(p.name, "red");
+            assert_eq!(p.roughness, crate::materials::FloatParam::Const(0.25));
+        }
+        other => panic!("expected a plain Principled, got {other:?}"),
+    }
+}
+
+#[test]
+fn alpha_and_transparent_give_transparency_and_scale_the_rest() {
+    let g = graph(serde_json::json!({
+        "name": "leaf",
+        "nodes": [
+            {"type": "principled", "inputs": {"alpha": 0.25, "emission_strength": 2.0,
+                                               "emission_color": [1.0, 1.0, 1.0]}}
+        ],
+        "surface": {"node": 0}
+    }));
+    let sg = ShaderGraph::new(&g, "/materials/0", 0).unwrap();
+    assert!(sg.can_pass() && sg.is_emissive());
+    let sh = sg.shade(&point(), &[], Want::All);
+    assert!((sh.transparency - Vec3::splat(0.75)).length() < 1e-6);
+    assert!((sh.emission - Vec3::splat(0.5)).length() < 1e-6);
+    let total: f32 = sh.bsdf.lobes().map(|(w, _)| w).sum();
+    // The default Principled is a coat lobe and a diffuse base, each at weight 1 * alpha.
+    assert!(
+        sh.bsdf.lobes().all(|(w, _)| (w - 0.25).abs() < 1e-6),
+        "{total}"
+    );
+}
+
+#[test]
+fn unread_nodes_are_not_compiled_and_constants_fold() {
+    let g = graph(serde_json::json!({
+        "name": "m",
+        "nodes": [
+            {"type": "tex_coord"},
+            {"type": "invert", "inputs": {"fac": 1.0, "color": [0.2, 0.3, 0.4]}},
+            {"type": "diffuse", "inputs": {"color": {"node": 1, "output": "color"}}},
+            {"type": "geometry"}
+        ],
+        "surface": {"node": 2}
+    }));
+    let sg = ShaderGraph::new(&g, "/materials/0", 0).unwrap();
+    assert_eq!(sg.instructions(), 0);
+    let (_, v) = sg.as_constant().unwrap();
+    assert!((v[0] - Vec3::new(0.8, 0.7, 0.6)).length() < 1e-6);
+}
+
+#[test]
+fn bump_uses_the_height_at_offset_points() {
+    // Height = the x of the position: the normal tilts towards -x by atan(distance) (small
+    // enough that the mirror direction of `wo` stays above the surface).
+    let g = graph(serde_json::json!({
+        "name": "bumpy",
+        "nodes": [
+            {"type": "geometry"},
+            {"type": "separate_xyz", "inputs": {"vector": {"node": 0, "output": "position"}}},
+            {"type": "bump", "inputs": {"height": {"node": 1, "output": "x"}, "distance": 0.2}},
+            {"type": "diffuse", "inputs": {"normal": {"node": 2, "output": "normal"}}}
+        ],
+        "surface": {"node": 3}
+    }));
+    let sg = ShaderGraph::new(&g, "/materials/0", 0).unwrap();
+    let sh = sg.shade(&point(), &[], Want::All);
+    let n = sh.bsdf.frame().n;
+    let want = Vec3::new(-0.2, 0.0, 1.0).normalize();
+    assert!((n - want).length() < 1e-3, "{n}");
+}
+
+#[test]
+fn errors_name_the_node_and_the_field() {
+    let bad_type = graph(
+        serde_json::json!({"name": "m", "nodes": [{"type": "warp_drive"}],
+                                            "surface": {"node": 0}}),
+    );
+    let (ptr, msg) = err_of(&bad_type);
+    assert_eq!(ptr, "/materials/0/nodes/0/type");
+    assert!(msg.contains("warp_drive"), "{msg}");
+
+    let bad_output = graph(serde_json::json!({"name": "m", "nodes": [
+        {"type": "tex_coord", "name": "Texture Coordinate"},
+        {"type": "diffuse", "inputs": {"color": {"node": 0, "output": "colour"}}}],
+        "surface": {"node": 1}}));
+    let (ptr, msg) = err_of(&bad_output);
+    assert_eq!(ptr, "/materials/0/nodes/1/inputs/color");
+    assert!(
+        msg.contains("Texture Coordinate") && msg.contains("colour"),
+        "{msg}"
+    );
+
+    let bad_input = graph(serde_json::json!({"name": "m", "nodes": [
+        {"type": "diffuse", "inputs": {"colr": [1.0, 0.0, 0.0]}}], "surface": {"node": 0}}));
+    assert_eq!(err_of(&bad_input).0, "/materials/0/nodes/0/inputs/colr");
+
+    let cycle = graph(serde_json::json!({"name": "m", "nodes": [
+        {"type": "invert", "inputs": {"color": {"node": 1, "output": "color"}}},
+        {"type": "invert", "inputs": {"color": {"node": 0, "output": "color"}}},
+        {"type": "diffuse", "inputs": {"color": {"node": 1, "output": "color"}}}],
+        "surface": {"node": 2}}));
+    assert!(err_of(&cycle).1.contains("cycle"));
+
+    let dangling = graph(serde_json::json!({"name": "m", "nodes": [
+        {"type": "diffuse", "inputs": {"color": {"node": 9}}}], "surface": {"node": 0}}));
+    assert!(err_of(&dangling).1.contains("node 9"));
+
+    let value_as_shader = graph(
+        serde_json::json!({"name": "m", "nodes": [{"type": "value"}],
+                                                   "surface": {"node": 0}}),
+    );
+    assert!(err_of(&value_as_shader).1.contains("not a shader"));
+
+    let bad_image = graph(serde_json::json!({"name": "m", "nodes": [
+        {"type": "image_texture", "params": {"texture": 3}},
+        {"type": "diffuse", "inputs": {"color": {"node": 0, "output": "color"}}}],
+        "surface": {"node": 1}}));
+    assert_eq!(err_of(&bad_image).0, "/materials/0/nodes/0/params/texture");
+}
