@@ -924,6 +924,10 @@ fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
         Quality::ALL.iter().map(|q| q.name()).collect::<Vec<_>>(),
     )?;
     m.add("DEFAULT_SCENE_JSON", crate::scene::DEFAULT_SCENE_JSON)?;
+    m.add(
+        "GRAPH_NODES",
+        crate::materials::graph::compile::node_specs().to_string(),
+    )?;
     m.add("PhotonmapError", py.get_type::<PhotonmapError>())?;
     m.add("SceneError", py.get_type::<SceneError>())?;
     m.add("RenderCancelled", py.get_type::<RenderCancelled>())?;

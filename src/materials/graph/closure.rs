@@ -81,6 +81,19 @@ mod pin {
 }
 
 impl LeafKind {
+    /// The IR types of closure nodes.
+    pub const TYPES: &'static [&'static str] = &[
+        "principled",
+        "diffuse",
+        "glossy",
+        "glass",
+        "transparent",
+        "translucent",
+        "emission",
+        "holdout",
+        "sheen",
+    ];
+
     /// The closure node of IR type `kind`, if it is one.
     pub fn parse(kind: &str, p: &ParamReader) -> Result<Option<(LeafKind, NodeSpec)>> {
         use Dflt::*;

@@ -124,8 +124,6 @@ impl<'a> Builder<'a> {
                 spec(&[], &[("value", Float)]),
             ),
             "rgb" => {
-                let c = p.rows("color", 3)?;
-                let _ = c;
                 let v = match n.params.get("color").and_then(|v| v.as_array()) {
                     Some(a) if a.len() >= 3 => Vec3::new(
                         a[0].as_f64().unwrap_or(0.0) as f32,
@@ -627,10 +625,72 @@ impl<'a> Builder<'a> {
     }
 }
 
-/// Compiles the graph of material `pointer` (a JSON pointer such as `/materials/3`) for a
-/// scene with `n_textures` textures.
-pub fn compile(desc: &GraphDesc, pointer: &str, n_textures: usize) -> Result<Compiled> {
-    let mut b = Builder {
+/// The node types the compiler knows besides closures and [`NodeOp`]s.
+const BUILTIN: &[&str] = &[
+    "value",
+    "rgb",
+    "tex_coord",
+    "geometry",
+    "uv_map",
+    "object_info",
+    "layer_weight",
+    "fresnel",
+    "mapping",
+    "separate_xyz",
+    "combine_xyz",
+    "normal_map",
+    "bump",
+    "image_texture",
+    "mix_shader",
+    "add_shader",
+];
+
+/// Every node type with its sockets, as JSON: `{type: {"inputs": [[name, type], ...],
+/// "outputs": [[name, type], ...]}}` (types `float`, `vector`, `color`, `closure`). Front
+/// ends translate to these names.
+pub fn node_specs() -> serde_json::Value {
+    let mut out = serde_json::Map::new();
+    let names = BUILTIN
+        .iter()
+        .chain(super::closure::LeafKind::TYPES)
+        .chain(NodeOp::TYPES);
+    let ty = |t: Ty| match t {
+        Ty::Float => "float",
+        Ty::Vector => "vector",
+        Ty::Color => "color",
+        Ty::Closure => "closure",
+    };
+    for name in names {
+        let desc = GraphDesc {
+            name: String::new(),
+            nodes: vec![NodeDesc {
+                kind: name.to_string(),
+                params: [
+                    ("texture".to_string(), serde_json::json!(0)),
+                    ("color".to_string(), serde_json::json!([0.0, 0.0, 0.0])),
+                ]
+                .into_iter()
+                .collect(),
+                ..Default::default()
+            }],
+            surface: None,
+        };
+        let mut b = builder(&desc, "", usize::MAX);
+        if let Ok((_, spec)) = b.kind(0) {
+            out.insert(
+                name.to_string(),
+                serde_json::json!({
+                    "inputs": spec.ins.iter().map(|(n, t, _)| [*n, ty(*t)]).collect::<Vec<_>>(),
+                    "outputs": spec.outs.iter().map(|(n, t)| [*n, ty(*t)]).collect::<Vec<_>>(),
+                }),
+            );
+        }
+    }
+    serde_json::Value::Object(out)
+}
+
+fn builder<'a>(desc: &'a GraphDesc, pointer: &'a str, n_textures: usize) -> Builder<'a> {
+    Builder {
         desc,
         pointer,
         n_textures,
@@ -642,7 +702,13 @@ pub fn compile(desc: &GraphDesc, pointer: &str, n_textures: usize) -> Result<Com
         active: Vec::new(),
         leaves: Vec::new(),
         warnings: Vec::new(),
-    };
+    }
+}
+
+/// Compiles the graph of material `pointer` (a JSON pointer such as `/materials/3`) for a
+/// scene with `n_textures` textures.
+pub fn compile(desc: &GraphDesc, pointer: &str, n_textures: usize) -> Result<Compiled> {
+    let mut b = builder(desc, pointer, n_textures);
     if let Some(s) = &desc.surface {
         b.closure(s, &[], "/surface")?;
     }

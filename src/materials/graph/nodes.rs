@@ -15,6 +15,9 @@ pub enum NodeOp {
 }
 
 impl NodeOp {
+    /// The IR types of these nodes.
+    pub const TYPES: &'static [&'static str] = &["invert"];
+
     /// The node of IR type `kind`, if it is one of these; `None` for other types.
     pub fn parse(kind: &str, _params: &ParamReader) -> Result<Option<(NodeOp, NodeSpec)>> {
         use super::spec::{Dflt::*, Ty::*};

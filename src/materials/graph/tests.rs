@@ -189,3 +189,17 @@ fn errors_name_the_node_and_the_field() {
         "surface": {"node": 1}}));
     assert_eq!(err_of(&bad_image).0, "/materials/0/nodes/0/params/texture");
 }
+
+#[test]
+fn node_specs_list_every_type_with_its_sockets() {
+    let s = super::compile::node_specs();
+    let p = &s["principled"];
+    assert_eq!(p["inputs"][0], serde_json::json!(["base_color", "color"]));
+    assert_eq!(p["outputs"][0], serde_json::json!(["bsdf", "closure"]));
+    assert_eq!(
+        s["image_texture"]["outputs"][1],
+        serde_json::json!(["alpha", "float"])
+    );
+    assert!(s["mix_shader"]["inputs"].as_array().unwrap().len() == 3);
+    assert!(s.as_object().unwrap().len() >= 26);
+}
