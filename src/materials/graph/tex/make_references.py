@@ -11,11 +11,13 @@ output as a point attribute, and the evaluated mesh is read back.  Geometry
 Nodes evaluates these nodes with Blender's BLI noise/texture code, which is
 kept in sync with Cycles' SVM kernels.
 
-The Brick texture's mortar smoothing differs between the two (Cycles clamps
-its smoothstep to [0, 1], the Geometry Nodes version does not), so brick
-references are additionally rendered with Cycles: a grid of tiny quads, one per
-pixel, each carrying its sample point as a constant attribute that feeds the
-texture's Vector input of an emission shader, seen by an orthographic camera.
+Two nodes differ between the two evaluators: the Brick texture's mortar
+smoothing (Cycles clamps its smoothstep to [0, 1], Geometry Nodes does not)
+and the Magic texture for coordinates beyond 2 pi (Cycles reduces them modulo
+2 pi first, Geometry Nodes does not).  For those, references are also rendered
+with Cycles: a grid of quads, one per pixel, each carrying its sample point as
+a constant attribute that feeds the texture's Vector input of an emission
+shader, seen by an orthographic camera (1 sample, 0.01 px box filter).
 
 Output: testdata/<texture>.json next to this script.  Floats are rounded to 7
 significant digits (inputs to 9 so that they round-trip as f32).
@@ -114,8 +116,18 @@ def evaluate(ob, node_type, props, inputs, outputs):
     for k, v in props.items():
         setattr(tex, k, v)
     pos = nodes.new("GeometryNodeInputPosition")
+    vec = pos.outputs[0]
+    inputs = dict(inputs)
+    vector_scale = inputs.pop("_vector_scale", None)
+    if vector_scale is not None:
+        # Vector = position * _vector_scale, to reach larger coordinates.
+        vm = nodes.new("ShaderNodeVectorMath")
+        vm.operation = "SCALE"
+        links.new(vec, vm.inputs[0])
+        vm.inputs["Scale"].default_value = vector_scale
+        vec = vm.outputs["Vector"]
     if sock(tex.inputs, "Vector") is not None:
-        links.new(pos.outputs[0], sock(tex.inputs, "Vector"))
+        links.new(vec, sock(tex.inputs, "Vector"))
     if sock(tex.inputs, "W") is not None:
         wattr = nodes.new("GeometryNodeInputNamedAttribute")
         wattr.data_type = "FLOAT"
@@ -190,6 +202,10 @@ def noise_cases(ob):
             cases.append(case(ob, "ShaderNodeTexNoise",
                               {"noise_dimensions": dim, "noise_type": nt, "normalize": True},
                               inp, outs))
+        # FBM without normalisation, fractional detail.
+        cases.append(case(ob, "ShaderNodeTexNoise",
+                          {"noise_dimensions": dim, "noise_type": "FBM", "normalize": False},
+                          dict(base), outs))
         # FBM without normalisation, with distortion, integral detail.
         inp = dict(base, Distortion=0.8, Detail=3.0, Scale=5.0)
         cases.append(case(ob, "ShaderNodeTexNoise",
@@ -314,6 +330,7 @@ def magic_cases(ob):
                           {"Scale": 1.3, "Distortion": 1.4}, outs))
     cases.append(case(ob, "ShaderNodeTexMagic", {"turbulence_depth": 3},
                       {"Scale": 5.0, "Distortion": 0.0}, outs))
+
     write("magic", cases)
 
 
@@ -347,12 +364,12 @@ def brick_cases(ob):
     write("brick", cases)
 
 
-def brick_cycles_cases():
-    """Cycles renders of the Brick texture: one pixel per sample point."""
-    res = 16
-    rng = random.Random(7)
-    pts = [[float(np.float32(rng.uniform(-3.0, 3.0))), float(np.float32(rng.uniform(-3.0, 3.0))),
-            float(np.float32(rng.uniform(-1.0, 1.0))), 0.0] for _ in range(res * res)]
+def cycles_render(name, node_type, case_list, pts):
+    """Cycles renders of a texture node: one pixel per sample point.
+
+    case_list: (props, inputs) pairs; every output in ("Factor", "Color")."""
+    res = int(round(math.sqrt(len(pts))))
+    assert res * res == len(pts)
     scene = bpy.context.scene
     for ob in list(bpy.data.objects):
         bpy.data.objects.remove(ob, do_unlink=True)
@@ -410,36 +427,55 @@ def brick_cycles_cases():
     em.inputs["Strength"].default_value = 1.0
     attr_node = nt.nodes.new("ShaderNodeAttribute")
     attr_node.attribute_name = "pt"
-    brick = nt.nodes.new("ShaderNodeTexBrick")
-    nt.links.new(attr_node.outputs["Vector"], brick.inputs["Vector"])
+    tex = nt.nodes.new(node_type)
+    nt.links.new(attr_node.outputs["Vector"], tex.inputs["Vector"])
     nt.links.new(em.outputs[0], out.inputs["Surface"])
 
     tmp = tempfile.mkdtemp()
     cases = []
-    for props, inp in BRICK_CASES:
+    for props, inp in case_list:
         for k, v in props.items():
-            setattr(brick, k, v)
-        for k, v in dict(inp, **BRICK_COLORS).items():
-            brick.inputs[k].default_value = v
+            setattr(tex, k, v)
+        for k, v in inp.items():
+            sock(tex.inputs, k).default_value = v
         result = {}
-        for name in ("Factor", "Color"):
-            nt.links.new(brick.outputs[name], em.inputs["Color"])
-            path = os.path.join(tmp, f"brick_{name}.exr")
+        for out_name in ("Factor", "Color"):
+            nt.links.new(sock(tex.outputs, out_name), em.inputs["Color"])
+            path = os.path.join(tmp, f"{name}_{out_name}.exr")
             scene.render.filepath = path
             bpy.ops.render.render(write_still=True)
             img = bpy.data.images.load(path)
             px = np.array(img.pixels[:], dtype=np.float32).reshape(res, res, 4)
             bpy.data.images.remove(img)
-            vals = []
-            for idx in range(res * res):
-                j, i = divmod(idx, res)
-                vals.append(px[j, i, :3])
-            if name == "Factor":
-                result[name] = [g(v[0]) for v in vals]
+            # Image rows run bottom to top, like the quads' j.
+            vals = [px[j, i, :3] for j in range(res) for i in range(res)]
+            if out_name == "Factor":
+                result[out_name] = [g(v[0]) for v in vals]
             else:
-                result[name] = [[g(c) for c in v] for v in vals]
-        cases.append({"props": props, "inputs": dict(inp, **BRICK_COLORS), "outputs": result})
-    write("brick_cycles", cases, points=pts)
+                result[out_name] = [[g(c) for c in v] for v in vals]
+        cases.append({"props": props, "inputs": inp, "outputs": result})
+    write(name + "_cycles", cases, points=pts)
+
+
+def random_points(n, seed, lo, hi, z_lo, z_hi):
+    rng = random.Random(seed)
+    return [[float(np.float32(rng.uniform(lo, hi))), float(np.float32(rng.uniform(lo, hi))),
+             float(np.float32(rng.uniform(z_lo, z_hi))), 0.0] for _ in range(n)]
+
+
+def brick_cycles_cases():
+    cycles_render("brick", "ShaderNodeTexBrick",
+                  [(props, dict(inp, **BRICK_COLORS)) for props, inp in BRICK_CASES],
+                  random_points(256, 7, -3.0, 3.0, -1.0, 1.0))
+
+
+def magic_cycles_cases():
+    """Cycles reduces Magic's coordinates modulo 2 pi, Geometry Nodes does
+    not: check coordinates beyond 2 pi against Cycles."""
+    cycles_render("magic", "ShaderNodeTexMagic",
+                  [({"turbulence_depth": 2}, {"Scale": 0.3, "Distortion": 1.0}),
+                   ({"turbulence_depth": 5}, {"Scale": 1.1, "Distortion": 2.0})],
+                  random_points(256, 11, -12.0, 12.0, -12.0, 12.0))
 
 
 def main():
@@ -456,6 +492,7 @@ def main():
     magic_cases(ob)
     brick_cases(ob)
     brick_cycles_cases()
+    magic_cycles_cases()
 
 
 if __name__ == "__main__":

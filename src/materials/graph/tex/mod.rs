@@ -8,17 +8,31 @@
 //! rounding; the tests compare against values produced by Blender itself
 //! (`make_references.py`).
 
+pub mod brick;
+pub mod checker;
 pub mod fractal;
+pub mod gradient;
 pub mod hash;
+pub mod magic;
 pub mod noise;
 pub mod noise_texture;
 pub mod voronoi;
+pub mod wave;
+pub mod white_noise;
 
 #[cfg(test)]
 mod reference;
 
+pub use brick::{BrickInputs, BrickOutput, BrickTexture};
+pub use checker::{CheckerInputs, CheckerOutput, CheckerTexture};
+pub use gradient::{GradientOutput, GradientTexture, GradientType};
+pub use magic::{MagicInputs, MagicOutput, MagicTexture};
 pub use noise_texture::{NoiseInputs, NoiseOutput, NoiseTexture, NoiseType};
 pub use voronoi::{VoronoiFeature, VoronoiInputs, VoronoiMetric, VoronoiOutput, VoronoiTexture};
+pub use wave::{
+    BandsDirection, RingsDirection, WaveInputs, WaveOutput, WaveProfile, WaveTexture, WaveType,
+};
+pub use white_noise::{WhiteNoiseOutput, WhiteNoiseTexture};
 
 /// Dimensionality of the Noise, Voronoi and White Noise textures.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]

@@ -113,7 +113,11 @@ pub fn perlin_3d(x: f32, y: f32, z: f32) -> f32 {
     let (u, v, w) = (fade(fx), fade(fy), fade(fz));
     let corner = |dx: u32, dy: u32, dz: u32| {
         grad3(
-            hash_uint3(xi.wrapping_add(dx), yi.wrapping_add(dy), zi.wrapping_add(dz)),
+            hash_uint3(
+                xi.wrapping_add(dx),
+                yi.wrapping_add(dy),
+                zi.wrapping_add(dz),
+            ),
             fx - dx as f32,
             fy - dy as f32,
             fz - dz as f32,

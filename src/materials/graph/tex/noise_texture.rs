@@ -277,7 +277,10 @@ mod tests {
                     gain: case.input("Gain"),
                     distortion: case.input("Distortion"),
                 });
-                vec![("Factor", vec![out.fac]), ("Color", out.color.to_array().to_vec())]
+                vec![
+                    ("Factor", vec![out.fac]),
+                    ("Color", out.color.to_array().to_vec()),
+                ]
             });
         }
     }
@@ -285,7 +288,12 @@ mod tests {
     #[test]
     fn non_finite_inputs_do_not_panic() {
         for v in [f32::NAN, f32::INFINITY, -f32::INFINITY] {
-            for t in ["FBM", "MULTIFRACTAL", "HYBRID_MULTIFRACTAL", "RIDGED_MULTIFRACTAL"] {
+            for t in [
+                "FBM",
+                "MULTIFRACTAL",
+                "HYBRID_MULTIFRACTAL",
+                "RIDGED_MULTIFRACTAL",
+            ] {
                 let tex = NoiseTexture {
                     dimensions: Dimensions::D4,
                     noise_type: NoiseType::from_blender(t).expect("type"),

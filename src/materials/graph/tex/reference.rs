@@ -92,7 +92,9 @@ where
                     None => !g.is_finite(),
                 };
                 if !ok {
-                    failures.push(format!("  point {i} {p:?} {name}[{k}]: ours {g} blender {w:?}"));
+                    failures.push(format!(
+                        "  point {i} {p:?} {name}[{k}]: ours {g} blender {w:?}"
+                    ));
                 }
             }
         }

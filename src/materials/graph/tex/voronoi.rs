@@ -311,7 +311,11 @@ impl Point for f32 {
 
 /// Vector `a + (b - a) * t`, Cycles' `mix`.
 #[inline]
-fn vmix<V: Copy + Add<Output = V> + Sub<Output = V> + Mul<f32, Output = V>>(a: V, b: V, t: f32) -> V {
+fn vmix<V: Copy + Add<Output = V> + Sub<Output = V> + Mul<f32, Output = V>>(
+    a: V,
+    b: V,
+    t: f32,
+) -> V {
     a + (b - a) * t
 }
 
@@ -331,10 +335,16 @@ macro_rules! vector_point {
                 $cell(&c)
             }
             fn hash_point(cell: Self, offset: Self) -> Self {
-                $hash_point(integer_cell::<$it, $dim>(cell.to_array(), offset.to_array()))
+                $hash_point(integer_cell::<$it, $dim>(
+                    cell.to_array(),
+                    offset.to_array(),
+                ))
             }
             fn hash_color(cell: Self, offset: Self) -> Vec3 {
-                $hash_color(integer_cell::<$it, $dim>(cell.to_array(), offset.to_array()))
+                $hash_color(integer_cell::<$it, $dim>(
+                    cell.to_array(),
+                    offset.to_array(),
+                ))
             }
             fn metric_distance(self, other: Self, metric: VoronoiMetric, exponent: f32) -> f32 {
                 let d = (self - other).abs();
@@ -727,7 +737,13 @@ mod tests {
     #[test]
     fn non_finite_inputs_do_not_panic() {
         for v in [f32::NAN, f32::INFINITY, -f32::INFINITY, 0.0] {
-            for f in ["F1", "F2", "SMOOTH_F1", "DISTANCE_TO_EDGE", "N_SPHERE_RADIUS"] {
+            for f in [
+                "F1",
+                "F2",
+                "SMOOTH_F1",
+                "DISTANCE_TO_EDGE",
+                "N_SPHERE_RADIUS",
+            ] {
                 for d in ["1D", "2D", "3D", "4D"] {
                     let tex = VoronoiTexture {
                         dimensions: Dimensions::from_blender(d).expect("dimensions"),
