@@ -10,7 +10,7 @@ _LINEAR = {"linear", "linear rec.709", "non-color", "raw", "linear rec.2020", "l
            "linear cie-xyz d65", "acescg", "aces2065-1", "linear fileinfo", "xyz"}
 
 
-def image_pixels(image) -> tuple[np.ndarray, str] | None:
+def image_pixels(image, alpha: bool = False) -> tuple[np.ndarray, str] | None:
     """Blender's loaded pixels of ``image`` as a (H, W, C) float32 array, rows top to bottom,
     and their encoding: float images are linear in Blender ("linear"); byte images in an sRGB
     colour space keep their encoded values ("srgb": the core interpolates them and decodes
@@ -24,8 +24,8 @@ def image_pixels(image) -> tuple[np.ndarray, str] | None:
     px = buf.reshape(h, w, ch)[::-1]  # Blender's rows go bottom to top
     cs = image.colorspace_settings.name.lower()
     encoding = "srgb" if not image.is_float and cs not in _LINEAR else "linear"
-    if ch == 4:
-        px = px[..., :3]  # alpha is not used by the core's materials
+    if ch == 4 and not alpha:
+        px = px[..., :3]  # alpha only where a shading graph reads it
     elif ch == 2:
         px = px[..., :1]
     return np.ascontiguousarray(px, dtype=np.float32), encoding
@@ -42,14 +42,16 @@ class ImageCache:
         self.warn = warn
         self.index: dict[tuple, int] = {}
 
-    def texture(self, image, extension: str = "REPEAT", owner: str = "") -> int | None:
+    def texture(self, image, extension: str = "REPEAT", owner: str = "",
+                alpha: bool = False) -> int | None:
+        """The IR texture of ``image`` with ``extension``; with ``alpha``, RGBA."""
         if image is None:
             return None
-        key = (image.name, extension)
+        key = (image.name, extension, alpha)
         if key in self.index:
             return self.index[key]
         try:
-            px, encoding = image_pixels(image) or (None, "linear")
+            px, encoding = image_pixels(image, alpha) or (None, "linear")
         except Exception as e:  # unreadable file, packed data missing, ...
             px = None
             self.warn(f"image '{image.name}'{owner}: cannot read pixels ({e}); ignored")

@@ -49,9 +49,39 @@ def _source(socket):
 
 
 class MaterialExporter:
-    def __init__(self, images, warn):
+    def __init__(self, images, warn, stats=None):
         self.images = images
         self.warn = warn
+        self.stats = stats if stats is not None else {}
+
+    def export(self, mat) -> dict:
+        """One IR material for the Blender material ``mat`` (None: Blender's default grey).
+
+        A material the plain IR materials render exactly is written as one; any other node
+        tree becomes a shading graph (node_graph.py)."""
+        notes = []
+        outer, self.warn = self.warn, notes.append
+        try:
+            d = self._export_plain(mat)
+        finally:
+            self.warn = outer
+        if not notes or mat is None or self._volume_only(mat):
+            for n in notes:
+                self.warn(n)
+            return d
+        out = _output_node(mat.node_tree)
+        from .node_graph import translate
+        g = translate(mat, out, self.images, self.warn, self.stats)
+        if g is None:
+            self.warn(f"material '{mat.name}': the Surface reaches no shader; renders grey diffuse")
+            return dict(GREY, name=mat.name)
+        return g
+
+    @staticmethod
+    def _volume_only(mat) -> bool:
+        tree = mat.node_tree if getattr(mat, "use_nodes", True) else None
+        out = _output_node(tree) if tree is not None else None
+        return out is None or not out.inputs["Surface"].is_linked
 
     def _input(self, node, name):
         s = node.inputs.get(name)
@@ -103,8 +133,8 @@ class MaterialExporter:
             return 1.0
         return value
 
-    def export(self, mat) -> dict:
-        """One IR material for the Blender material ``mat`` (None: Blender's default grey)."""
+    def _export_plain(self, mat) -> dict:
+        """The plain IR material for ``mat``, warning about whatever it cannot render."""
         if mat is None:
             return dict(GREY, name="(default)")
         name = mat.name
