@@ -251,6 +251,9 @@ class MaterialExporter:
         s = n.inputs.get("Normal")
         if s is not None and s.is_linked:
             self.warn(f"material '{name}': normal maps are not supported; ignored")
+        s = n.inputs.get("Alpha")
+        if s is not None and (s.is_linked or float(s.default_value) < 1.0):
+            self.warn(f"material '{name}': Alpha below 1 needs a shading graph")
         return d
 
     def _subsurface(self, n, name, ior):

@@ -229,6 +229,8 @@ class GraphBuilder:
                     self.warn(f"material '{self.mat}': node '{node.name}' ({node.bl_idname}): "
                               f"input '{s.name}' is not supported; ignored")
                 continue
+            if not s.is_linked and getattr(s, "hide_value", False):
+                continue  # an implicit input (texture coordinates, the normal): the core's
             v = self.input_value(s, path)
             if v is not None:
                 out[name] = v
