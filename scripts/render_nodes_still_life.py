@@ -1,11 +1,25 @@
-import sys, os, subprocess, math
-sys.path.insert(0, "/work/main/tests/blender")
-import bpy
-import numpy as np
-zipd = "/tmp/nt/ext"
+"""Renders the node still life (a checker floor, a Layer Weight plastic, a noise-bumped wall
+with noise colours, a checker alpha cut-out) with PhotonMap or Cycles, for the contact sheet
+docs/images/nodes_still_life.png.
+
+    python scripts/render_nodes_still_life.py WHEEL OUT_DIR pm|cy
+
+with the bpy venv's Python; writes OUT_DIR/pm.exr or OUT_DIR/cy.exr."""
+import math
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "tests" / "blender"))
+import bpy  # noqa: E402
+
+wheel, outdir = sys.argv[-3], sys.argv[-2]
+zipd = os.path.join(outdir, "ext")
 os.makedirs(zipd, exist_ok=True)
-res = subprocess.run([sys.executable, "/work/main/scripts/build_blender_extension.py", "--out", zipd,
-                      "--wheel", "/tmp/wheels2/photonmap-0.1.0-cp311-abi3-manylinux_2_34_x86_64.whl"],
+res = subprocess.run([sys.executable, str(ROOT / "scripts" / "build_blender_extension.py"),
+                      "--out", zipd, "--wheel", wheel],
                      check=True, capture_output=True, text=True)
 z = res.stdout.strip().splitlines()[-1]
 bpy.ops.wm.read_factory_settings(use_empty=True)
@@ -69,6 +83,6 @@ else:
     sc.render.engine = "CYCLES"; sc.cycles.samples = 256; sc.cycles.device = "CPU"
 sc.view_settings.view_transform = "Standard"
 sc.render.image_settings.file_format = "OPEN_EXR"
-sc.render.filepath = f"/tmp/nt/{which}.exr"
+sc.render.filepath = os.path.join(outdir, f"{which}.exr")
 bpy.ops.render.render(write_still=True)
 print("DONE", which)
