@@ -203,3 +203,76 @@ fn node_specs_list_every_type_with_its_sockets() {
     assert!(s["mix_shader"]["inputs"].as_array().unwrap().len() == 3);
     assert!(s.as_object().unwrap().len() >= 26);
 }
+
+/// A floor under a card at z = 1 whose Alpha is a linear gradient along x in object space:
+/// a hole for x < 0, half covered at x = 0.5, solid for x >= 1.
+fn card_scene() -> crate::scene::Scene {
+    crate::render::terms::testing::scene(serde_json::json!({
+        "materials": [
+            {"type": "diffuse", "name": "floor"},
+            {"type": "graph", "name": "card", "nodes": [
+                {"type": "tex_coord"},
+                {"type": "gradient_texture", "inputs": {"vector": {"node": 0, "output": "object"}}},
+                {"type": "principled", "inputs": {"alpha": {"node": 1, "output": "fac"}}}
+            ], "surface": {"node": 2}}
+        ],
+        "meshes": [
+            crate::render::terms::testing::floor(0),
+            {"name": "card", "material": 1,
+             "positions": [[-10, -10, 1], [10, -10, 1], [10, 10, 1], [-10, 10, 1]],
+             "indices": [[0, 1, 2], [0, 2, 3]]}
+        ],
+    }))
+}
+
+#[test]
+fn alpha_cut_outs_pass_shadow_rays_and_paths_where_transparent() {
+    use crate::geometry::Ray;
+    use crate::scene::shading::Crossing;
+    use crate::scene::SceneHit;
+    let sc = card_scene();
+    assert!(sc.transparent);
+    let stack = sc.camera_stack;
+    let shadow = |x: f32| {
+        let o = Vec3::new(x, 0.0, 0.001);
+        sc.transmittance(&Ray::with_t_max(o, Vec3::new(0.0, 0.0, 2.0), 1.0), &stack)
+    };
+    assert_eq!(shadow(-5.0), Vec3::ONE);
+    assert_eq!(shadow(5.0), Vec3::ZERO);
+    assert!(
+        (shadow(0.5) - Vec3::splat(0.5)).length() < 1e-5,
+        "{}",
+        shadow(0.5)
+    );
+    let card_at = |x: f32| {
+        let ray = Ray::new(Vec3::new(x, 0.0, 2.0), Vec3::new(0.0, 0.0, -1.0));
+        let SceneHit::Surface(si) = sc.intersect(&ray) else {
+            panic!("the card is below")
+        };
+        si
+    };
+    let card = &sc.materials[1];
+    assert_eq!(
+        sc.crossing(card, &card_at(-5.0), || 0.99),
+        Crossing::Pass(Vec3::ONE)
+    );
+    assert_eq!(
+        sc.crossing(card, &card_at(5.0), || 0.0),
+        Crossing::Stop(1.0)
+    );
+    // Half covered: pass with probability 1/2 at weight 1, or stop at weight 2.
+    match sc.crossing(card, &card_at(0.5), || 0.2) {
+        Crossing::Pass(w) => assert!((w - Vec3::ONE).length() < 1e-5),
+        c => panic!("{c:?}"),
+    }
+    match sc.crossing(card, &card_at(0.5), || 0.7) {
+        Crossing::Stop(w) => assert!((w - 2.0).abs() < 1e-4),
+        c => panic!("{c:?}"),
+    }
+    // The floor is plain: nothing passes, no random number is drawn.
+    let floor = &sc.materials[0];
+    assert_eq!(
+        sc.crossing(floor, &card_at(-5.0), || panic!("drawn")),
+        Crossing::Stop(1.0)
+    );
+}

@@ -6,7 +6,7 @@ pub mod indirect;
 pub mod specular;
 pub mod subsurface;
 #[cfg(test)]
-mod testing;
+pub(crate) mod testing;
 pub mod volume;
 
 use crate::photon::map::{FLAG_CAUSTIC_PATH, FLAG_FIRST_HIT, FLAG_SUBSURFACE_EXIT};
