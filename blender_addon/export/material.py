@@ -12,8 +12,8 @@ Follows the node tree from the active Material Output's Surface socket:
 | Emission | `emission` |
 
 Image Texture nodes (through Reroutes) on colour inputs, and on Metallic/Roughness of the
-Principled BSDF, become IR textures on the mesh UVs. Any other node tree becomes grey diffuse
-with a warning naming the material. A material with a Volume shader and no Surface shader
+Principled BSDF, become IR textures on the mesh UVs. Any other node tree becomes a shading
+graph (node_graph.py). A material with a Volume shader and no Surface shader
 becomes `null` (an invisible boundary: Cycles' pass-through surface); its volume becomes an IR
 medium (volume.py).
 """
@@ -48,6 +48,46 @@ def _source(socket):
     return None, None
 
 
+# Shaders the plain IR materials render, and the inputs of theirs that may take an Image
+# Texture (other inputs take constants, RGB or Value nodes).
+_PLAIN = {
+    "ShaderNodeBsdfPrincipled": {"Base Color", "Metallic", "Roughness", "Emission Color"},
+    "ShaderNodeBsdfDiffuse": {"Color"},
+    "ShaderNodeBsdfGlossy": set(),
+    "ShaderNodeBsdfAnisotropic": set(),
+    "ShaderNodeBsdfGlass": set(),
+    "ShaderNodeBsdfTransparent": set(),
+    "ShaderNodeEmission": {"Color"},
+}
+
+
+def _needs_graph(mat) -> bool:
+    """Whether ``mat``'s surface needs a shading graph: a shader the plain materials do not
+    have, an input fed by a node other than an Image Texture (where they take one), RGB or
+    Value, or a Principled Alpha below 1."""
+    tree = mat.node_tree if getattr(mat, "use_nodes", True) else None
+    out = _output_node(tree) if tree is not None else None
+    if out is None:
+        return False
+    surf, _ = _source(out.inputs["Surface"])
+    if surf is None:
+        return False
+    images = _PLAIN.get(surf.bl_idname)
+    if images is None:
+        return True
+    for s in surf.inputs:
+        src, _ = _source(s)
+        if src is None or src.bl_idname in {"ShaderNodeRGB", "ShaderNodeValue"}:
+            continue
+        if src.bl_idname == "ShaderNodeTexImage" and s.name in images:
+            continue
+        if s.name in {"Subsurface Radius", "Subsurface IOR", "Coat Normal"}:
+            continue  # warned by the plain export, which keeps the subsurface walk
+        return True
+    a = surf.inputs.get("Alpha") if surf.bl_idname == "ShaderNodeBsdfPrincipled" else None
+    return a is not None and float(a.default_value) < 1.0
+
+
 class MaterialExporter:
     def __init__(self, images, warn, stats=None):
         self.images = images
@@ -59,19 +99,20 @@ class MaterialExporter:
 
         A material the plain IR materials render exactly is written as one; any other node
         tree becomes a shading graph (node_graph.py)."""
-        notes = []
-        outer, self.warn = self.warn, notes.append
+        if mat is None or not _needs_graph(mat):
+            return self._export_plain(mat)
+        from importlib import import_module
         try:
-            d = self._export_plain(mat)
-        finally:
-            self.warn = outer
-        if not notes or mat is None or self._volume_only(mat):
-            for n in notes:
-                self.warn(n)
-            return d
-        out = _output_node(mat.node_tree)
-        from .node_graph import translate
-        g = translate(mat, out, self.images, self.warn, self.stats)
+            translate = import_module(".node_graph", __package__).translate
+        except (ImportError, TypeError):  # loaded as a lone module (tests)
+            import importlib.util
+            import pathlib
+            spec = importlib.util.spec_from_file_location(
+                "photonmap_node_graph", pathlib.Path(__file__).with_name("node_graph.py"))
+            mod = importlib.util.module_from_spec(spec)
+            spec.loader.exec_module(mod)
+            translate = mod.translate
+        g = translate(mat, _output_node(mat.node_tree), self.images, self.warn, self.stats)
         if g is None:
             self.warn(f"material '{mat.name}': the Surface reaches no shader; renders grey diffuse")
             return dict(GREY, name=mat.name)
@@ -251,9 +292,6 @@ class MaterialExporter:
         s = n.inputs.get("Normal")
         if s is not None and s.is_linked:
             self.warn(f"material '{name}': normal maps are not supported; ignored")
-        s = n.inputs.get("Alpha")
-        if s is not None and (s.is_linked or float(s.default_value) < 1.0):
-            self.warn(f"material '{name}': Alpha below 1 needs a shading graph")
         return d
 
     def _subsurface(self, n, name, ior):
