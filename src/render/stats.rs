@@ -40,6 +40,9 @@ pub struct RenderStats {
     /// The scene's warnings (`Scene::warnings`): what renders other than the IR says.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
+    /// What the materials' shading graphs compiled to (all zero without graphs: nothing of
+    /// them runs).
+    pub shading_graphs: crate::materials::graph::GraphStats,
     /// Estimates that came out NaN or infinite and were dropped.
     pub non_finite_samples: u64,
     /// Approximate bytes held by the render (film and scene geometry).
@@ -150,6 +153,7 @@ impl Renderer<'_> {
         let photon_bytes: u64 = p.maps.iter().map(|m| m.memory_bytes).sum();
         RenderStats {
             warnings: self.scene.warnings.clone(),
+            shading_graphs: self.scene.graph_stats,
             settings: s.clone(),
             options: super::options::RenderOptions::from_settings(s),
             work: self.work.stats(),

@@ -60,6 +60,8 @@ pub struct Scene {
     /// Whether a material lets light pass straight through somewhere (a graph's Transparent
     /// BSDF or Alpha): shadow rays then look through surfaces.
     pub transparent: bool,
+    /// What the materials' shading graphs compiled to.
+    pub graph_stats: crate::materials::graph::GraphStats,
     /// Per instance of the acceleration structure, the coordinate systems shading graphs
     /// read; empty when no graph reads them.
     pub objects: Vec<crate::materials::graph::point::ObjectCoords>,
@@ -271,6 +273,19 @@ impl Scene {
                 _ => Vec::new(),
             }))
             .collect();
+        let mut graph_stats = crate::materials::graph::GraphStats::default();
+        for (d, m) in desc.materials.iter().zip(&materials) {
+            if let crate::scene::desc::MaterialDesc::Graph(_) = d {
+                graph_stats.graphs += 1;
+                match m {
+                    Material::Graph(g) => {
+                        graph_stats.instructions += g.instructions();
+                        graph_stats.leaves += g.leaves();
+                    }
+                    _ => graph_stats.folded += 1,
+                }
+            }
+        }
         let transparent = materials
             .iter()
             .any(|m| matches!(m, Material::Graph(g) if g.can_pass()));
@@ -309,6 +324,7 @@ impl Scene {
             light_group: Vec::new(),
             warnings,
             transparent,
+            graph_stats,
             objects,
             material_names: desc
                 .materials

@@ -33,6 +33,22 @@ use point::ShadingPoint;
 use program::{EvalCtx, Op, NO_REG};
 use std::cell::RefCell;
 
+/// What a scene's shading graphs compiled to (the stats' `shading_graphs`).
+///
+/// | field | meaning |
+/// |---|---|
+/// | `graphs` | materials given as graphs in the IR |
+/// | `folded` | of those, graphs that were one constant closure, rendered as plain materials |
+/// | `instructions` | instructions run per shading point, summed over the other graphs |
+/// | `leaves` | closure leaves, summed over the other graphs |
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct GraphStats {
+    pub graphs: usize,
+    pub folded: usize,
+    pub instructions: usize,
+    pub leaves: usize,
+}
+
 /// A compiled shading graph.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ShaderGraph {
@@ -94,6 +110,11 @@ impl ShaderGraph {
     /// Number of instructions run per shading point.
     pub fn instructions(&self) -> usize {
         self.compiled.program.code.len()
+    }
+
+    /// Number of closure leaves.
+    pub fn leaves(&self) -> usize {
+        self.compiled.leaves.len()
     }
 
     pub fn is_emissive(&self) -> bool {

@@ -276,3 +276,36 @@ fn alpha_cut_outs_pass_shadow_rays_and_paths_where_transparent() {
         Crossing::Stop(1.0)
     );
 }
+
+#[test]
+fn scene_counters_show_what_graphs_compiled_to() {
+    use super::GraphStats;
+    let plain = crate::render::terms::testing::scene(serde_json::json!({
+        "materials": [{"type": "diffuse"}],
+        "meshes": [crate::render::terms::testing::floor(0)],
+    }));
+    assert_eq!(plain.graph_stats, GraphStats::default());
+    assert!(plain.objects.is_empty() && !plain.transparent);
+    let card = card_scene();
+    assert_eq!(card.graph_stats.graphs, 1);
+    assert_eq!(card.graph_stats.folded, 0);
+    assert_eq!(card.graph_stats.leaves, 1);
+    // tex_coord and the gradient run per point (the Principled's constants are folded).
+    assert_eq!(card.graph_stats.instructions, 2);
+    assert_eq!(card.objects.len(), 2);
+    let folded = crate::render::terms::testing::scene(serde_json::json!({
+        "materials": [{"type": "graph", "name": "g", "nodes": [{"type": "diffuse"}],
+                       "surface": {"node": 0}}],
+        "meshes": [crate::render::terms::testing::floor(0)],
+    }));
+    assert_eq!(
+        folded.graph_stats,
+        GraphStats {
+            graphs: 1,
+            folded: 1,
+            instructions: 0,
+            leaves: 0
+        }
+    );
+    assert!(folded.objects.is_empty());
+}
