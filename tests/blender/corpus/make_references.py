@@ -74,6 +74,23 @@ def make_textures(force: bool = False) -> None:
         out.open(checker, oiio.ImageSpec(n, n, 3, oiio.UINT8))
         out.write_image(px)
         out.close()
+    tiles = os.path.join(scenes.TEXTURES, "tiles_normal.png")
+    if force or not os.path.exists(tiles):
+        # A tangent-space normal map of 4 x 4 tiles with bevelled edges (8-bit, rows top to
+        # bottom, v up): the height rises over 5 texels from each tile's border.
+        n, k, bevel = 128, 32, 5.0
+        yy, xx = np.mgrid[0:n, 0:n].astype(np.float64) + 0.5
+        d = np.minimum.reduce([xx % k, k - xx % k, yy % k, k - yy % k])
+        h = np.minimum(d, bevel) / bevel
+        dh_drow, dh_dx = np.gradient(h)
+        strength = 4.0
+        nrm = np.stack([-dh_dx * strength, dh_drow * strength, np.ones_like(h)], -1)
+        nrm /= np.linalg.norm(nrm, axis=-1, keepdims=True)
+        px = np.round((nrm * 0.5 + 0.5) * 255).astype(np.uint8)
+        out = oiio.ImageOutput.create(tiles)
+        out.open(tiles, oiio.ImageSpec(n, n, 3, oiio.UINT8))
+        out.write_image(px)
+        out.close()
     sky = scenes.hdri_path()
     if force or not os.path.exists(sky):
         w, h = 128, 64

@@ -694,3 +694,7 @@ def dof():
     cam.data.dof.focus_distance = 1.48
     cam.data.dof.aperture_fstop = 1.0
     return sc
+
+
+# The node scenes register themselves in SCENES.
+from corpus import node_scenes  # noqa: E402,F401

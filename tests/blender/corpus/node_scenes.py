@@ -1,0 +1,373 @@
+"""The node part of the parity corpus: materials built from the node setups artists use (Mix
+Shader, procedural textures through ColorRamp, Bump and Normal Map, alpha cut-outs, node
+groups), one concern per scene, in the corpus' room (scenes.py).
+
+Every scene is tagged ``nodes``. Their USD stages are not exported: the importer's graph
+translation is tested on its own stages (tests/python/test_usd_graphs.py).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import bpy
+
+from corpus.scenes import (TEXTURES, camera, ceiling_area, lit_room, plane, principled,
+                           props, reset, room, scene, shader_material, sphere)
+
+NO_USD = ("not exported: the USD importer's shading graphs are tested on their own stages "
+          "(tests/python/test_usd_graphs.py)")
+TAGS = ("nodes",)
+
+
+def node_scene(name, description):
+    return scene(name, description, no_usd=NO_USD, tags=TAGS)
+
+
+def _tree(m):
+    nt = m.node_tree
+    return nt, nt.nodes["Principled BSDF"] if "Principled BSDF" in nt.nodes else None
+
+
+def _ramp(nt, stops, interpolation="LINEAR"):
+    """A ColorRamp with ``stops`` [(position, (r, g, b)), ...]."""
+    r = nt.nodes.new("ShaderNodeValToRGB")
+    r.color_ramp.interpolation = interpolation
+    els = r.color_ramp.elements
+    while len(els) < len(stops):
+        els.new(0.5)
+    for e, (pos, col) in zip(els, stops):
+        e.position = pos
+        e.color = (*col, 1.0)
+    return r
+
+
+def tiles_normal_path():
+    return os.path.join(TEXTURES, "tiles_normal.png")
+
+
+@node_scene("nodes_plastic", "The classic plastic: a Layer Weight (Fresnel, Blend 0.3) mixing "
+            "a red Diffuse BSDF and a Glossy BSDF (roughness 0.2) with a Mix Shader, on the "
+            "sphere and the cube.")
+def nodes_plastic():
+    def mat():
+        m = shader_material("Plastic", "ShaderNodeMixShader")
+        nt = m.node_tree
+        mix = nt.nodes["Mix Shader"]
+        lw = nt.nodes.new("ShaderNodeLayerWeight")
+        lw.inputs["Blend"].default_value = 0.3
+        d = nt.nodes.new("ShaderNodeBsdfDiffuse")
+        d.inputs["Color"].default_value = (0.8, 0.1, 0.08, 1)
+        g = nt.nodes.new("ShaderNodeBsdfGlossy")
+        g.inputs["Roughness"].default_value = 0.2
+        nt.links.new(lw.outputs["Fresnel"], mix.inputs["Fac"])
+        nt.links.new(d.outputs[0], mix.inputs[1])
+        nt.links.new(g.outputs[0], mix.inputs[2])
+        return m
+    return lit_room(mat)
+
+
+@node_scene("nodes_checker", "A Checker Texture (scale 6, generated coordinates) on the floor's "
+            "Base Color.")
+def nodes_checker():
+    sc = reset()
+    m = principled("CheckerFloor")
+    nt, b = _tree(m)
+    ck = nt.nodes.new("ShaderNodeTexChecker")
+    ck.inputs["Scale"].default_value = 6.0
+    ck.inputs["Color1"].default_value = (0.85, 0.8, 0.7, 1)
+    ck.inputs["Color2"].default_value = (0.1, 0.12, 0.3, 1)
+    nt.links.new(ck.outputs["Color"], b.inputs["Base Color"])
+    room(walls={"floor": m})
+    props()
+    ceiling_area()
+    camera()
+    return sc
+
+
+@node_scene("nodes_wood", "Wood: Object coordinates through a Mapping (scale 1, 10, 1) into a "
+            "Noise Texture (scale 3, detail 6), its Fac through a two-brown ColorRamp into the "
+            "floor's Base Color.")
+def nodes_wood():
+    sc = reset()
+    m = principled("Wood", Roughness=0.35)
+    nt, b = _tree(m)
+    tc = nt.nodes.new("ShaderNodeTexCoord")
+    mp = nt.nodes.new("ShaderNodeMapping")
+    mp.inputs["Scale"].default_value = (1.0, 10.0, 1.0)
+    nz = nt.nodes.new("ShaderNodeTexNoise")
+    nz.inputs["Scale"].default_value = 3.0
+    nz.inputs["Detail"].default_value = 6.0
+    r = _ramp(nt, [(0.35, (0.35, 0.17, 0.06)), (0.65, (0.75, 0.5, 0.25))])
+    nt.links.new(tc.outputs["Object"], mp.inputs["Vector"])
+    nt.links.new(mp.outputs["Vector"], nz.inputs["Vector"])
+    nt.links.new(nz.outputs["Fac"], r.inputs["Fac"])
+    nt.links.new(r.outputs["Color"], b.inputs["Base Color"])
+    room(walls={"floor": m})
+    props()
+    ceiling_area()
+    camera()
+    return sc
+
+
+@node_scene("nodes_marble", "Marble: a Wave Texture (bands, scale 2, distortion 8, detail 4) "
+            "through a ColorRamp (dark veins, white) into the Base Color of the sphere and "
+            "the cube (roughness 0.2).")
+def nodes_marble():
+    def mat():
+        m = principled("Marble", Roughness=0.2)
+        nt, b = _tree(m)
+        w = nt.nodes.new("ShaderNodeTexWave")
+        w.inputs["Scale"].default_value = 2.0
+        w.inputs["Distortion"].default_value = 8.0
+        w.inputs["Detail"].default_value = 4.0
+        r = _ramp(nt, [(0.0, (0.08, 0.08, 0.1)), (0.3, (0.9, 0.9, 0.88))])
+        nt.links.new(w.outputs["Fac"], r.inputs["Fac"])
+        nt.links.new(r.outputs["Color"], b.inputs["Base Color"])
+        return m
+    return lit_room(mat)
+
+
+@node_scene("nodes_rust", "Rust: a Noise Texture (scale 5, detail 4) through a constant "
+            "ColorRamp (step at 0.5) as the Fac of a Mix Shader between a metal (Metallic 1, "
+            "roughness 0.25) and a rough brown Principled, on the sphere and the cube.")
+def nodes_rust():
+    def mat():
+        m = shader_material("Rust", "ShaderNodeMixShader")
+        nt = m.node_tree
+        mix = nt.nodes["Mix Shader"]
+        nz = nt.nodes.new("ShaderNodeTexNoise")
+        nz.inputs["Scale"].default_value = 5.0
+        nz.inputs["Detail"].default_value = 4.0
+        r = _ramp(nt, [(0.0, (0, 0, 0)), (0.5, (1, 1, 1))], interpolation="CONSTANT")
+        metal = nt.nodes.new("ShaderNodeBsdfPrincipled")
+        metal.inputs["Base Color"].default_value = (0.8, 0.8, 0.82, 1)
+        metal.inputs["Metallic"].default_value = 1.0
+        metal.inputs["Roughness"].default_value = 0.25
+        rust = nt.nodes.new("ShaderNodeBsdfPrincipled")
+        rust.inputs["Base Color"].default_value = (0.45, 0.16, 0.05, 1)
+        rust.inputs["Roughness"].default_value = 0.9
+        nt.links.new(nz.outputs["Fac"], r.inputs["Fac"])
+        nt.links.new(r.outputs["Color"], mix.inputs["Fac"])
+        nt.links.new(metal.outputs[0], mix.inputs[1])
+        nt.links.new(rust.outputs[0], mix.inputs[2])
+        return m
+    return lit_room(mat)
+
+
+@node_scene("nodes_bump", "A Noise Texture (scale 8) as the height of a Bump node (distance "
+            "0.05) into the Normal of the back wall's Principled BSDF.")
+def nodes_bump():
+    sc = reset()
+    m = principled("BumpyWall")
+    nt, b = _tree(m)
+    nz = nt.nodes.new("ShaderNodeTexNoise")
+    nz.inputs["Scale"].default_value = 8.0
+    bu = nt.nodes.new("ShaderNodeBump")
+    bu.inputs["Distance"].default_value = 0.05
+    nt.links.new(nz.outputs["Fac"], bu.inputs["Height"])
+    nt.links.new(bu.outputs["Normal"], b.inputs["Normal"])
+    room(walls={"white": m})
+    props()
+    ceiling_area()
+    camera()
+    return sc
+
+
+@node_scene("nodes_tiles_normal", "Tiles: a Brick Texture (scale 4) on the floor's Base Color "
+            "and a tangent-space normal map (textures/tiles_normal.png, Non-Color, bevelled "
+            "4 x 4 tiles) through a Normal Map node into its Normal.")
+def nodes_tiles_normal():
+    sc = reset()
+    m = principled("Tiles", Roughness=0.3)
+    nt, b = _tree(m)
+    br = nt.nodes.new("ShaderNodeTexBrick")
+    br.inputs["Scale"].default_value = 4.0
+    tex = nt.nodes.new("ShaderNodeTexImage")
+    tex.image = bpy.data.images.load(tiles_normal_path())
+    tex.image.colorspace_settings.name = "Non-Color"
+    nm = nt.nodes.new("ShaderNodeNormalMap")
+    nt.links.new(br.outputs["Color"], b.inputs["Base Color"])
+    nt.links.new(tex.outputs["Color"], nm.inputs["Color"])
+    nt.links.new(nm.outputs["Normal"], b.inputs["Normal"])
+    room(walls={"floor": m})
+    props()
+    ceiling_area()
+    camera()
+    return sc
+
+
+@node_scene("nodes_glass_transparent", "A Mix Shader (Fac 0.5) of a Glass BSDF (IOR 1.45) and "
+            "a Transparent BSDF on the sphere.")
+def nodes_glass_transparent():
+    sc = reset()
+    room()
+    m = shader_material("GlassyGhost", "ShaderNodeMixShader")
+    nt = m.node_tree
+    mix = nt.nodes["Mix Shader"]
+    mix.inputs["Fac"].default_value = 0.5
+    gl = nt.nodes.new("ShaderNodeBsdfGlass")
+    gl.inputs["IOR"].default_value = 1.45
+    tr = nt.nodes.new("ShaderNodeBsdfTransparent")
+    nt.links.new(gl.outputs[0], mix.inputs[1])
+    nt.links.new(tr.outputs[0], mix.inputs[2])
+    props(mat_sphere=m)
+    ceiling_area()
+    camera()
+    return sc
+
+
+@node_scene("nodes_leaf_alpha", "A leaf card: a plane whose Principled Alpha is a Checker "
+            "Texture's Fac (scale 3), standing in the room; its holes show the wall behind and "
+            "its shadow on the floor is patterned.")
+def nodes_leaf_alpha():
+    sc = reset()
+    room()
+    m = principled("Leaf", (0.2, 0.55, 0.1))
+    nt, b = _tree(m)
+    ck = nt.nodes.new("ShaderNodeTexChecker")
+    ck.inputs["Scale"].default_value = 3.0
+    ck.inputs["Color1"].default_value = (1, 1, 1, 1)
+    ck.inputs["Color2"].default_value = (0, 0, 0, 1)
+    nt.links.new(ck.outputs["Fac"], b.inputs["Alpha"])
+    props()
+    plane("Leaf", (0.05, 0.0, 0.75), (90, 0, 10), 0.7, m)
+    ceiling_area()
+    camera()
+    return sc
+
+
+@node_scene("nodes_emission_screen", "No lights: a screen (plane 1.0 x 0.6 on the back wall) "
+            "whose Emission colour is a Gradient Texture (linear, generated) through a "
+            "ColorRamp (blue to orange), strength 5.")
+def nodes_emission_screen():
+    sc = reset()
+    room()
+    props()
+    m = shader_material("Screen", "ShaderNodeEmission", Strength=5.0)
+    nt = m.node_tree
+    em = nt.nodes["Emission"]
+    gr = nt.nodes.new("ShaderNodeTexGradient")
+    r = _ramp(nt, [(0.0, (0.1, 0.3, 1.0)), (1.0, (1.0, 0.5, 0.1))])
+    nt.links.new(gr.outputs["Fac"], r.inputs["Fac"])
+    nt.links.new(r.outputs["Color"], em.inputs["Color"])
+    plane("Screen", (0, 0.97, 1.3), (90, 0, 0), 1.0, m, scale=(1.0, 0.6, 1))
+    camera()
+    return sc
+
+
+@node_scene("nodes_group", "A node group ('Stone': Noise Texture scale 6 into a grey "
+            "ColorRamp, exposed as a Color output) on the Base Color of the sphere and the "
+            "cube, with a Reroute on the way.")
+def nodes_group():
+    def mat():
+        g = bpy.data.node_groups.new("Stone", "ShaderNodeTree")
+        g.interface.new_socket("Color", in_out="OUTPUT", socket_type="NodeSocketColor")
+        g.interface.new_socket("Scale", in_out="INPUT", socket_type="NodeSocketFloat")
+        gi = g.nodes.new("NodeGroupInput")
+        go = g.nodes.new("NodeGroupOutput")
+        nz = g.nodes.new("ShaderNodeTexNoise")
+        r = _ramp(g, [(0.3, (0.2, 0.2, 0.22)), (0.7, (0.75, 0.72, 0.7))])
+        g.links.new(gi.outputs["Scale"], nz.inputs["Scale"])
+        g.links.new(nz.outputs["Fac"], r.inputs["Fac"])
+        g.links.new(r.outputs["Color"], go.inputs["Color"])
+        m = principled("Stone")
+        nt, b = _tree(m)
+        node = nt.nodes.new("ShaderNodeGroup")
+        node.node_tree = g
+        node.inputs["Scale"].default_value = 6.0
+        rr = nt.nodes.new("NodeReroute")
+        nt.links.new(node.outputs["Color"], rr.inputs[0])
+        nt.links.new(rr.outputs[0], b.inputs["Base Color"])
+        return m
+    return lit_room(mat)
+
+
+@node_scene("nodes_voronoi", "Cells: a Voronoi Texture (F1, scale 6) Color on the Base Color "
+            "of the sphere and the cube.")
+def nodes_voronoi():
+    def mat():
+        m = principled("Cells")
+        nt, b = _tree(m)
+        v = nt.nodes.new("ShaderNodeTexVoronoi")
+        v.inputs["Scale"].default_value = 6.0
+        nt.links.new(v.outputs["Color"], b.inputs["Base Color"])
+        return m
+    return lit_room(mat)
+
+
+@node_scene("nodes_mix_math", "A Math node (Greater Than 0.5) on a Noise Texture's Fac (scale "
+            "4) as the Factor of a Mix node (Multiply) of a Checker's colour and a warm colour, "
+            "into the floor's Base Color; a Map Range (0.3-0.7 to 0.1-0.6) of the same noise "
+            "drives its Roughness.")
+def nodes_mix_math():
+    sc = reset()
+    m = principled("Patches")
+    nt, b = _tree(m)
+    nz = nt.nodes.new("ShaderNodeTexNoise")
+    nz.inputs["Scale"].default_value = 4.0
+    gt = nt.nodes.new("ShaderNodeMath")
+    gt.operation = "GREATER_THAN"
+    gt.inputs[1].default_value = 0.5
+    ck = nt.nodes.new("ShaderNodeTexChecker")
+    mx = nt.nodes.new("ShaderNodeMix")
+    mx.data_type = "RGBA"
+    mx.blend_type = "MULTIPLY"
+    mx.inputs["B"].default_value = (1.0, 0.6, 0.3, 1.0)
+    mr = nt.nodes.new("ShaderNodeMapRange")
+    mr.inputs["From Min"].default_value = 0.3
+    mr.inputs["From Max"].default_value = 0.7
+    mr.inputs["To Min"].default_value = 0.1
+    mr.inputs["To Max"].default_value = 0.6
+    nt.links.new(nz.outputs["Fac"], gt.inputs[0])
+    nt.links.new(gt.outputs[0], mx.inputs["Factor"])
+    nt.links.new(ck.outputs["Color"], mx.inputs["A"])
+    nt.links.new(mx.outputs["Result"], b.inputs["Base Color"])
+    nt.links.new(nz.outputs["Fac"], mr.inputs["Value"])
+    nt.links.new(mr.outputs["Result"], b.inputs["Roughness"])
+    room(walls={"floor": m})
+    props()
+    ceiling_area()
+    camera()
+    return sc
+
+
+def _emission_plane(name, color_from):
+    """No lights: a plane filling the view, seen straight on, whose Emission colour (strength
+    1) comes from ``color_from(node_tree)``: the pixels show the texture's values directly."""
+    sc = reset()
+    m = shader_material(name, "ShaderNodeEmission", Strength=1.0)
+    nt = m.node_tree
+    nt.links.new(color_from(nt), nt.nodes["Emission"].inputs["Color"])
+    plane(name, (0, 0, 0), (90, 0, 0), 2.4, m, scale=(1.0, 0.8, 1))
+    camera(location=(0, -2.0, 0), rotation_deg=(90, 0, 0), lens=35.0)
+    return sc
+
+
+@node_scene("nodes_noise_values", "Procedural noise value for value: a plane filling the view "
+            "with an Emission whose colour is a Noise Texture's Color (scale 3, detail 5, "
+            "roughness 0.6, distortion 0.3).")
+def nodes_noise_values():
+    def color(nt):
+        nz = nt.nodes.new("ShaderNodeTexNoise")
+        nz.inputs["Scale"].default_value = 3.0
+        nz.inputs["Detail"].default_value = 5.0
+        nz.inputs["Roughness"].default_value = 0.6
+        nz.inputs["Distortion"].default_value = 0.3
+        return nz.outputs["Color"]
+    return _emission_plane("NoiseValues", color)
+
+
+@node_scene("nodes_voronoi_values", "Voronoi value for value: a plane filling the view with an "
+            "Emission whose colour is a Voronoi Texture's Distance (smooth F1, scale 5) "
+            "through a ColorRamp.")
+def nodes_voronoi_values():
+    def color(nt):
+        v = nt.nodes.new("ShaderNodeTexVoronoi")
+        v.feature = "SMOOTH_F1"
+        v.inputs["Scale"].default_value = 5.0
+        r = _ramp(nt, [(0.0, (0.05, 0.1, 0.4)), (0.8, (1.0, 0.9, 0.6))])
+        nt.links.new(v.outputs["Distance"], r.inputs["Fac"])
+        return r.outputs["Color"]
+    return _emission_plane("VoronoiValues", color)
