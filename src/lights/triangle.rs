@@ -88,10 +88,34 @@ impl TriangleLight {
         warp::area_to_solid_angle(1.0 / self.area, d2, (to / d2.sqrt()).dot(n_light))
     }
 
-    /// Power of both faces, with the emission at the centroid's UV.
+    /// Power of both faces, with the emission at the centroid's UV; for a shading graph's
+    /// emission (which may vary over the triangle), its mean at the corners, the edges'
+    /// midpoints and the centroid.
     pub fn power(&self, ctx: &LightCtx) -> Spectrum {
-        let uv = (self.uv[0] + self.uv[1] + self.uv[2]) / 3.0;
-        let c = (self.v[0] + self.v[1] + self.v[2]) / 3.0;
-        self.emission(c, uv, ctx) * (2.0 * PI * self.area)
+        let at = |b: [f32; 3]| {
+            let p = self.v[0] * b[0] + self.v[1] * b[1] + self.v[2] * b[2];
+            let uv = self.uv[0] * b[0] + self.uv[1] * b[1] + self.uv[2] * b[2];
+            self.emission(p, uv, ctx)
+        };
+        let le = match ctx.materials.get(self.material as usize) {
+            Some(crate::materials::Material::Graph(_)) => {
+                const B: [[f32; 3]; 7] = [
+                    [1.0, 0.0, 0.0],
+                    [0.0, 1.0, 0.0],
+                    [0.0, 0.0, 1.0],
+                    [0.5, 0.5, 0.0],
+                    [0.0, 0.5, 0.5],
+                    [0.5, 0.0, 0.5],
+                    [1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0],
+                ];
+                B.iter().map(|b| at(*b)).sum::<Spectrum>() / B.len() as f32
+            }
+            _ => {
+                let uv = (self.uv[0] + self.uv[1] + self.uv[2]) / 3.0;
+                let c = (self.v[0] + self.v[1] + self.v[2]) / 3.0;
+                self.emission(c, uv, ctx)
+            }
+        };
+        le * (2.0 * PI * self.area)
     }
 }
