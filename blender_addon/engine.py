@@ -27,7 +27,10 @@ def stats_line(stats: dict) -> str:
     maps = {"loaded": "photon maps loaded", "reused": "photon maps reused"}.get(reuse.get("maps"), "")
     if reuse.get("saved_to"):
         maps = "photon maps saved"
-    parts = [p for p in (maps, f"photons stored: {stored}" if stored else "", secs, _mib(mem)) if p]
+    n = stats.get("unsupported_nodes", 0)
+    unsupported = f"{n} unsupported shader node{'s' if n != 1 else ''}" if n else ""
+    parts = [p for p in (maps, f"photons stored: {stored}" if stored else "", secs, _mib(mem),
+                         unsupported) if p]
     return " | ".join(parts)
 
 
@@ -159,6 +162,7 @@ class PhotonMapRenderEngine(bpy.types.RenderEngine):
             return
         passes.write_result(self, job.out, exported.window, depsgraph.view_layer.name)
         self.update_progress(1.0)
+        job.out["stats"]["unsupported_nodes"] = exported.counts.get("unsupported_nodes", 0)
         self.update_stats("", f"PhotonMap | {stats_line(job.out['stats'])}")
 
     # Viewport -------------------------------------------------------------------------------

@@ -91,7 +91,8 @@ def export_scene(depsgraph, camera: dict | None = None, window: Window | None = 
     ir = {"materials": [], "textures": [], "meshes": [], "instances": [], "lights": []}
     groups = _LightGroups(depsgraph.view_layer, warn)
     images = ImageCache(ir["textures"], warn)
-    materials = _Materials(ir["materials"], MaterialExporter(images, warn))
+    mat_exporter = MaterialExporter(images, warn)
+    materials = _Materials(ir["materials"], mat_exporter)
     ir["media"] = []
     media = _Media(ir["media"])
 
@@ -179,6 +180,8 @@ def export_scene(depsgraph, camera: dict | None = None, window: Window | None = 
         "materials": len(ir["materials"]), "textures": len(ir["textures"]),
         "media": len(ir.get("media", [])),
         "triangles": sum(len(m["indices"]) for m in ir["meshes"]),
+        # Shader nodes the shading graphs could not translate (each warned).
+        "unsupported_nodes": mat_exporter.stats.get("unsupported", 0),
     }
     return ExportResult(ir=ir, window=win, warnings=warnings, counts=counts)
 

@@ -247,9 +247,12 @@ impl<'a> Builder<'a> {
                 spec(
                     &[
                         ("strength", Float, F(1.0)),
-                        ("distance", Float, F(1.0)),
+                        ("distance", Float, F(0.001)),
                         ("height", Float, F(1.0)),
                         normal,
+                        // Cycles' finite difference spans this fraction of the pixel's
+                        // footprint; the height's gradient is taken at a far smaller step.
+                        ("filter_width", Float, F(0.1)),
                     ],
                     &[("normal", Vector)],
                 ),
