@@ -134,3 +134,13 @@ def reports(addon, monkeypatch):
     monkeypatch.setattr(addon.engine.PhotonMapRenderEngine, "_report",
                         lambda engine, kind, message: r({kind}, message))
     return r
+
+
+def pytest_terminal_summary(terminalreporter):
+    """The node corpus' sensitivity table (test_node_sensitivity.py), when its cases ran."""
+    mod = sys.modules.get("corpus.sensitivity")
+    if mod is not None and mod.TABLE:
+        terminalreporter.section("node corpus sensitivity at 'ci': margins beyond the tolerance")
+        terminalreporter.line(mod.HEADER)
+        for line in mod.TABLE:
+            terminalreporter.line(line)

@@ -1,0 +1,58 @@
+"""Small errors put into the shading graphs of node corpus scenes, as the add-on exports them,
+which the comparison must see (no bpy here; tests/blender/test_node_sensitivity.py runs them).
+
+Each case changes one node input of a graph material in the IR: a ColorRamp stop moved by
+0.05, a Bump's strength 10% off, a Noise Texture's scale 5% off, and a cut-out's alpha
+flipped; both signs where an error has a sign.
+"""
+
+from __future__ import annotations
+
+
+def _nodes(ir, material, kind):
+    (m,) = [m for m in ir["materials"] if m.get("name") == material]
+    return [n for n in m["nodes"] if n["type"] == kind]
+
+
+def _ramp_stops(material, delta):
+    def modify(ir):
+        for n in _nodes(ir, material, "color_ramp"):
+            for stop in n["params"]["stops"]:
+                stop[0] = min(1.0, max(0.0, stop[0] + delta))
+        return ir
+    return modify
+
+
+def _input_scaled(material, kind, socket, f, default):
+    def modify(ir):
+        for n in _nodes(ir, material, kind):
+            v = n.setdefault("inputs", {}).get(socket, default)
+            n["inputs"][socket] = f * v
+        return ir
+    return modify
+
+
+def _alpha_flipped(material):
+    """The checker's two colours swapped: solid where there were holes."""
+    def modify(ir):
+        for n in _nodes(ir, material, "checker_texture"):
+            i = n["inputs"]
+            i["color1"], i["color2"] = i["color2"], i["color1"]
+        return ir
+    return modify
+
+
+#: case -> (scene, the error put in).
+CASES = {
+    "ramp_stops_0.05_later": ("nodes_wood", _ramp_stops("Wood", 0.05)),
+    "ramp_stops_0.05_earlier": ("nodes_wood", _ramp_stops("Wood", -0.05)),
+    "bump_strength_10pct_more": ("nodes_bump", _input_scaled("BumpyWall", "bump", "strength",
+                                                             1.1, 1.0)),
+    "bump_strength_10pct_less": ("nodes_bump", _input_scaled("BumpyWall", "bump", "strength",
+                                                             0.9, 1.0)),
+    "noise_scale_5pct_larger": ("nodes_noise_values", _input_scaled(
+        "NoiseValues", "noise_texture", "scale", 1.05, 5.0)),
+    "noise_scale_5pct_smaller": ("nodes_noise_values", _input_scaled(
+        "NoiseValues", "noise_texture", "scale", 0.95, 5.0)),
+    "alpha_flipped": ("nodes_leaf_alpha", _alpha_flipped("Leaf")),
+}
