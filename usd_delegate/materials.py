@@ -31,12 +31,13 @@ from __future__ import annotations
 
 from pxr import Sdf, UsdShade
 
-from . import mtlx_bsdf
+from . import mtlx_bsdf, shading_graph
 from .textures import MAGENTA, resolve_asset
 
 OPENPBR = "ND_open_pbr_surface_surfaceshader"
 STANDARD = "ND_standard_surface_surfaceshader"
 PREVIEW = "UsdPreviewSurface"
+MTLX_PREVIEW = "ND_UsdPreviewSurface_surfaceshader"
 #: MaterialX's surface from one pbrlib BSDF or EDF (mtlx_bsdf.py).
 SURFACE = "ND_surface"
 
@@ -151,12 +152,18 @@ class MaterialTable:
     def read(self, material) -> dict:
         mtlx = _surface_shader(material, "mtlx")
         if mtlx is not None and _shader_id(mtlx) in (OPENPBR, STANDARD):
+            if self._pbr_needs_graph(mtlx):
+                return shading_graph.translate(self, material, mtlx)
             return self._mtlx(material, mtlx)
         if mtlx is not None and _shader_id(mtlx) == SURFACE:
+            if self._surface_needs_graph(mtlx):
+                return shading_graph.translate(self, material, mtlx)
             return mtlx_bsdf.read_surface(self, material, mtlx)
+        if mtlx is not None and _shader_id(mtlx) == MTLX_PREVIEW:
+            return self._preview_or_graph(material, mtlx)
         preview = _surface_shader(material)
         if preview is not None and _shader_id(preview) == PREVIEW:
-            return self._preview(material, preview)
+            return self._preview_or_graph(material, preview)
         for s in (mtlx, preview):
             if s is not None:
                 self.diag.warn(s.GetPrim(), f"unsupported surface shader `{_shader_id(s)}`; grey diffuse used")
@@ -252,6 +259,81 @@ class MaterialTable:
             return "missing"
         return idx, channel
 
+    # -- flat or graph ------------------------------------------------------------------
+
+    def _flat_source_ok(self, shader, name) -> bool:
+        """Whether the flat material reads the input exactly: unconnected, or an image read
+        at the mesh's UV (its scale and bias baked into the texture)."""
+        src = self._source(shader, name)
+        if src is None:
+            return True
+        s, _ = src
+        sid = _shader_id(s)
+        if sid == "UsdUVTexture":
+            st = self._source(s, "st")
+            if st is None:
+                return True
+            var = st[0].GetInput("varname")
+            return (_shader_id(st[0]) == "UsdPrimvarReader_float2" and var is not None
+                    and str(var.Get(self.time)) == "st")
+        if sid.startswith("ND_image_"):
+            tc = self._source(s, "texcoord")
+            return tc is None or (_shader_id(tc[0]).startswith("ND_texcoord_")
+                                  and not tc[0].GetInput("index"))
+        return False
+
+    def _below_one(self, shader, name) -> bool:
+        """Whether a coverage input is connected or below 1."""
+        if self._source(shader, name) is not None:
+            return True
+        v = self._value(shader, name, {})
+        if v is None:
+            return False
+        try:
+            return min(float(c) for c in v) < 1.0
+        except TypeError:
+            return float(v) < 1.0
+
+    def _preview_or_graph(self, material, s) -> dict:
+        graph = (self._below_one(s, "opacity") or self._source(s, "normal") is not None
+                 or not all(self._flat_source_ok(s, n) for n in
+                            ("diffuseColor", "metallic", "roughness", "emissiveColor", "ior")))
+        if graph:
+            return shading_graph.translate(self, material, s)
+        return self._preview(material, s)
+
+    def _pbr_needs_graph(self, s) -> bool:
+        if _shader_id(s) == OPENPBR:
+            names = ("base_color", "base_weight", "base_metalness", "specular_roughness",
+                     "specular_ior", "specular_weight", "transmission_weight",
+                     "emission_color", "emission_luminance", "coat_weight", "coat_roughness",
+                     "coat_ior", "coat_color")
+            opacity, normals = "geometry_opacity", ("geometry_normal", "geometry_coat_normal")
+        else:
+            names = ("base_color", "base", "metalness", "specular_roughness", "specular_IOR",
+                     "specular", "transmission", "emission_color", "emission")
+            opacity, normals = "opacity", ("normal", "coat_normal")
+        return (self._below_one(s, opacity)
+                or any(self._source(s, n) is not None for n in normals)
+                or not all(self._flat_source_ok(s, n) for n in names))
+
+    def _surface_needs_graph(self, s) -> bool:
+        """An ND_surface over more than one pbrlib node, or over one whose inputs are
+        computed, or with an opacity."""
+        bsdf = self._source(s, "bsdf")
+        edf = self._source(s, "edf")
+        if self._below_one(s, "opacity") or (bsdf is not None and edf is not None):
+            return True
+        node = (bsdf or edf or (None,))[0]
+        if node is None:
+            return False
+        sid = _shader_id(node)
+        if sid not in mtlx_bsdf.FLAT:
+            return sid in mtlx_bsdf.GRAPH_ONLY
+        inputs = [i.GetBaseName() for i in node.GetInputs()]
+        return not all(self._flat_source_ok(node, n) for n in inputs
+                       if n not in ("ior",) or sid != "ND_conductor_bsdf")
+
     # -- shaders ------------------------------------------------------------------------
 
     def _preview(self, material, s) -> dict:
@@ -262,10 +344,9 @@ class MaterialTable:
         for name in ("clearcoat",):
             if float(self._value(s, name, d) or 0) > 0:
                 self.diag.warn(prim, f"`{name}` is not supported; ignored")
-        for name in ("normal", "displacement", "occlusion"):
+        for name in ("displacement", "occlusion"):
             if self._source(s, name) is not None:
                 self.diag.warn(prim, f"`{name}` input is not supported; ignored")
-        opacity = self.scalar(s, "opacity", d)
         m = {
             "type": "principled",
             "name": str(material.GetPath()),
@@ -273,7 +354,6 @@ class MaterialTable:
             "metallic": self.float_(s, "metallic", d),
             "roughness": self.float_(s, "roughness", d),
             "ior": max(1.0, self.scalar(s, "ior", d)),
-            "transmission": min(1.0, max(0.0, 1.0 - opacity)),
         }
         em = self.color(s, "emissiveColor", d)
         if isinstance(em, dict) or any(c > 0 for c in em):

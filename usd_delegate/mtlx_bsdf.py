@@ -18,6 +18,12 @@ grey diffuse; ``opacity`` below 1 is warned and ignored.
 from __future__ import annotations
 
 GREY = [0.18, 0.18, 0.18]
+#: pbrlib nodes read here as one flat material.
+FLAT = ("ND_oren_nayar_diffuse_bsdf", "ND_conductor_bsdf", "ND_dielectric_bsdf",
+        "ND_uniform_edf")
+#: Nodes only a shading graph expresses (shading_graph.py).
+GRAPH_ONLY = ("ND_mix_bsdf", "ND_add_bsdf", "ND_mix_edf", "ND_add_edf", "ND_translucent_bsdf",
+              "ND_burley_diffuse_bsdf")
 
 
 def _roughness(table, shader, diag):

@@ -12,6 +12,7 @@ from . import camera as camera_mod
 from .diagnostics import Diagnostics, UsdImportError
 from .instancing import point_instancer, proxy_prototype
 from .lights import read_light
+from . import shading_graph
 from .materials import MaterialTable
 from .mesh import read_mesh
 from .textures import TextureTable
@@ -268,6 +269,7 @@ def _import_stage(stage, frame, camera, purposes, strict, width, where) -> Impor
     if not meshes and not lights and env is None:
         diag.warn(None, "the stage has no supported geometry or lights")
     emissive = any(m.get("type") == "emission" or m.get("emission_strength", 0) > 0
+                   or (m.get("type") == "graph" and shading_graph.emits(m))
                    for m in materials.materials)
     if not lights and env is None and not emissive:
         diag.warn(None, "the stage has no supported lights: the image will be black")

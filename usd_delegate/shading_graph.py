@@ -1,0 +1,786 @@
+"""UsdShade networks -> IR shading graphs (``{"type": "graph", ...}``), for materials the flat
+IR materials cannot express (textures through UsdTransform2d, normal maps, opacity as coverage,
+mixed BSDFs, MaterialX node graphs).
+
+A value is a constant (a float, or a list of 3 floats) or a link ``{"node": i, "output": o}``.
+Operations on constants are folded here, so constant sub-networks emit no nodes. Node types the
+core does not list in ``photonmap._core.GRAPH_NODES`` are never emitted: the node that needed
+one is warned and its consumer's input keeps its value.
+
+| USD / MaterialX node | graph nodes |
+|---|---|
+| ``UsdUVTexture`` (file, wrapS, scale, bias, sourceColorSpace, fallback; rgb, r, g, b, a) | `image_texture` (scale and bias baked into the texture), `separate_xyz` for r, g, b |
+| ``UsdPrimvarReader_float2`` | the mesh UV (a varname other than ``st`` is warned) |
+| ``UsdPrimvarReader_float/float3/...`` | warned (no vertex primvars in the core); its ``fallback`` |
+| ``UsdTransform2d`` | `mapping` (POINT: scale, then rotation in degrees, then translation) |
+| ``ND_image_*``, ``ND_tiledimage_*``, ``ND_gltf_image_*`` | `image_texture` (tiled: `mapping` with uvtiling, -uvoffset) |
+| ``ND_texcoord_*``, ``ND_geompropvalue_vector2`` | the mesh UV |
+| ``ND_constant_*``, ``ND_convert_*``, ``ND_dot_*`` | the value itself |
+| ``ND_add/subtract/multiply/divide_*`` | `math` (floats) or `vector_math` |
+| ``ND_mix_<float,color3,vector3>`` | `mix` (MIX, factor unclamped): bg + mix x (fg - bg) |
+| ``ND_ifequal/ifgreater/ifgreatereq_*`` | `math` COMPARE / GREATER_THAN / LESS_THAN into `mix` |
+| ``ND_dotproduct_vector3``, ``ND_normalize_vector3`` | `vector_math` DOT_PRODUCT, NORMALIZE |
+| ``ND_separate2/3/4_*``, ``ND_combine2/3_*`` | `separate_xyz`, `combine_xyz` (an image's alpha for ``outa``) |
+| ``ND_normalmap*`` | `normal_map` (TANGENT or OBJECT; scale as strength, warned when not 1) |
+| ``ND_normal_vector3`` | the geometry's normal |
+| ``ND_mix_bsdf``/``ND_mix_edf``, ``ND_add_bsdf``/``ND_add_edf`` | `mix_shader` (fac = mix, shader1 = bg), `add_shader` |
+| ``ND_oren_nayar_diffuse_bsdf``, ``ND_burley_diffuse_bsdf`` | `diffuse` (color x weight) |
+| ``ND_dielectric_bsdf`` | `glass` (tint x weight; scatter_mode other than RT warned) |
+| ``ND_conductor_bsdf`` | `glossy` (normal-incidence reflectance x weight; constant ior only) |
+| ``ND_translucent_bsdf``, ``ND_uniform_edf`` | `translucent`, `emission` |
+| ``ND_surface`` | its bsdf `add_shader` its edf; opacity as a `mix_shader` with `transparent` |
+| ``ND_open_pbr_surface``, ``ND_standard_surface``, ``(ND_)UsdPreviewSurface`` | `principled` |
+
+Warned with the node's prim path and ``info:id``, its consumer keeping its input's value:
+``ND_noise*``/``ND_fractal*``/``ND_cellnoise*``/``ND_worley*`` (MaterialX noises are not Cycles'
+noises), ``ND_rotate3d``, ``ND_tangent``, ``ND_position``, and any other node.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+_AVAILABLE = None
+
+
+def available_nodes() -> frozenset:
+    """The graph node types the core compiles (empty when the core cannot be imported)."""
+    global _AVAILABLE
+    if _AVAILABLE is None:
+        try:
+            from photonmap import _core
+
+            _AVAILABLE = frozenset(json.loads(_core.GRAPH_NODES))
+        except Exception:
+            _AVAILABLE = frozenset()
+    return _AVAILABLE
+
+
+class Untranslatable(Exception):
+    """A node that cannot be translated; the message says why."""
+
+
+def is_link(v) -> bool:
+    return isinstance(v, dict)
+
+
+def const(v):
+    """A USD value as a graph constant: a float, or a list of 3 floats (vector2 -> (u, v, 0),
+    color4 -> its rgb); None for anything else."""
+    if v is None or isinstance(v, str):
+        return None
+    if isinstance(v, bool):
+        return float(v)
+    if isinstance(v, (int, float)):
+        return float(v)
+    try:
+        c = [float(x) for x in v]
+    except (TypeError, ValueError):
+        return None
+    if len(c) == 1:
+        return c[0]
+    if len(c) == 2:
+        return [c[0], c[1], 0.0]
+    return c[:3]
+
+
+def _vec(v):
+    return list(v) if isinstance(v, list) else [float(v)] * 3
+
+
+def _scalar(v):
+    """A constant read as a float (a colour or vector: its mean, as the core reads a vector)."""
+    return sum(v) / 3.0 if isinstance(v, list) else float(v)
+
+
+class Graph:
+    """An IR graph under construction."""
+
+    def __init__(self, name: str, available=None) -> None:
+        self.name = name
+        self.available = available_nodes() if available is None else available
+        self.nodes: list[dict] = []
+
+    def add(self, kind: str, inputs=None, params=None, name: str = "") -> int:
+        if kind not in self.available:
+            raise Untranslatable(f"the renderer has no `{kind}` graph node")
+        node = {"type": kind}
+        if name:
+            node["name"] = name
+        ins = {k: v for k, v in (inputs or {}).items() if v is not None}
+        if ins:
+            node["inputs"] = ins
+        if params:
+            node["params"] = params
+        self.nodes.append(node)
+        return len(self.nodes) - 1
+
+    def out(self, kind, output, inputs=None, params=None, name="") -> dict:
+        return {"node": self.add(kind, inputs, params, name), "output": output}
+
+    def material(self, surface: dict) -> dict:
+        return {"type": "graph", "name": self.name, "nodes": self.nodes, "surface": surface}
+
+    # -- value operations (folded on constants) ----------------------------------------
+
+    def math(self, op: str, a, b=0.0, c=0.0):
+        if not any(is_link(x) for x in (a, b, c)):
+            x, y, z = _scalar(a), _scalar(b), _scalar(c)
+            f = {"ADD": lambda: x + y, "SUBTRACT": lambda: x - y, "MULTIPLY": lambda: x * y,
+                 "DIVIDE": lambda: x / y if y != 0 else 0.0,
+                 "GREATER_THAN": lambda: 1.0 if x > y else 0.0,
+                 "LESS_THAN": lambda: 1.0 if x < y else 0.0,
+                 "COMPARE": lambda: 1.0 if abs(x - y) <= max(z, 1e-5) else 0.0,
+                 "MULTIPLY_ADD": lambda: x * y + z}.get(op)
+            if f is not None:
+                return f()
+        return self.out("math", "value", {"value": a, "value_001": b, "value_002": c},
+                        {"operation": op, "use_clamp": False})
+
+    def vmath(self, op: str, a, b=None, c=None):
+        if not any(is_link(x) for x in (a, b, c)):
+            x = _vec(a)
+            y = _vec(b if b is not None else 0.0)
+            z = _vec(c if c is not None else 0.0)
+            if op == "DOT_PRODUCT":
+                return sum(p * q for p, q in zip(x, y))
+            if op == "NORMALIZE":
+                n = math.sqrt(sum(p * p for p in x))
+                return [p / n for p in x] if n > 0 else [0.0, 0.0, 0.0]
+            f = {"ADD": lambda p, q, r: p + q, "SUBTRACT": lambda p, q, r: p - q,
+                 "MULTIPLY": lambda p, q, r: p * q,
+                 "DIVIDE": lambda p, q, r: p / q if q != 0 else 0.0,
+                 "MULTIPLY_ADD": lambda p, q, r: p * q + r}.get(op)
+            if f is not None:
+                return [f(p, q, r) for p, q, r in zip(x, y, z)]
+        ins = {"vector": a, "vector_001": b, "vector_002": c}
+        output = "value" if op == "DOT_PRODUCT" else "vector"
+        return self.out("vector_math", output, ins, {"operation": op})
+
+    def scale(self, a, w):
+        """a x w for a colour a and a float w."""
+        if not is_link(w) and _scalar(w) == 1.0:
+            return a
+        return self.vmath("MULTIPLY", a, w)
+
+    def mix(self, data_type: str, factor, a, b):
+        """a + factor x (b - a), factor unclamped."""
+        if not is_link(factor):
+            f = _scalar(factor)
+            if f == 0.0:
+                return a
+            if f == 1.0:
+                return b
+            if not is_link(a) and not is_link(b):
+                if data_type == "FLOAT":
+                    return _scalar(a) + f * (_scalar(b) - _scalar(a))
+                return [p + f * (q - p) for p, q in zip(_vec(a), _vec(b))]
+        return self.out("mix", "result", {"factor": factor, "a": a, "b": b},
+                        {"data_type": data_type, "blend_type": "MIX", "clamp_factor": False,
+                         "clamp_result": False})
+
+    def separate(self, v, axis: int):
+        if not is_link(v):
+            return _vec(v)[axis]
+        return self.out("separate_xyz", "xyz"[axis], {"vector": v})
+
+    def combine(self, x, y, z=0.0):
+        if not any(is_link(t) for t in (x, y, z)):
+            return [_scalar(x), _scalar(y), _scalar(z)]
+        return self.out("combine_xyz", "vector", {"x": x, "y": y, "z": z})
+
+    def mapping(self, v, location, rotation, scale):
+        if location == [0.0] * 3 and rotation == [0.0] * 3 and scale == [1.0] * 3:
+            return v
+        return self.out("mapping", "vector", {"vector": v, "location": location,
+                                              "rotation": rotation, "scale": scale},
+                        {"vector_type": "POINT"})
+
+    def uv(self):
+        return self.out("tex_coord", "uv")
+
+
+# -- the translator -------------------------------------------------------------------------
+
+PREVIEW_IDS = ("UsdPreviewSurface", "ND_UsdPreviewSurface_surfaceshader")
+OPENPBR = "ND_open_pbr_surface_surfaceshader"
+STANDARD = "ND_standard_surface_surfaceshader"
+_IMAGE = ("ND_image_", "ND_tiledimage_", "ND_gltf_image_", "ND_gltf_colorimage")
+_WRAP = {"periodic": "repeat", "clamp": "clamp", "mirror": "mirror", "constant": "black"}
+_MTLX_CS = {"srgb_texture": "sRGB", "lin_rec709": "raw", "raw": "raw"}
+#: MaterialX operators by node name (the id without ``ND_`` and its type suffix), longest first.
+_OPS = sorted(["constant", "convert", "dot", "add", "subtract", "multiply", "divide", "mix",
+               "ifequal", "ifgreater", "ifgreatereq", "dotproduct", "normalize", "separate2",
+               "separate3", "separate4", "combine2", "combine3", "normalmap", "normal",
+               "texcoord", "geompropvalue", "mix_bsdf", "mix_edf", "add_bsdf", "add_edf",
+               "oren_nayar_diffuse_bsdf", "burley_diffuse_bsdf", "dielectric_bsdf",
+               "conductor_bsdf", "translucent_bsdf", "uniform_edf", "surface"],
+              key=len, reverse=True)
+_NOISES = ("ND_noise", "ND_fractal", "ND_cellnoise", "ND_worley", "ND_unifiednoise")
+GREY = [0.18, 0.18, 0.18]
+
+
+def shader_id(shader) -> str:
+    sid = shader.GetIdAttr().Get() if shader else None
+    return str(sid or "")
+
+
+def _op_of(sid: str):
+    """(operator, type suffix) of a MaterialX ``ND_`` id, or (None, "")."""
+    if not sid.startswith("ND_"):
+        return None, ""
+    rest = sid[3:]
+    for op in _OPS:
+        if rest == op:
+            return op, ""
+        if rest.startswith(op + "_"):
+            return op, rest[len(op) + 1:]
+    return None, ""
+
+
+def _data_type(suffix: str) -> str:
+    t = suffix.split("_")[0].rstrip("FA")
+    if t.startswith("float"):
+        return "FLOAT"
+    if t.startswith("color"):
+        return "RGBA"
+    return "VECTOR"
+
+
+class Translator:
+    """Translates one UsdShade material's surface network into a Graph."""
+
+    def __init__(self, table, name: str, available=None) -> None:
+        self.table = table
+        self.diag = table.diag
+        self.time = table.time
+        self.g = Graph(name, available)
+        self._memo: dict = {}
+        self._images: dict = {}
+
+    # -- inputs ------------------------------------------------------------------------
+
+    def authored(self, shader, name):
+        inp = shader.GetInput(name)
+        return inp.Get(self.time) if inp else None
+
+    def constant(self, shader, name, default):
+        c = const(self.authored(shader, name))
+        return default if c is None else c
+
+    def source(self, shader, name):
+        """(shader, output name) connected to an input, through NodeGraph outputs."""
+        from .materials import _follow
+
+        inp = shader.GetInput(name)
+        if not inp or not inp.HasConnectedSource():
+            return None
+        for src in inp.GetConnectedSources()[0]:
+            s = _follow(src.source, src.sourceName, 0)
+            if s:
+                return s, str(src.sourceName)
+        return None
+
+    def input(self, shader, name, default):
+        """The input's value: its connected node's output when that translates, else its
+        authored value, else ``default``."""
+        src = self.source(shader, name)
+        if src is not None:
+            v = self.output(src[0], src[1])
+            if v is not None:
+                return v
+        return self.constant(shader, name, default)
+
+    def connected(self, shader, name) -> bool:
+        return self.source(shader, name) is not None
+
+    def output(self, shader, out):
+        """A node's output as a value; None (warned) when the node cannot be translated."""
+        key = (str(shader.GetPath()), out)
+        if key in self._memo:
+            return self._memo[key]
+        self._memo[key] = None  # a cycle reads as untranslatable
+        try:
+            v = self._translate(shader, out)
+        except Untranslatable as e:
+            sid = shader_id(shader)
+            self.diag.warn(shader.GetPrim(), f"node `{sid}` cannot be translated ({e}); its "
+                                             f"consumer's input value is used")
+            v = None
+        self._memo[key] = v
+        return v
+
+    # -- nodes -------------------------------------------------------------------------
+
+    def _translate(self, s, out):
+        sid = shader_id(s)
+        if sid == "UsdUVTexture":
+            return self._uv_texture(s, out)
+        if sid == "UsdPrimvarReader_float2":
+            name = str(self.authored(s, "varname") or "")
+            if name != "st":
+                self.diag.warn(s.GetPrim(), f"primvar `{name}` read as the mesh's UV set "
+                                            f"(the renderer reads one, primvars:st)")
+            return self.g.uv()
+        if sid.startswith("UsdPrimvarReader_"):
+            name = str(self.authored(s, "varname") or "")
+            fb = const(self.authored(s, "fallback"))
+            self.diag.warn(s.GetPrim(), f"`{sid}` reads primvar `{name}` per vertex, which the "
+                                        f"renderer does not support; "
+                                        + ("its fallback is used" if fb is not None
+                                           else "its consumer's input value is used"))
+            return fb
+        if sid == "UsdTransform2d":
+            return self._transform2d(s)
+        if sid in PREVIEW_IDS:
+            return self.preview(s)
+        if sid in (OPENPBR, STANDARD):
+            return self.pbr(s)
+        if sid.startswith(_IMAGE):
+            return self._image(s, out)
+        if sid.startswith(_NOISES):
+            raise Untranslatable("MaterialX noise differs from Cycles' noise")
+        op, suffix = _op_of(sid)
+        if op is None:
+            raise Untranslatable("unsupported node")
+        return getattr(self, "_nd_" + op)(s, out, suffix)
+
+    # UsdPreviewSurface helpers
+
+    def _uv_texture(self, s, out):
+        from .textures import MAGENTA, resolve_asset
+
+        prim = s.GetPrim()
+        key = str(s.GetPath())
+        if key not in self._images:
+            path = resolve_asset(self.authored(s, "file"), prim)
+            cs = self.authored(s, "sourceColorSpace")
+            cs = str(cs) if cs else "auto"
+            wrap = str(self.authored(s, "wrapS") or "useMetadata")
+            wrap_t = self.authored(s, "wrapT")
+            if wrap_t and str(wrap_t) != wrap:
+                self.diag.warn(prim, "wrapT differs from wrapS: wrapS is used for both")
+            sc = self.authored(s, "scale")
+            bi = self.authored(s, "bias")
+            scale = tuple(sc) if sc is not None else (1, 1, 1, 1)
+            bias = tuple(bi) if bi is not None else (0, 0, 0, 0)
+            idx = self.table.textures.add(prim, path, cs, wrap, scale, bias)
+            node = None
+            if idx is not None:
+                vec = self.input(s, "st", None) if self.connected(s, "st") else None
+                node = self.g.add("image_texture", {"vector": vec}, {"texture": idx},
+                                  name=prim.GetName())
+            self._images[key] = node
+        node = self._images[key]
+        if node is None:  # missing file: the fallback (magenta when not authored)
+            fb = self.authored(s, "fallback")
+            fb = [float(c) for c in fb] if fb is not None else list(MAGENTA) + [1.0]
+            return {"rgb": fb[:3], "r": fb[0], "g": fb[1], "b": fb[2],
+                    "a": fb[3] if len(fb) > 3 else 1.0}.get(out, fb[:3])
+        color = {"node": node, "output": "color"}
+        if out == "a":
+            return {"node": node, "output": "alpha"}
+        if out in ("r", "g", "b"):
+            return self.g.separate(color, "rgb".index(out))
+        return color
+
+    def _transform2d(self, s):
+        v = self.input(s, "in", None) if self.connected(s, "in") else None
+        if v is None:
+            v = self.g.uv()
+        rot = float(self.authored(s, "rotation") or 0.0)
+        sc = const(self.authored(s, "scale")) or [1.0, 1.0, 0.0]
+        tr = const(self.authored(s, "translation")) or [0.0, 0.0, 0.0]
+        return self.g.mapping(v, [tr[0], tr[1], 0.0], [0.0, 0.0, math.radians(rot)],
+                              [sc[0], sc[1], 1.0])
+
+    # MaterialX images
+
+    def _image(self, s, out):
+        from .textures import MAGENTA, resolve_asset
+
+        prim = s.GetPrim()
+        sid = shader_id(s)
+        key = str(s.GetPath())
+        if key not in self._images:
+            f = s.GetInput("file")
+            path = resolve_asset(f.Get(self.time) if f else None, prim)
+            cs = (f.GetAttr().GetColorSpace() if f else "") or "auto"
+            cs = _MTLX_CS.get(cs, cs)
+            ua = str(self.authored(s, "uaddressmode") or "periodic")
+            va = self.authored(s, "vaddressmode")
+            if va and str(va) != ua:
+                self.diag.warn(prim, "vaddressmode differs from uaddressmode: uaddressmode is "
+                                     "used for both")
+            idx = self.table.textures.add(prim, path, cs, _WRAP.get(ua, "repeat"))
+            node = None
+            if idx is not None:
+                vec = self.input(s, "texcoord", None) if self.connected(s, "texcoord") else None
+                if sid.startswith("ND_tiledimage_"):
+                    tiling = const(self.authored(s, "uvtiling")) or [1.0, 1.0, 0.0]
+                    offset = const(self.authored(s, "uvoffset")) or [0.0, 0.0, 0.0]
+                    vec = self.g.mapping(vec if vec is not None else self.g.uv(),
+                                         [-offset[0], -offset[1], 0.0], [0.0] * 3,
+                                         [tiling[0], tiling[1], 1.0])
+                node = self.g.add("image_texture", {"vector": vec}, {"texture": idx},
+                                  name=prim.GetName())
+            self._images[key] = node
+        node = self._images[key]
+        if node is None:
+            d = const(self.authored(s, "default"))
+            return d if d is not None else list(MAGENTA)
+        color = {"node": node, "output": "color"}
+        if sid.endswith("_float"):
+            return self.g.separate(color, 0)
+        return color
+
+    def image_alpha(self, s):
+        """The alpha of an image node's colour4 output, or None."""
+        sid = shader_id(s)
+        if not (sid.startswith(_IMAGE) and sid.endswith("color4")) and sid != "UsdUVTexture":
+            return None
+        self.output(s, "out")
+        node = self._images.get(str(s.GetPath()))
+        return {"node": node, "output": "alpha"} if node is not None else 1.0
+
+    # MaterialX standard library
+
+    def _nd_constant(self, s, out, t):
+        return self.constant(s, "value", 0.0)
+
+    def _nd_convert(self, s, out, t):
+        return self.input(s, "in", 0.0)
+
+    _nd_dot = _nd_convert
+
+    def _binary(self, s, t, op):
+        a = self.input(s, "in1", 0.0)
+        b = self.input(s, "in2", 1.0 if op in ("MULTIPLY", "DIVIDE") else 0.0)
+        if _data_type(t) == "FLOAT":
+            return self.g.math(op, a, b)
+        return self.g.vmath(op, a, b)
+
+    def _nd_add(self, s, out, t):
+        return self._binary(s, t, "ADD")
+
+    def _nd_subtract(self, s, out, t):
+        return self._binary(s, t, "SUBTRACT")
+
+    def _nd_multiply(self, s, out, t):
+        return self._binary(s, t, "MULTIPLY")
+
+    def _nd_divide(self, s, out, t):
+        return self._binary(s, t, "DIVIDE")
+
+    def _nd_mix(self, s, out, t):
+        fg = self.input(s, "fg", 0.0)
+        bg = self.input(s, "bg", 0.0)
+        return self.g.mix(_data_type(t), self.input(s, "mix", 0.0), bg, fg)
+
+    def _if(self, s, t, op, swap):
+        c = self.g.math(op, self.input(s, "value1", 1.0 if op == "COMPARE" else 0.0),
+                        self.input(s, "value2", 0.0))
+        in1 = self.input(s, "in1", 0.0)
+        in2 = self.input(s, "in2", 0.0)
+        a, b = (in1, in2) if swap else (in2, in1)
+        return self.g.mix(_data_type(t), c, a, b)
+
+    def _nd_ifequal(self, s, out, t):
+        if t.endswith("B") or "boolean" in t:
+            raise Untranslatable("boolean comparison")
+        return self._if(s, t, "COMPARE", False)
+
+    def _nd_ifgreater(self, s, out, t):
+        return self._if(s, t, "GREATER_THAN", False)
+
+    def _nd_ifgreatereq(self, s, out, t):  # value1 >= value2 = not (value1 < value2)
+        return self._if(s, t, "LESS_THAN", True)
+
+    def _nd_dotproduct(self, s, out, t):
+        return self.g.vmath("DOT_PRODUCT", self.input(s, "in1", [0.0] * 3),
+                            self.input(s, "in2", [0.0] * 3))
+
+    def _nd_normalize(self, s, out, t):
+        return self.g.vmath("NORMALIZE", self.input(s, "in", [0.0, 0.0, 1.0]))
+
+    def _separate(self, s, out):
+        axis = {"outr": 0, "outx": 0, "outg": 1, "outy": 1, "outb": 2, "outz": 2}.get(out)
+        if out in ("outa", "outw"):
+            src = self.source(s, "in")
+            a = self.image_alpha(src[0]) if src is not None else None
+            if a is not None:
+                return a
+            if src is None:
+                v = self.authored(s, "in")
+                return float(v[3]) if v is not None and len(v) > 3 else 1.0
+            raise Untranslatable(f"`{out}` of a computed colour4/vector4")
+        if axis is None:
+            raise Untranslatable(f"unknown output `{out}`")
+        return self.g.separate(self.input(s, "in", [0.0] * 3), axis)
+
+    def _nd_separate2(self, s, out, t):
+        return self._separate(s, out)
+
+    _nd_separate3 = _nd_separate4 = _nd_separate2
+
+    def _nd_combine2(self, s, out, t):
+        return self.g.combine(self.input(s, "in1", 0.0), self.input(s, "in2", 0.0))
+
+    def _nd_combine3(self, s, out, t):
+        return self.g.combine(self.input(s, "in1", 0.0), self.input(s, "in2", 0.0),
+                              self.input(s, "in3", 0.0))
+
+    def _nd_normalmap(self, s, out, t):
+        space = str(self.authored(s, "space") or "tangent")
+        if space not in ("tangent", "object"):
+            raise Untranslatable(f"space `{space}`")
+        strength = self.input(s, "scale", 1.0)
+        if is_link(strength) or _scalar(strength) != 1.0:
+            self.diag.warn(s.GetPrim(), "normalmap scale read as the normal map's strength "
+                                        "(exact only at 1)")
+        if isinstance(strength, list):
+            strength = strength[0]
+        if self.connected(s, "normal") or self.connected(s, "tangent"):
+            self.diag.warn(s.GetPrim(), "normalmap's normal and tangent inputs are ignored: "
+                                        "the surface's are used")
+        return self.g.out("normal_map", "normal",
+                          {"color": self.input(s, "in", [0.5, 0.5, 1.0]), "strength": strength},
+                          {"space": space.upper()})
+
+    def _nd_normal(self, s, out, t):
+        if str(self.authored(s, "space") or "object") != "world":
+            raise Untranslatable("a normal in object space")
+        return self.g.out("geometry", "normal")
+
+    def _nd_texcoord(self, s, out, t):
+        if int(self.authored(s, "index") or 0) != 0:
+            self.diag.warn(s.GetPrim(), "texcoord index other than 0 read as the mesh's UV set")
+        return self.g.uv()
+
+    def _nd_geompropvalue(self, s, out, t):
+        if not t.startswith("vector2"):
+            raise Untranslatable("vertex primvars other than the UV set")
+        name = str(self.authored(s, "geomprop") or "")
+        if name not in ("st", "UVMap", "uv"):
+            self.diag.warn(s.GetPrim(), f"geomprop `{name}` read as the mesh's UV set")
+        return self.g.uv()
+
+    # closures
+
+    def closure(self, shader, name):
+        """A closure input: its node's closure, or None (nothing)."""
+        src = self.source(shader, name)
+        if src is None:
+            return None
+        return self.output(src[0], src[1])
+
+    def _grey(self):
+        return self.g.out("diffuse", "bsdf", {"color": list(GREY)})
+
+    def _nd_mix_bsdf(self, s, out, t):
+        return self.g.out("mix_shader", "shader",
+                          {"fac": self.input(s, "mix", 0.0), "shader1": self.closure(s, "bg"),
+                           "shader2": self.closure(s, "fg")})
+
+    _nd_mix_edf = _nd_mix_bsdf
+
+    def _nd_add_bsdf(self, s, out, t):
+        return self.g.out("add_shader", "shader", {"shader1": self.closure(s, "in1"),
+                                                   "shader2": self.closure(s, "in2")})
+
+    _nd_add_edf = _nd_add_bsdf
+
+    def _normal_in(self, s, name):
+        return self.input(s, name, None) if self.connected(s, name) else None
+
+    def _roughness(self, s):
+        v = self.input(s, "roughness", 0.0)
+        if is_link(v):
+            return self.g.separate(v, 0)
+        if isinstance(v, list):
+            if abs(v[0] - v[1]) > 1e-6:
+                self.diag.warn(s.GetPrim(), f"anisotropic roughness ({v[0]:g}, {v[1]:g}) read "
+                                            f"as its mean")
+            return 0.5 * (v[0] + v[1])
+        return v
+
+    def _nd_oren_nayar_diffuse_bsdf(self, s, out, t):
+        color = self.g.scale(self.input(s, "color", list(GREY)), self.input(s, "weight", 1.0))
+        return self.g.out("diffuse", "bsdf", {"color": color, "roughness": self._roughness(s),
+                                              "normal": self._normal_in(s, "normal")})
+
+    _nd_burley_diffuse_bsdf = _nd_oren_nayar_diffuse_bsdf
+
+    def _nd_translucent_bsdf(self, s, out, t):
+        color = self.g.scale(self.input(s, "color", [1.0] * 3), self.input(s, "weight", 1.0))
+        return self.g.out("translucent", "bsdf", {"color": color,
+                                                  "normal": self._normal_in(s, "normal")})
+
+    def _nd_dielectric_bsdf(self, s, out, t):
+        mode = str(self.authored(s, "scatter_mode") or "R")
+        if mode != "RT":
+            self.diag.warn(s.GetPrim(), f"scatter_mode `{mode}` is read as RT (reflection and "
+                                        f"transmission)")
+        color = self.g.scale(self.input(s, "tint", [1.0] * 3), self.input(s, "weight", 1.0))
+        return self.g.out("glass", "bsdf", {"color": color, "roughness": self._roughness(s),
+                                            "ior": self.input(s, "ior", 1.5),
+                                            "normal": self._normal_in(s, "normal")})
+
+    def _nd_conductor_bsdf(self, s, out, t):
+        from .mtlx_bsdf import _conductor_f0
+
+        src = self.source(s, "ior")
+        if (src is not None and shader_id(src[0]) != "ND_artistic_ior") or self.connected(s, "extinction"):
+            raise Untranslatable("a computed ior or extinction")
+        color = self.g.scale(_conductor_f0(self.table, s), self.input(s, "weight", 1.0))
+        return self.g.out("glossy", "bsdf", {"color": color, "roughness": self._roughness(s),
+                                             "normal": self._normal_in(s, "normal")})
+
+    def _nd_uniform_edf(self, s, out, t):
+        return self.g.out("emission", "emission", {"color": self.input(s, "color", [1.0] * 3),
+                                                   "strength": 1.0})
+
+    def _nd_surface(self, s, out, t):
+        bsdf = self.closure(s, "bsdf")
+        edf = self.closure(s, "edf")
+        shader = bsdf if edf is None else (edf if bsdf is None else self.g.out(
+            "add_shader", "shader", {"shader1": bsdf, "shader2": edf}))
+        if shader is None:
+            shader = self.g.out("diffuse", "bsdf", {"color": [0.0, 0.0, 0.0]})
+        opacity = self.input(s, "opacity", 1.0)
+        if is_link(opacity) or _scalar(opacity) < 1.0:
+            shader = self.g.out("mix_shader", "shader",
+                                {"fac": opacity, "shader2": shader,
+                                 "shader1": self.g.out("transparent", "bsdf",
+                                                       {"color": [1.0, 1.0, 1.0]})})
+        return shader
+
+    # surface shaders -> principled
+
+    def preview(self, s):
+        from .materials import _PREVIEW_DEFAULTS as d
+
+        prim = s.GetPrim()
+        if int(self.constant(s, "useSpecularWorkflow", 0.0)):
+            self.diag.warn(prim, "useSpecularWorkflow: approximated by the metallic workflow "
+                                 "(specularColor ignored)")
+        if _scalar(self.constant(s, "clearcoat", 0.0)) > 0:
+            self.diag.warn(prim, "`clearcoat` is not supported; ignored")
+        for name in ("displacement", "occlusion"):
+            if self.connected(s, name):
+                self.diag.warn(prim, f"`{name}` input is not supported; ignored")
+        opacity = self.input(s, "opacity", d["opacity"])
+        threshold = _scalar(self.constant(s, "opacityThreshold", 0.0))
+        if threshold > 0:  # a cut-out: opaque where opacity >= threshold
+            try:
+                alpha = self.g.math("SUBTRACT", 1.0, self.g.math("LESS_THAN", opacity, threshold))
+            except Untranslatable as e:
+                self.diag.warn(prim, f"opacityThreshold cannot be applied ({e}): opacity read "
+                                     f"as partial coverage")
+                alpha = opacity
+        else:
+            alpha = opacity
+        emission = self.input(s, "emissiveColor", list(d["emissiveColor"]))
+        normal = None
+        if self.connected(s, "normal"):
+            n = self.input(s, "normal", None)
+            if is_link(n):  # a tangent-space normal in [-1, 1] -> normal_map's colour
+                color = self.g.mapping(n, [0.5] * 3, [0.0] * 3, [0.5] * 3)
+                normal = self.g.out("normal_map", "normal", {"color": color, "strength": 1.0},
+                                    {"space": "TANGENT"})
+        return self.g.out("principled", "bsdf", {
+            "base_color": self.input(s, "diffuseColor", list(d["diffuseColor"])),
+            "metallic": self.input(s, "metallic", d["metallic"]),
+            "roughness": self.input(s, "roughness", d["roughness"]),
+            "ior": self.input(s, "ior", d["ior"]),
+            "alpha": alpha,
+            "emission_color": emission,
+            "emission_strength": 1.0 if is_link(emission) or any(c > 0 for c in _vec(emission)) else 0.0,
+            "normal": normal,
+        }, name=prim.GetName())
+
+    def pbr(self, s):
+        prim = s.GetPrim()
+        openpbr = shader_id(s) == OPENPBR
+        from .materials import _OPENPBR_DEFAULTS, _STANDARD_DEFAULTS
+
+        d = _OPENPBR_DEFAULTS if openpbr else _STANDARD_DEFAULTS
+        if openpbr:
+            names = dict(bc="base_color", bw="base_weight", met="base_metalness",
+                         rough="specular_roughness", ior="specular_ior", spec="specular_weight",
+                         trans="transmission_weight", ec="emission_color",
+                         el="emission_luminance", cw="coat_weight", cr="coat_roughness",
+                         ci="coat_ior", cc="coat_color", op="geometry_opacity",
+                         n="geometry_normal", cn="geometry_coat_normal",
+                         sub="subsurface_weight")
+            unsupported = ("fuzz_weight", "thin_film_weight")
+        else:
+            names = dict(bc="base_color", bw="base", met="metalness",
+                         rough="specular_roughness", ior="specular_IOR", spec="specular",
+                         trans="transmission", ec="emission_color", el="emission",
+                         cw="coat", cr="coat_roughness", ci="coat_IOR", cc="coat_color",
+                         op="opacity", n="normal", cn="coat_normal", sub="subsurface")
+            unsupported = ("sheen", "thin_film_thickness")
+        for name in unsupported:
+            if _scalar(self.constant(s, name, 0.0)) > 0 or self.connected(s, name):
+                self.diag.warn(prim, f"`{name}` is not supported; ignored")
+
+        def v(key, default):
+            name = names[key]
+            dv = const(d.get(name))
+            x = self.input(s, name, default if dv is None else dv)
+            if key in ("bc", "cc", "ec") or is_link(x):
+                return x
+            return _scalar(x)  # a float socket (standard_surface's opacity is a colour)
+
+        sub = v("sub", 0.0)
+        if is_link(sub) or _scalar(sub) > 0:
+            self.diag.warn(prim, "subsurface scattering in a node graph is read as its "
+                                 "weight only (radius and colour ignored)")
+        spec = v("spec", 1.0)
+        return self.g.out("principled", "bsdf", {
+            "base_color": self.g.scale(v("bc", [0.8] * 3), v("bw", 1.0)),
+            "metallic": v("met", 0.0),
+            "roughness": v("rough", 0.3),
+            "ior": v("ior", 1.5),
+            "specular_ior_level": self.g.math("MULTIPLY", spec, 0.5),
+            "transmission_weight": v("trans", 0.0),
+            "coat_weight": v("cw", 0.0),
+            "coat_roughness": v("cr", 0.0),
+            "coat_ior": v("ci", 1.5),
+            "coat_tint": v("cc", [1.0] * 3),
+            "emission_color": v("ec", [1.0] * 3),
+            "emission_strength": v("el", 0.0),
+            "alpha": v("op", 1.0),
+            "subsurface_weight": sub,
+            "normal": self._normal_in(s, names["n"]),
+            "coat_normal": self._normal_in(s, names["cn"]),
+        }, name=prim.GetName())
+
+
+def emits(material: dict) -> bool:
+    """Whether a graph material may emit light."""
+    for n in material.get("nodes", ()):
+        if n["type"] == "emission":
+            return True
+        if n["type"] == "principled":
+            st = n.get("inputs", {}).get("emission_strength", 0.0)
+            if is_link(st) or _scalar(st) > 0:
+                return True
+    return False
+
+
+def translate(table, material, surface) -> dict:
+    """The IR graph material of ``material`` whose surface shader is ``surface``."""
+    name = str(material.GetPath())
+    t = Translator(table, name)
+    try:
+        closure = t.output(surface, "surface")
+    except Untranslatable:
+        closure = None
+    if closure is None or not is_link(closure):
+        table.diag.warn(surface.GetPrim(), f"surface `{shader_id(surface)}` cannot be "
+                                           f"translated; grey diffuse used")
+        return {"type": "diffuse", "name": name, "color": list(GREY)}
+    return t.g.material(closure)
