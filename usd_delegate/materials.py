@@ -1,9 +1,10 @@
-"""UsdShade materials -> IR `principled` materials.
+"""UsdShade materials -> IR materials: flat `principled` ones where they say it all, shading
+graphs (shading_graph.py) where they do not.
 
 Read-only: bindings are computed with ``UsdShade.MaterialBindingAPI(prim).ComputeBoundMaterial()``
-(never ``Apply``). When a material carries both, the MaterialX network (OpenPBR or
-standard_surface, on ``outputs:mtlx:surface``) is preferred over UsdPreviewSurface: Blender's
-exporter writes glass only there.
+(never ``Apply``). When a material carries both, the MaterialX network (OpenPBR,
+standard_surface, ND_surface or ND_UsdPreviewSurface, on ``outputs:mtlx:surface``) is preferred
+over UsdPreviewSurface: Blender's exporter writes glass only there.
 
 | UsdPreviewSurface | OpenPBR (`ND_open_pbr_surface_surfaceshader`) | standard_surface | IR `principled` |
 |---|---|---|---|
@@ -11,20 +12,35 @@ exporter writes glass only there.
 | metallic | base_metalness | metalness | metallic |
 | roughness | specular_roughness | specular_roughness | roughness |
 | ior | specular_ior | specular_IOR | ior |
-| (1) | specular_weight | specular | specular |
-| 1 - opacity (opacity < 1) | transmission_weight | transmission | transmission |
+| (1) | specular_weight | specular | specular (graph: specular_ior_level = weight / 2) |
+| — | transmission_weight | transmission | transmission |
+| opacity (coverage; opacityThreshold > 0: a cut-out, opacity >= threshold) | geometry_opacity | opacity | graph: alpha (coverage, not transmission) |
+| normal (tangent space, e.g. a UsdUVTexture with scale 2, bias -1) | geometry_normal | normal | graph: normal (`normal_map`, TANGENT) |
+| — | coat_weight, coat_roughness, coat_ior, coat_color, geometry_coat_normal | (coat warned) | coat_weight, coat_roughness, coat_ior, coat_tint, graph: coat_normal |
 | emissiveColor, strength 1 | emission_color, emission_luminance | emission_color, emission | emission_color, emission_strength |
 | — | subsurface_weight | subsurface | subsurface.weight |
 | — | subsurface_color | subsurface_color | subsurface.color |
 | — | subsurface_radius x subsurface_radius_scale | subsurface_radius x subsurface_scale | subsurface.radius (stage units) |
 | — | subsurface_scatter_anisotropy | subsurface_anisotropy | subsurface.anisotropy |
 
-The subsurface entry's IOR is the specular IOR. useSpecularWorkflow = 1 is approximated
-(specularColor ignored) and warned; clearcoat, normal maps, displacement, coat (standard
-surface), sheen and thin-film are warned when used; UsdPreviewSurface has no subsurface.
+A flat material is written when every input read is a constant or an image read at the mesh's
+UV (UsdUVTexture with its scale and bias baked into the texture, ``ND_image_*``), with opacity
+1 and no normal input; otherwise the surface is translated into a shading graph
+(shading_graph.py, whose table lists the USD and MaterialX nodes read: UsdUVTexture,
+UsdPrimvarReader_float2, UsdTransform2d, the MaterialX standard library Blender writes, mixed
+and added BSDFs), and in a graph subsurface scattering is read as its weight only (warned).
+
+Warned: useSpecularWorkflow = 1 (approximated, specularColor ignored), clearcoat,
+displacement, occlusion, fuzz/sheen and thin-film; UsdPrimvarReader of anything but a float2
+(no vertex colours: displayColor readers give their fallback); a primvar other than ``st``
+(read as the mesh's UV set); wrapT differing from wrapS; missing texture files (the
+UsdUVTexture's fallback, else magenta); every node that cannot be translated (named by prim
+path and ``info:id``; its consumer keeps its input's value). UsdPreviewSurface has no
+subsurface.
 
 A MaterialX ``ND_surface`` over one pbrlib BSDF or EDF (Blender's Diffuse, Glossy, Glass and
-Emission nodes) is read by mtlx_bsdf.py.
+Emission nodes) with constant or image inputs is read by mtlx_bsdf.py; mixed or added BSDFs,
+a BSDF beside an EDF, opacity and computed inputs make a graph.
 """
 
 from __future__ import annotations
@@ -331,8 +347,9 @@ class MaterialTable:
         if sid not in mtlx_bsdf.FLAT:
             return sid in mtlx_bsdf.GRAPH_ONLY
         inputs = [i.GetBaseName() for i in node.GetInputs()]
-        return not all(self._flat_source_ok(node, n) for n in inputs
-                       if n not in ("ior",) or sid != "ND_conductor_bsdf")
+        if sid == "ND_conductor_bsdf":  # its ior and extinction: constants or ND_artistic_ior
+            inputs = [n for n in inputs if n not in ("ior", "extinction")]
+        return not all(self._flat_source_ok(node, n) for n in inputs)
 
     # -- shaders ------------------------------------------------------------------------
 

@@ -630,9 +630,10 @@ class Translator:
     def _nd_conductor_bsdf(self, s, out, t):
         from .mtlx_bsdf import _conductor_f0
 
-        src = self.source(s, "ior")
-        if (src is not None and shader_id(src[0]) != "ND_artistic_ior") or self.connected(s, "extinction"):
-            raise Untranslatable("a computed ior or extinction")
+        for name in ("ior", "extinction"):
+            src = self.source(s, name)
+            if src is not None and shader_id(src[0]) != "ND_artistic_ior":
+                raise Untranslatable(f"a computed `{name}`")
         color = self.g.scale(_conductor_f0(self.table, s), self.input(s, "weight", 1.0))
         return self.g.out("glossy", "bsdf", {"color": color, "roughness": self._roughness(s),
                                              "normal": self._normal_in(s, "normal")})

@@ -256,8 +256,7 @@ def test_opacity_without_threshold_is_partial_coverage(stage_factory):
     assert mean[0] == pytest.approx(0.25, abs=0.03) and mean[2] == pytest.approx(0.75, abs=0.03)
 
 
-@_have("math")
-def test_opacity_threshold_cuts_holes(stage_factory, tmp_path):
+def _threshold_scene(stage_factory, tmp_path):
     # Opacity from a texture's r: left half 0.3, right half 0.8; threshold 0.5.
     tex = quadrants((0.3,) * 3, (0.8,) * 3, (0.3,) * 3, (0.8,) * 3)
     file = write_texture(tmp_path / "op.exr", tex)
@@ -266,13 +265,51 @@ def test_opacity_threshold_cuts_holes(stage_factory, tmp_path):
         t = uv_texture(stage, "/Mat/Front/Op", file)
         connect(sh, "opacity", t, "r", T.Float)
 
-    stage, path = _layers(stage_factory, {"opacityThreshold": 0.5}, links)
-    r, img = render(stage, path, spp=16)
+    return _layers(stage_factory, {"opacityThreshold": 0.5}, links)
+
+
+def _core_nodes(monkeypatch, add=(), remove=()):
+    nodes = (set(shading_graph.available_nodes()) | set(add)) - set(remove)
+    monkeypatch.setattr(shading_graph, "_AVAILABLE", frozenset(nodes))
+
+
+def test_opacity_threshold_is_a_comparison_in_the_graph(stage_factory, tmp_path, monkeypatch):
+    _core_nodes(monkeypatch, add=["math"])
+    stage, path = _threshold_scene(stage_factory, tmp_path)
+    m = import_stage(stage, path).ir["materials"][1]
+    nodes = m["nodes"]
+    alpha = nodes_of(m, "principled")[0]["inputs"]["alpha"]
+    sub = nodes[alpha["node"]]  # 1 - (opacity < threshold)
+    assert sub["type"] == "math" and sub["params"]["operation"] == "SUBTRACT"
+    assert sub["inputs"]["value"] == 1.0
+    lt = nodes[sub["inputs"]["value_001"]["node"]]
+    assert lt["params"]["operation"] == "LESS_THAN" and lt["inputs"]["value_001"] == 0.5
+    sep = nodes[lt["inputs"]["value"]["node"]]  # the texture's r
+    assert sep["type"] == "separate_xyz" and lt["inputs"]["value"]["output"] == "x"
+    assert nodes[sep["inputs"]["vector"]["node"]]["type"] == "image_texture"
+
+
+def test_a_node_type_the_core_lacks_is_warned_and_not_emitted(stage_factory, tmp_path,
+                                                              monkeypatch):
+    _core_nodes(monkeypatch, remove=["math"])
+    stage, path = _threshold_scene(stage_factory, tmp_path)
+    r = import_stage(stage, path)
     m = r.ir["materials"][1]
-    assert {n["params"]["operation"] for n in nodes_of(m, "math")} == {"LESS_THAN", "SUBTRACT"}
+    assert not nodes_of(m, "math")
+    alpha = nodes_of(m, "principled")[0]["inputs"]["alpha"]
+    assert m["nodes"][alpha["node"]]["type"] == "separate_xyz"  # opacity as coverage
+    msgs = r.diagnostics.messages()
+    assert [w for w in msgs if "/Mat/Front/Surface" in w and "`math`" in w], msgs
+
+
+@_have("math")
+def test_opacity_threshold_cuts_holes(stage_factory, tmp_path):
+    stage, path = _threshold_scene(stage_factory, tmp_path)
+    r, img = render(stage, path, spp=16)
     u, v = pixel_uv()
     left = far_from_texel_edges(u, v, 32, 16) & (u < 0.5)
     right = far_from_texel_edges(u, v, 32, 16) & (u > 0.5)
+    assert left.sum() > 50 and right.sum() > 50
     assert np.allclose(img[left], [0, 0, 1], atol=0.02)  # holes: the back plane
     assert np.allclose(img[right], [1, 0, 0], atol=0.02)  # solid
 
@@ -396,10 +433,11 @@ def test_mix_bsdf_is_the_weighted_mean_of_its_two_bsdfs(stage_factory):
     assert np.allclose(mixed, expect, atol=0.03 * expect.max()), np.abs(mixed - expect).max()
 
 
-@_have("mix", "math")
-def test_blender_style_network_ifequal_multiply_image(stage_factory, tmp_path):
+def test_blender_style_network_ifequal_multiply_image(stage_factory, tmp_path, monkeypatch):
     """An image multiplied by a constant and chosen by ND_ifequal, into OpenPBR's base_color,
     as Blender's exporter writes Mix and Math nodes."""
+    have = {"mix", "math", "vector_math"} <= shading_graph.available_nodes()
+    _core_nodes(monkeypatch, add=["mix", "math", "vector_math"])
     stage, path = new(stage_factory)
     file = write_texture(tmp_path / "q.exr", TEX)
     ng = "/Mat/B/NodeGraphs"
@@ -409,8 +447,10 @@ def test_blender_style_network_ifequal_multiply_image(stage_factory, tmp_path):
     conv = _mtlx_node(stage, f"{ng}/conv", "ND_convert_color4_color3", {"in": (img, "out")})
     mul = _mtlx_node(stage, f"{ng}/mul", "ND_multiply_color3FA",
                      {"in1": (conv, "out"), "in2": (T.Float, 2.0)})
+    red = _mtlx_node(stage, f"{ng}/red", "ND_separate3_color3", {"in": (conv, "out")})
+    red.CreateOutput("outr", T.Float)
     sel = _mtlx_node(stage, f"{ng}/sel", "ND_ifequal_color3",
-                     {"value1": (T.Float, 1.0), "value2": (T.Float, 1.0), "in1": (mul, "out"),
+                     {"value1": (red, "outr"), "value2": (T.Float, 0.9), "in1": (mul, "out"),
                       "in2": (T.Color3f, (0, 0, 0))})
     noise = _mtlx_node(stage, f"{ng}/noise", "ND_noise3d_float", {"amplitude": (T.Float, 1.0)})
     mat = UsdShade.Material.Define(stage, "/Mat/B")
@@ -429,10 +469,22 @@ def test_blender_style_network_ifequal_multiply_image(stage_factory, tmp_path):
     r = import_stage(stage, path)
     m = r.ir["materials"][0]
     assert m["type"] == "graph"
-    kinds = [n["type"] for n in m["nodes"]]
-    assert "image_texture" in kinds and "vector_math" in kinds and "mix" in kinds
+    nodes = m["nodes"]
     p = nodes_of(m, "principled")[0]
-    assert p["inputs"]["roughness"] == 0.7  # the noise is warned, the input's value kept
+    assert p["inputs"]["roughness"] == pytest.approx(0.7)  # the noise is warned, the input's value kept
     assert [w for w in r.diagnostics.messages() if f"{ng}/noise" in w and "ND_noise3d_float" in w]
-    # Renders: the image x 2 (the comparison is true) -- lit by nothing but a white dome.
-    photonmap.Scene.from_dict(r.ir)
+    # base_color = mix(factor = (red == 0.9), a = black, b = image x 2)
+    mix = nodes[p["inputs"]["base_color"]["node"]]
+    assert mix["type"] == "mix" and mix["params"]["data_type"] == "RGBA"
+    cmp = nodes[mix["inputs"]["factor"]["node"]]  # red == 0.9
+    assert cmp["type"] == "math" and cmp["params"]["operation"] == "COMPARE"
+    assert cmp["inputs"]["value_001"] == pytest.approx(0.9)
+    assert nodes[cmp["inputs"]["value"]["node"]]["type"] == "separate_xyz"
+    assert mix["inputs"]["a"] == [0.0, 0.0, 0.0]
+    mul = nodes[mix["inputs"]["b"]["node"]]
+    assert mul["type"] == "vector_math" and mul["params"]["operation"] == "MULTIPLY"
+    assert mul["inputs"]["vector_001"] == 2.0
+    img = nodes[mul["inputs"]["vector"]["node"]]
+    assert img["type"] == "image_texture" and nodes[img["inputs"]["vector"]["node"]]["type"] == "tex_coord"
+    if have:
+        photonmap.Scene.from_dict(r.ir)  # the core compiles it
