@@ -275,8 +275,9 @@ class GraphBuilder:
         elif kind in ("rgb_curves", "float_curve"):
             m = node.mapping
             m.update()
+            handle = {"AUTO": 0.0, "AUTO_CLAMPED": 1.0, "VECTOR": 2.0}
             p = {"curves": [[[float(pt.location[0]), float(pt.location[1]),
-                              1.0 if pt.handle_type == "VECTOR" else 0.0]
+                              handle.get(pt.handle_type, 0.0)]
                              for pt in c.points] for c in m.curves],
                  "clip": [float(m.clip_min_x), float(m.clip_max_x)],
                  "extend": m.extend}

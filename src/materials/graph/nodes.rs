@@ -1,11 +1,13 @@
 //! Converter and texture nodes: their sockets, and how they run. Socket names are Blender's
 //! identifiers in snake case; properties are read from `params` by their Blender names.
 
+use super::ops;
 use super::program::EvalCtx;
 use super::spec::{Dflt, NodeSpec, ParamReader, Ty};
 use super::tex::{self, Dimensions};
 use crate::error::Result;
 use glam::Vec3;
+use glam::Vec4;
 
 /// A converter or texture node with its properties.
 #[derive(Clone, Debug, PartialEq)]
@@ -22,6 +24,35 @@ pub enum NodeOp {
     Gradient(tex::GradientTexture),
     Wave(tex::WaveTexture),
     Magic(tex::MagicTexture),
+    Math {
+        op: ops::MathOp,
+        clamp: bool,
+    },
+    VectorMath(ops::VectorMathOp),
+    Mix {
+        data: ops::MixDataType,
+        blend: ops::BlendMode,
+        non_uniform: bool,
+        clamp_factor: bool,
+        clamp_result: bool,
+    },
+    MapRange {
+        interpolation: ops::MapRangeInterpolation,
+        clamp: bool,
+        vector: bool,
+    },
+    Clamp(ops::ClampType),
+    ColorRamp(Box<ops::ramp::BakedColorRamp>),
+    RgbCurves(Box<ops::RgbCurves>),
+    FloatCurve(Box<ops::FloatCurve>),
+    HueSaturation,
+    BrightContrast,
+    Gamma,
+    RgbToBw,
+    SeparateColor(ops::ColorMode),
+    CombineColor(ops::ColorMode),
+    Blackbody,
+    Wavelength,
 }
 
 const VECTOR: (&str, Ty, Dflt) = ("vector", Ty::Vector, Dflt::Generated);
@@ -38,6 +69,22 @@ impl NodeOp {
         "gradient_texture",
         "wave_texture",
         "magic_texture",
+        "math",
+        "vector_math",
+        "mix",
+        "map_range",
+        "clamp",
+        "color_ramp",
+        "rgb_curves",
+        "float_curve",
+        "hue_saturation",
+        "bright_contrast",
+        "gamma",
+        "rgb_to_bw",
+        "separate_color",
+        "combine_color",
+        "blackbody",
+        "wavelength",
     ];
 
     /// The node of IR type `kind`, if it is one of these; `None` for other types.
@@ -198,6 +245,203 @@ impl NodeOp {
                     &color_fac,
                 ),
             ),
+            "math" => (
+                NodeOp::Math {
+                    op: p.enum_or("operation", "ADD", ops::MathOp::from_blender)?,
+                    clamp: p.bool_or("use_clamp", false)?,
+                },
+                spec(
+                    &[
+                        ("value", Float, F(0.5)),
+                        ("value_001", Float, F(0.5)),
+                        ("value_002", Float, F(0.5)),
+                    ],
+                    &[("value", Float)],
+                ),
+            ),
+            "vector_math" => (
+                NodeOp::VectorMath(p.enum_or(
+                    "operation",
+                    "ADD",
+                    ops::VectorMathOp::from_blender,
+                )?),
+                spec(
+                    &[
+                        ("vector", Vector, V([0.0; 3])),
+                        ("vector_001", Vector, V([0.0; 3])),
+                        ("vector_002", Vector, V([0.0; 3])),
+                        ("scale", Float, F(1.0)),
+                    ],
+                    &[("vector", Vector), ("value", Float)],
+                ),
+            ),
+            "mix" => {
+                let data = p.enum_or("data_type", "FLOAT", ops::MixDataType::from_blender)?;
+                let non_uniform = data == ops::MixDataType::Vector
+                    && p.str_or("factor_mode", "UNIFORM")? == "NON_UNIFORM";
+                let (ty, dflt) = match data {
+                    ops::MixDataType::Float => (Float, F(0.0)),
+                    ops::MixDataType::Vector => (Vector, V([0.0; 3])),
+                    ops::MixDataType::Rgba => (Color, V([0.5; 3])),
+                };
+                let fac = if non_uniform {
+                    ("factor", Vector, V([0.5; 3]))
+                } else {
+                    ("factor", Float, F(0.5))
+                };
+                (
+                    NodeOp::Mix {
+                        data,
+                        blend: p.enum_or("blend_type", "MIX", ops::BlendMode::from_blender)?,
+                        non_uniform,
+                        clamp_factor: p.bool_or("clamp_factor", true)?,
+                        clamp_result: p.bool_or("clamp_result", false)?,
+                    },
+                    spec(&[fac, ("a", ty, dflt), ("b", ty, dflt)], &[("result", ty)]),
+                )
+            }
+            "map_range" => {
+                let vector = p.str_or("data_type", "FLOAT")? == "FLOAT_VECTOR";
+                let op = NodeOp::MapRange {
+                    interpolation: p.enum_or(
+                        "interpolation_type",
+                        "LINEAR",
+                        ops::MapRangeInterpolation::from_blender,
+                    )?,
+                    clamp: p.bool_or("clamp", true)?,
+                    vector,
+                };
+                if vector {
+                    (
+                        op,
+                        spec(
+                            &[
+                                ("vector", Vector, V([0.0; 3])),
+                                ("from_min_float3", Vector, V([0.0; 3])),
+                                ("from_max_float3", Vector, V([1.0; 3])),
+                                ("to_min_float3", Vector, V([0.0; 3])),
+                                ("to_max_float3", Vector, V([1.0; 3])),
+                                ("steps_float3", Vector, V([4.0; 3])),
+                            ],
+                            &[("vector", Vector)],
+                        ),
+                    )
+                } else {
+                    (
+                        op,
+                        spec(
+                            &[
+                                ("value", Float, F(1.0)),
+                                ("from_min", Float, F(0.0)),
+                                ("from_max", Float, F(1.0)),
+                                ("to_min", Float, F(0.0)),
+                                ("to_max", Float, F(1.0)),
+                                ("steps", Float, F(4.0)),
+                            ],
+                            &[("result", Float)],
+                        ),
+                    )
+                }
+            }
+            "clamp" => (
+                NodeOp::Clamp(p.enum_or("clamp_type", "MINMAX", ops::ClampType::from_blender)?),
+                spec(
+                    &[
+                        ("value", Float, F(1.0)),
+                        ("min", Float, F(0.0)),
+                        ("max", Float, F(1.0)),
+                    ],
+                    &[("result", Float)],
+                ),
+            ),
+            "color_ramp" => (
+                NodeOp::ColorRamp(Box::new(color_ramp(p)?.bake())),
+                spec(
+                    &[("fac", Float, F(0.5))],
+                    &[("color", Color), ("alpha", Float)],
+                ),
+            ),
+            "rgb_curves" => {
+                let c = curves(p, 4)?;
+                (
+                    NodeOp::RgbCurves(Box::new(ops::RgbCurves::new(&c[3], &c[0], &c[1], &c[2]))),
+                    spec(
+                        &[("fac", Float, F(1.0)), ("color", Color, V([1.0; 3]))],
+                        &[("color", Color)],
+                    ),
+                )
+            }
+            "float_curve" => {
+                let c = curves(p, 1)?;
+                (
+                    NodeOp::FloatCurve(Box::new(ops::FloatCurve::new(&c[0]))),
+                    spec(
+                        &[("factor", Float, F(1.0)), ("value", Float, F(1.0))],
+                        &[("value", Float)],
+                    ),
+                )
+            }
+            "hue_saturation" => (
+                NodeOp::HueSaturation,
+                spec(
+                    &[
+                        ("hue", Float, F(0.5)),
+                        ("saturation", Float, F(1.0)),
+                        ("value", Float, F(1.0)),
+                        ("fac", Float, F(1.0)),
+                        ("color", Color, V([0.8; 3])),
+                    ],
+                    &[("color", Color)],
+                ),
+            ),
+            "bright_contrast" => (
+                NodeOp::BrightContrast,
+                spec(
+                    &[
+                        ("color", Color, V([1.0; 3])),
+                        ("bright", Float, F(0.0)),
+                        ("contrast", Float, F(0.0)),
+                    ],
+                    &[("color", Color)],
+                ),
+            ),
+            "gamma" => (
+                NodeOp::Gamma,
+                spec(
+                    &[("color", Color, V([1.0; 3])), ("gamma", Float, F(1.0))],
+                    &[("color", Color)],
+                ),
+            ),
+            "rgb_to_bw" => (
+                NodeOp::RgbToBw,
+                spec(&[("color", Color, V([0.5; 3]))], &[("val", Float)]),
+            ),
+            "separate_color" => (
+                NodeOp::SeparateColor(p.enum_or("mode", "RGB", ops::ColorMode::from_blender)?),
+                spec(
+                    &[("color", Color, V([0.8; 3]))],
+                    &[("red", Float), ("green", Float), ("blue", Float)],
+                ),
+            ),
+            "combine_color" => (
+                NodeOp::CombineColor(p.enum_or("mode", "RGB", ops::ColorMode::from_blender)?),
+                spec(
+                    &[
+                        ("red", Float, F(0.0)),
+                        ("green", Float, F(0.0)),
+                        ("blue", Float, F(0.0)),
+                    ],
+                    &[("color", Color)],
+                ),
+            ),
+            "blackbody" => (
+                NodeOp::Blackbody,
+                spec(&[("temperature", Float, F(1500.0))], &[("color", Color)]),
+            ),
+            "wavelength" => (
+                NodeOp::Wavelength,
+                spec(&[("wavelength", Float, F(500.0))], &[("color", Color)]),
+            ),
             _ => return Ok(None),
         }))
     }
@@ -209,7 +453,84 @@ impl NodeOp {
         let f = |a: f32| Vec3::new(a, 0.0, 0.0);
         match self {
             NodeOp::Splat => out[0] = Vec3::splat(x(0)),
-            NodeOp::Invert => out[0] = v(1).lerp(Vec3::ONE - v(1), x(0)),
+            NodeOp::Invert => out[0] = ops::invert(x(0), v(1)),
+            NodeOp::Math { op, clamp } => out[0] = f(ops::math_node(*op, x(0), x(1), x(2), *clamp)),
+            NodeOp::VectorMath(op) => {
+                let o = ops::vector_math(*op, v(0), v(1), v(2), x(3));
+                out[0] = o.vector;
+                out[1] = f(o.value);
+            }
+            NodeOp::Mix {
+                data,
+                blend,
+                non_uniform,
+                clamp_factor,
+                clamp_result,
+            } => {
+                out[0] = match data {
+                    ops::MixDataType::Float => f(ops::mix_float(x(0), x(1), x(2), *clamp_factor)),
+                    ops::MixDataType::Vector if *non_uniform => {
+                        ops::mix_vector_non_uniform(v(0), v(1), v(2), *clamp_factor)
+                    }
+                    ops::MixDataType::Vector => ops::mix_vector(x(0), v(1), v(2), *clamp_factor),
+                    ops::MixDataType::Rgba => {
+                        ops::mix_color(*blend, x(0), v(1), v(2), *clamp_factor, *clamp_result)
+                    }
+                };
+            }
+            NodeOp::MapRange {
+                interpolation,
+                clamp,
+                vector,
+            } => {
+                if *vector {
+                    let m = ops::MapRange {
+                        interpolation: *interpolation,
+                        clamp: *clamp,
+                        from_min: v(1),
+                        from_max: v(2),
+                        to_min: v(3),
+                        to_max: v(4),
+                        steps: v(5),
+                    };
+                    out[0] = m.eval(v(0));
+                } else {
+                    let m = ops::MapRange {
+                        interpolation: *interpolation,
+                        clamp: *clamp,
+                        from_min: x(1),
+                        from_max: x(2),
+                        to_min: x(3),
+                        to_max: x(4),
+                        steps: x(5),
+                    };
+                    out[0] = f(m.eval(x(0)));
+                }
+            }
+            NodeOp::Clamp(t) => out[0] = f(ops::clamp_node(*t, x(0), x(1), x(2))),
+            NodeOp::ColorRamp(r) => {
+                let c: Vec4 = r.eval(x(0));
+                out[0] = c.truncate();
+                out[1] = f(c.w);
+            }
+            NodeOp::RgbCurves(c) => out[0] = c.eval(x(0), v(1)),
+            NodeOp::FloatCurve(c) => out[0] = f(c.eval(x(0), x(1))),
+            NodeOp::HueSaturation => {
+                out[0] = ops::hue_saturation_value(x(0), x(1), x(2), x(3), v(4))
+            }
+            NodeOp::BrightContrast => out[0] = ops::bright_contrast(v(0), x(1), x(2)),
+            NodeOp::Gamma => out[0] = ops::gamma(v(0), x(1)),
+            NodeOp::RgbToBw => out[0] = f(ops::rgb_to_bw(v(0))),
+            NodeOp::SeparateColor(m) => {
+                let c = ops::separate_color(*m, v(0));
+                out[0] = f(c.x);
+                out[1] = f(c.y);
+                out[2] = f(c.z);
+            }
+            NodeOp::CombineColor(m) => out[0] = ops::combine_color(*m, Vec3::new(x(0), x(1), x(2))),
+            NodeOp::Blackbody => out[0] = ops::blackbody(x(0)),
+            NodeOp::Wavelength => out[0] = ops::wavelength(x(0)),
+
             NodeOp::Noise(t) => {
                 let o = t.eval(&tex::NoiseInputs {
                     vector: v(0),
@@ -303,4 +624,82 @@ impl NodeOp {
             }
         }
     }
+}
+
+/// The Color Ramp of a node's `params`: `stops` as `[position, r, g, b, a]` rows,
+/// `interpolation`, `color_mode`, `hue_interpolation` (Blender's identifiers).
+fn color_ramp(p: &ParamReader) -> Result<ops::ColorRamp> {
+    let rows = p.rows("stops", 5)?;
+    if rows.is_empty() {
+        return Err(p.err("stops", "a ColorRamp needs at least one stop"));
+    }
+    let stops = rows
+        .iter()
+        .map(|r| ops::ColorStop {
+            position: r[0],
+            color: Vec4::new(r[1], r[2], r[3], r[4]),
+        })
+        .collect();
+    Ok(ops::ColorRamp::new(
+        stops,
+        p.enum_or(
+            "interpolation",
+            "LINEAR",
+            ops::RampInterpolation::from_blender,
+        )?,
+        p.enum_or("color_mode", "RGB", ops::RampColorMode::from_blender)?,
+        p.enum_or(
+            "hue_interpolation",
+            "NEAR",
+            ops::HueInterpolation::from_blender,
+        )?,
+    ))
+}
+
+/// The `n` curves of a curve node's `params`: `curves` as lists of `[x, y, handle]` points
+/// (handle 0 auto, 1 auto-clamped, 2 vector), `clip` the table's x range, `extend`.
+fn curves(p: &ParamReader, n: usize) -> Result<Vec<ops::CurveMap>> {
+    let Some(list) = p.node.params.get("curves").and_then(|v| v.as_array()) else {
+        return Err(p.err("curves", format!("must be a list of {n} curves")));
+    };
+    if list.len() != n {
+        return Err(p.err("curves", format!("must be a list of {n} curves")));
+    }
+    let (lo, hi) = match p.node.params.get("clip").and_then(|v| v.as_array()) {
+        Some(a) if a.len() == 2 => (
+            a[0].as_f64().unwrap_or(0.0) as f32,
+            a[1].as_f64().unwrap_or(1.0) as f32,
+        ),
+        _ => (0.0, 1.0),
+    };
+    let extend = p.enum_or("extend", "EXTRAPOLATED", ops::CurveExtend::from_blender)?;
+    let mut out = Vec::with_capacity(n);
+    for (k, c) in list.iter().enumerate() {
+        let bad = || {
+            p.err(
+                &format!("curves/{k}"),
+                "must be a list of [x, y, handle] points",
+            )
+        };
+        let pts = c.as_array().ok_or_else(bad)?;
+        let mut points = Vec::with_capacity(pts.len());
+        for pt in pts {
+            let a = pt.as_array().filter(|a| a.len() == 3).ok_or_else(bad)?;
+            let num = |i: usize| a[i].as_f64().filter(|x| x.is_finite()).map(|x| x as f32);
+            let (Some(x), Some(y), Some(h)) = (num(0), num(1), num(2)) else {
+                return Err(bad());
+            };
+            let handle = match h as i32 {
+                1 => ops::HandleType::AutoClamped,
+                2 => ops::HandleType::Vector,
+                _ => ops::HandleType::Auto,
+            };
+            points.push(ops::CurvePoint::new(x, y, handle));
+        }
+        if points.is_empty() {
+            return Err(bad());
+        }
+        out.push(ops::CurveMap::with_clip_x(&points, extend, lo, hi));
+    }
+    Ok(out)
 }

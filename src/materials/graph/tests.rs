@@ -309,3 +309,55 @@ fn scene_counters_show_what_graphs_compiled_to() {
     );
     assert!(folded.objects.is_empty());
 }
+
+#[test]
+fn converters_compile_and_run_as_their_nodes() {
+    // Noise -> Map Range -> Math (x 2) -> ColorRamp -> Mix (multiply with a colour) on an
+    // emission: the emission at a point is the chain's value there.
+    let g = graph(serde_json::json!({
+        "name": "chain",
+        "nodes": [
+            {"type": "noise_texture", "inputs": {"scale": 3.0}},
+            {"type": "map_range", "inputs": {"value": {"node": 0, "output": "fac"},
+                                             "from_min": 0.3, "from_max": 0.7}},
+            {"type": "math", "params": {"operation": "MULTIPLY", "use_clamp": true},
+             "inputs": {"value": {"node": 1, "output": "result"}, "value_001": 2.0}},
+            {"type": "color_ramp", "params": {"interpolation": "LINEAR",
+                                              "stops": [[0.0, 0.0, 0.0, 0.0, 1.0],
+                                                        [1.0, 1.0, 0.5, 0.25, 1.0]]},
+             "inputs": {"fac": {"node": 2, "output": "value"}}},
+            {"type": "mix", "params": {"data_type": "RGBA", "blend_type": "MULTIPLY"},
+             "inputs": {"factor": 1.0, "a": {"node": 3, "output": "color"},
+                        "b": [0.5, 1.0, 1.0]}},
+            {"type": "emission", "inputs": {"color": {"node": 4, "output": "result"}}}
+        ],
+        "surface": {"node": 5}
+    }));
+    let sg = ShaderGraph::new(&g, "/materials/0", 0).unwrap();
+    assert_eq!(
+        sg.instructions(),
+        6,
+        "the implicit coordinates, then five nodes"
+    );
+    let sp = point();
+    let gen = sp.object.generated(sp.p);
+    let noise = super::tex::NoiseTexture {
+        dimensions: super::tex::Dimensions::D3,
+        noise_type: super::tex::NoiseType::Fbm,
+        normalize: true,
+    }
+    .eval_fac(&super::tex::NoiseInputs {
+        vector: gen,
+        scale: 3.0,
+        ..Default::default()
+    });
+    let t = (((noise - 0.3) / 0.4).clamp(0.0, 1.0) * 2.0).clamp(0.0, 1.0);
+    let want = Vec3::new(1.0, 0.5, 0.25) * t * Vec3::new(0.5, 1.0, 1.0);
+    let got = sg.shade(&sp, &[], Want::Light).emission;
+    // The ramp is baked into 257 entries as Cycles does: linear ramps are exact up to float
+    // rounding.
+    assert!(
+        (got - want).length() < 1e-4,
+        "{got} vs {want} (noise {noise})"
+    );
+}
