@@ -75,7 +75,8 @@ def _ir_matrix(rows):
 
 def write_scene_usda(path, desc, camera_x=(0.0,), frame_start=1):
     """A USD stage of a JSON scene IR of triangle meshes, UsdPreviewSurface materials
-    (diffuse, mirror, glass) and rect lights, with the IR's camera moved sideways by
+    (diffuse, mirror; glass as a MaterialX OpenPBR shader with full transmission, since a
+    UsdPreviewSurface's opacity is coverage) and rect lights, with the IR's camera moved sideways by
     ``camera_x[i]`` at frame ``frame_start + i`` (a camera-only animation)."""
     stage = Usd.Stage.CreateNew(path)
     UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.y)
@@ -94,10 +95,15 @@ def write_scene_usda(path, desc, camera_x=(0.0,), frame_start=1):
             inp("metallic", Sdf.ValueTypeNames.Float, 1.0)
             inp("roughness", Sdf.ValueTypeNames.Float, 0.0)
         else:
-            inp("diffuseColor", Sdf.ValueTypeNames.Color3f, Gf.Vec3f(1, 1, 1))
-            inp("opacity", Sdf.ValueTypeNames.Float, 0.0)
-            inp("ior", Sdf.ValueTypeNames.Float, m.get("ior", 1.5))
-            inp("roughness", Sdf.ValueTypeNames.Float, 0.0)
+            sh.GetIdAttr().Set("ND_open_pbr_surface_surfaceshader")
+            inp("base_color", Sdf.ValueTypeNames.Color3f, Gf.Vec3f(1, 1, 1))
+            inp("transmission_weight", Sdf.ValueTypeNames.Float, 1.0)
+            inp("specular_ior", Sdf.ValueTypeNames.Float, m.get("ior", 1.5))
+            inp("specular_roughness", Sdf.ValueTypeNames.Float, 0.0)
+            sh.CreateOutput("surface", Sdf.ValueTypeNames.Token)
+            mat.CreateSurfaceOutput("mtlx").ConnectToSource(sh.ConnectableAPI(), "surface")
+            mats.append(mat)
+            continue
         mat.CreateSurfaceOutput().ConnectToSource(sh.ConnectableAPI(), "surface")
         mats.append(mat)
     for m in desc["meshes"]:

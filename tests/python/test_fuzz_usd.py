@@ -38,10 +38,12 @@ def cornell_usda() -> str:
     mat.CreateSurfaceOutput().ConnectToSource(sh.ConnectableAPI(), "surface")
     glass = UsdShade.Material.Define(stage, "/World/Looks/Glass")
     gs = UsdShade.Shader.Define(stage, "/World/Looks/Glass/Surface")
-    gs.CreateIdAttr("UsdPreviewSurface")
-    gs.CreateInput("opacity", Sdf.ValueTypeNames.Float).Set(0.0)
-    gs.CreateInput("ior", Sdf.ValueTypeNames.Float).Set(1.5)
-    glass.CreateSurfaceOutput().ConnectToSource(gs.ConnectableAPI(), "surface")
+    gs.CreateIdAttr("ND_open_pbr_surface_surfaceshader")
+    gs.CreateInput("transmission_weight", Sdf.ValueTypeNames.Float).Set(1.0)
+    gs.CreateInput("specular_ior", Sdf.ValueTypeNames.Float).Set(1.5)
+    gs.CreateInput("specular_roughness", Sdf.ValueTypeNames.Float).Set(0.0)
+    gs.CreateOutput("surface", Sdf.ValueTypeNames.Token)
+    glass.CreateSurfaceOutput("mtlx").ConnectToSource(gs.ConnectableAPI(), "surface")
 
     walls = UsdGeom.Mesh.Define(stage, "/World/Walls")
     p = [(-1, -1, 1), (1, -1, 1), (1, -1, -1), (-1, -1, -1),

@@ -125,12 +125,17 @@ def test_preview_surface_mapping(stage_factory):
                                ior=1.33, opacity=0.4, emissiveColor=(1.0, 0.5, 0.0))
     UsdShade.MaterialBindingAPI.Apply(m.GetPrim()).Bind(mat)
     add_camera(stage)
-    p = import_stage(stage, path).ir["materials"][0]
-    assert p["type"] == "principled"
-    assert np.allclose(p["base_color"], [0.2, 0.3, 0.4])
-    assert p["metallic"] == pytest.approx(0.7) and p["roughness"] == pytest.approx(0.25)
-    assert p["ior"] == pytest.approx(1.33) and p["transmission"] == pytest.approx(0.6)
-    assert p["emission_color"] == [1.0, 0.5, 0.0] and p["emission_strength"] == 1.0
+    g = import_stage(stage, path).ir["materials"][0]
+    # Opacity below 1 is coverage (the UsdPreviewSurface spec), not transmission: a
+    # Principled in a graph, with Alpha = opacity.
+    assert g["type"] == "graph"
+    (p,) = [n for n in g["nodes"] if n["type"] == "principled"]
+    i = p["inputs"]
+    assert np.allclose(i["base_color"], [0.2, 0.3, 0.4])
+    assert i["metallic"] == pytest.approx(0.7) and i["roughness"] == pytest.approx(0.25)
+    assert i["ior"] == pytest.approx(1.33) and i["alpha"] == pytest.approx(0.4)
+    assert i.get("transmission_weight", 0.0) == 0.0
+    assert np.allclose(i["emission_color"], [1.0, 0.5, 0.0]) and i["emission_strength"] == 1.0
 
 
 def test_openpbr_glass_preferred_over_preview_surface(stage_factory):
