@@ -13,6 +13,10 @@
 use super::math::max_c;
 use glam::Vec3;
 
+// The fit coefficients are written with Cycles' digits; f32 rounds them as
+// Cycles' compiler does.
+
+#[allow(clippy::excessive_precision)]
 const TABLE_R: [[f32; 3]; 7] = [
     [1.619_191_06e3, -2.050_109_16e-3, 5.029_957_57],
     [2.488_454_71e3, -1.113_309_07e-3, 3.226_215_44],
@@ -23,6 +27,7 @@ const TABLE_R: [[f32; 3]; 7] = [
     [3.787_174_50e3, 9.359_078_26e-6, 3.990_758_71e-1],
 ];
 
+#[allow(clippy::excessive_precision)]
 const TABLE_G: [[f32; 3]; 7] = [
     [-4.889_997_48e2, 6.043_307_54e-4, -7.558_075_26e-2],
     [-7.559_942_77e2, 3.167_300_98e-4, 4.783_061_39e-1],
@@ -33,6 +38,7 @@ const TABLE_G: [[f32; 3]; 7] = [
     [-5.007_995_71e2, -4.598_320_26e-6, 1.090_987_63],
 ];
 
+#[allow(clippy::excessive_precision)]
 const TABLE_B: [[f32; 4]; 7] = [
     [
         5.969_453_09e-11,
@@ -79,6 +85,7 @@ const TABLE_B: [[f32; 4]; 7] = [
 ];
 
 /// Cycles' fit before clamping (`svm_math_blackbody_color_rec709`).
+#[allow(clippy::excessive_precision)]
 fn blackbody_unclamped(t: f32) -> Vec3 {
     if t >= 12000.0 {
         return Vec3::new(0.826_295_5, 0.994_508_05, 1.566_307_7);

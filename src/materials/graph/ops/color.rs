@@ -21,6 +21,7 @@ use glam::Vec3;
 /// from the OpenColorIO config's `aces_interchange` role
 /// (`ShaderManager::init_xyz_transforms`). Close to, not equal to,
 /// (0.2126, 0.7152, 0.0722).
+#[allow(clippy::excessive_precision)]
 pub const REC709_TO_Y: Vec3 = Vec3::new(0.212_639_09, 0.715_169_13, 0.072_192_75);
 
 /// Cycles' `rgb_to_hsv`: hue in [0, 1), saturation, value.

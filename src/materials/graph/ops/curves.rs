@@ -419,7 +419,7 @@ where
         + std::ops::Sub<Output = T>,
 {
     let n = table.len();
-    if extrapolate && n >= 2 && (f < 0.0 || f > 1.0) {
+    if extrapolate && n >= 2 && !(0.0..=1.0).contains(&f) {
         let (t0, dy, f) = if f < 0.0 {
             (table[0], table[0] - table[1], -f)
         } else {

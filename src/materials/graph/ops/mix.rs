@@ -192,6 +192,8 @@ pub fn blend(mode: BlendMode, t: f32, c1: Vec3, c2: Vec3) -> Vec3 {
                 return 0.0;
             }
             let q = 1.0 - (1.0 - a) / tmp;
+            // Not f32::clamp: NaN must come out as it does in Cycles.
+            #[allow(clippy::manual_clamp)]
             if q < 0.0 {
                 0.0
             } else if q > 1.0 {

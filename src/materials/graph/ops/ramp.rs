@@ -215,7 +215,9 @@ fn hue_interp(mode: HueInterpolation, mfac: f32, fac: f32, h1: f32, h2: f32) -> 
     }
 }
 
-/// Blender's `key_curve_position_weights` for Cardinal and B-spline.
+/// Blender's `key_curve_position_weights` for Cardinal and B-spline (with
+/// Blender's digits).
+#[allow(clippy::excessive_precision)]
 fn spline_weights(t: f32, cardinal: bool) -> [f32; 4] {
     let t2 = t * t;
     let t3 = t2 * t;
