@@ -15,8 +15,8 @@ pub const NO_REG: Reg = Reg::MAX;
 /// Most registers a program may use.
 pub const MAX_REGS: usize = 512;
 
-/// Rec. 709 luminance, Cycles' colour-to-float conversion.
-pub const LUMINANCE: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
+/// Rec. 709 luminance as Cycles derives it, its colour-to-float conversion.
+pub const LUMINANCE: Vec3 = super::ops::color::REC709_TO_Y;
 
 /// One operation. Sources with a `variant` read the shading point moved by that variant's
 /// offset (0: the point itself; 1, 2: the Bump node's tangent offsets).
@@ -180,7 +180,7 @@ impl Instr {
                 }
                 None => out[1] = f(1.0),
             },
-            Op::Gray => out[0] = f(inp[0].dot(LUMINANCE)),
+            Op::Gray => out[0] = f(super::ops::rgb_to_bw(inp[0])),
             Op::Average => out[0] = f((inp[0].x + inp[0].y + inp[0].z) / 3.0),
             Op::Node(n) => n.run(&inp[..self.ins.len().min(inp.len())], &mut out, ctx),
         }
