@@ -28,7 +28,8 @@ UV (UsdUVTexture with its scale and bias baked into the texture, ``ND_image_*``)
 1 and no normal input; otherwise the surface is translated into a shading graph
 (shading_graph.py, whose table lists the USD and MaterialX nodes read: UsdUVTexture,
 UsdPrimvarReader_float2, UsdTransform2d, the MaterialX standard library Blender writes, mixed
-and added BSDFs), and in a graph subsurface scattering is read as its weight only (warned).
+and added BSDFs, the layered BSDFs Blender writes for a Principled BSDF in a Mix Shader), and in
+a graph subsurface scattering is read as its weight only (warned).
 
 Warned: useSpecularWorkflow = 1 (approximated, specularColor ignored), clearcoat,
 displacement, occlusion, fuzz/sheen and thin-film; UsdPrimvarReader of anything but a float2

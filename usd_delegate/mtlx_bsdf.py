@@ -11,7 +11,8 @@ Glass and Emission BSDF nodes), and MaterialX documents built by hand often do t
 | ``edf``: ``ND_uniform_edf`` (color), no ``bsdf`` | `emission` |
 
 Anisotropic roughness (a float2 with different components) is read as its mean, warned.
-Mixed or layered BSDFs, an ``edf`` beside a ``bsdf``, and other nodes are warned and render
+Mixed, added or layered BSDFs (``GRAPH_ONLY``), an ``edf`` beside a ``bsdf`` and computed
+inputs make a shading graph (materials.py, shading_graph.py); other nodes are warned and render
 grey diffuse; ``opacity`` below 1 is warned and ignored.
 """
 
@@ -23,7 +24,7 @@ FLAT = ("ND_oren_nayar_diffuse_bsdf", "ND_conductor_bsdf", "ND_dielectric_bsdf",
         "ND_uniform_edf")
 #: Nodes only a shading graph expresses (shading_graph.py).
 GRAPH_ONLY = ("ND_mix_bsdf", "ND_add_bsdf", "ND_mix_edf", "ND_add_edf", "ND_translucent_bsdf",
-              "ND_burley_diffuse_bsdf")
+              "ND_burley_diffuse_bsdf", "ND_layer_bsdf")
 
 
 def _roughness(table, shader, diag):

@@ -17,6 +17,12 @@ one is warned and its consumer's input keeps its value.
 | ``ND_texcoord_*``, ``ND_geompropvalue_vector2`` | the mesh UV |
 | ``ND_constant_*``, ``ND_convert_*``, ``ND_dot_*`` | the value itself |
 | ``ND_add/subtract/multiply/divide_*`` | `math` (floats) or `vector_math` |
+| ``ND_floor/ceil/round/absval/sign/sin/cos/tan/asin/acos/sqrt/exp/ln_*``, ``ND_power/max/min_*``, ``ND_atan2_*``, ``ND_invert_*`` | `math` (floats) or `vector_math` (per component as `math` where it has no such operation) |
+| ``ND_modulo_*`` (floored, as GLSL's mod) | `math` FLOORED_MODULO, `vector_math` WRAP with min 0 |
+| ``ND_clamp_*`` | `clamp` (MINMAX) for floats, `vector_math` MAXIMUM then MINIMUM |
+| ``ND_remap_*`` | `map_range` (LINEAR, unclamped) |
+| ``ND_extract_*`` | `separate_xyz` (an image's alpha for index 3) |
+| ``ND_magnitude/distance/crossproduct_vector3`` | `vector_math` LENGTH, DISTANCE, CROSS_PRODUCT |
 | ``ND_mix_<float,color3,vector3>`` | `mix` (MIX, factor unclamped): bg + mix x (fg - bg) |
 | ``ND_ifequal/ifgreater/ifgreatereq_*`` | `math` COMPARE / GREATER_THAN / LESS_THAN into `mix` |
 | ``ND_dotproduct_vector3``, ``ND_normalize_vector3`` | `vector_math` DOT_PRODUCT, NORMALIZE |
@@ -24,16 +30,20 @@ one is warned and its consumer's input keeps its value.
 | ``ND_normalmap*`` | `normal_map` (TANGENT or OBJECT; scale as strength, warned when not 1) |
 | ``ND_normal_vector3`` | the geometry's normal |
 | ``ND_mix_bsdf``/``ND_mix_edf``, ``ND_add_bsdf``/``ND_add_edf`` | `mix_shader` (fac = mix, shader1 = bg), `add_shader` |
+| ``ND_layer_bsdf`` stack of Blender's Principled BSDF (its exporter's BSDF for a Principled in a Mix or Add Shader: coat over thin film over metal/specular/transmission/sheen/diffuse) | `principled` (Base Color from the transmission lobe's tint; Roughness from ``ND_roughness_anisotropy``; Specular IOR Level = the specular lobe's weight) |
 | ``ND_oren_nayar_diffuse_bsdf``, ``ND_burley_diffuse_bsdf`` | `diffuse` (color x weight) |
 | ``ND_dielectric_bsdf`` | `glass` (tint x weight; scatter_mode other than RT warned) |
 | ``ND_conductor_bsdf`` | `glossy` (normal-incidence reflectance x weight; constant ior only) |
-| ``ND_translucent_bsdf``, ``ND_uniform_edf`` | `translucent`, `emission` |
+| ``ND_translucent_bsdf``, ``ND_uniform_edf`` | `translucent`, `emission` (none when black) |
 | ``ND_surface`` | its bsdf `add_shader` its edf; opacity as a `mix_shader` with `transparent` |
 | ``ND_open_pbr_surface``, ``ND_standard_surface``, ``(ND_)UsdPreviewSurface`` | `principled` |
 
 Warned with the node's prim path and ``info:id``, its consumer keeping its input's value:
 ``ND_noise*``/``ND_fractal*``/``ND_cellnoise*``/``ND_worley*`` (MaterialX noises are not Cycles'
-noises), ``ND_rotate3d``, ``ND_tangent``, ``ND_position``, and any other node.
+noises), ``ND_heighttonormal_vector3`` (the height's gradient per unit of texture coordinate, where
+Cycles' Bump takes it per unit of surface length: a normalmap of it gives the surface's own
+normal), any other ``ND_layer_bsdf`` (no general layering), ``ND_rotate3d``, ``ND_tangent``,
+``ND_position``, and any other node.
 """
 
 from __future__ import annotations
@@ -89,6 +99,53 @@ def _vec(v):
     return list(v) if isinstance(v, list) else [float(v)] * 3
 
 
+def _safe_pow(a, b):
+    """Cycles' safe_powf."""
+    if a < 0.0 and b != float(int(b)):
+        return 0.0
+    if b == 0.0:
+        return 1.0
+    if a == 0.0:
+        return 0.0
+    return a ** b
+
+
+def _floored_mod(a, b):
+    return a - math.floor(a / b) * b if b != 0.0 else 0.0
+
+
+#: Cycles' Math node operations on constants (x, y, z: its three values).
+_MATH = {
+    "ADD": lambda x, y, z: x + y, "SUBTRACT": lambda x, y, z: x - y,
+    "MULTIPLY": lambda x, y, z: x * y,
+    "DIVIDE": lambda x, y, z: x / y if y != 0 else 0.0,
+    "GREATER_THAN": lambda x, y, z: 1.0 if x > y else 0.0,
+    "LESS_THAN": lambda x, y, z: 1.0 if x < y else 0.0,
+    "COMPARE": lambda x, y, z: 1.0 if abs(x - y) <= max(z, 1e-5) else 0.0,
+    "MULTIPLY_ADD": lambda x, y, z: x * y + z,
+    "FLOOR": lambda x, y, z: float(math.floor(x)), "CEIL": lambda x, y, z: float(math.ceil(x)),
+    "ROUND": lambda x, y, z: float(math.floor(x + 0.5)),
+    "ABSOLUTE": lambda x, y, z: abs(x),
+    "SIGN": lambda x, y, z: 0.0 if x == 0 else math.copysign(1.0, x),
+    "FLOORED_MODULO": lambda x, y, z: _floored_mod(x, y),
+    "POWER": lambda x, y, z: _safe_pow(x, y),
+    "MAXIMUM": lambda x, y, z: x if x > y else y, "MINIMUM": lambda x, y, z: x if x < y else y,
+    "SINE": lambda x, y, z: math.sin(x), "COSINE": lambda x, y, z: math.cos(x),
+    "TANGENT": lambda x, y, z: math.tan(x),
+    "ARCSINE": lambda x, y, z: math.asin(min(1.0, max(-1.0, x))),
+    "ARCCOSINE": lambda x, y, z: math.acos(min(1.0, max(-1.0, x))),
+    "ARCTAN2": lambda x, y, z: 0.0 if x == 0 and y == 0 else math.atan2(x, y),
+    "SQRT": lambda x, y, z: math.sqrt(x) if x > 0 else 0.0,
+    "EXPONENT": lambda x, y, z: math.exp(x),
+    "LOGARITHM": lambda x, y, z: (math.log(x) / math.log(y)
+                                  if x > 0 and y > 0 and y != 1 else 0.0),
+}
+#: Vector Math operations that act per component as the Math operation of the same name.
+_VMATH_PER_COMPONENT = ("ADD", "SUBTRACT", "MULTIPLY", "DIVIDE", "MULTIPLY_ADD", "FLOOR", "CEIL",
+                        "ABSOLUTE", "SIGN", "POWER", "MAXIMUM", "MINIMUM", "SINE", "COSINE",
+                        "TANGENT")
+
+
 def _scalar(v):
     """A constant read as a float (a colour or vector: its mean, as the core reads a vector)."""
     return sum(v) / 3.0 if isinstance(v, list) else float(v)
@@ -126,15 +183,9 @@ class Graph:
 
     def math(self, op: str, a, b=0.0, c=0.0):
         if not any(is_link(x) for x in (a, b, c)):
-            x, y, z = _scalar(a), _scalar(b), _scalar(c)
-            f = {"ADD": lambda: x + y, "SUBTRACT": lambda: x - y, "MULTIPLY": lambda: x * y,
-                 "DIVIDE": lambda: x / y if y != 0 else 0.0,
-                 "GREATER_THAN": lambda: 1.0 if x > y else 0.0,
-                 "LESS_THAN": lambda: 1.0 if x < y else 0.0,
-                 "COMPARE": lambda: 1.0 if abs(x - y) <= max(z, 1e-5) else 0.0,
-                 "MULTIPLY_ADD": lambda: x * y + z}.get(op)
+            f = _MATH.get(op)
             if f is not None:
-                return f()
+                return f(_scalar(a), _scalar(b), _scalar(c))
         return self.out("math", "value", {"value": a, "value_001": b, "value_002": c},
                         {"operation": op, "use_clamp": False})
 
@@ -148,14 +199,19 @@ class Graph:
             if op == "NORMALIZE":
                 n = math.sqrt(sum(p * p for p in x))
                 return [p / n for p in x] if n > 0 else [0.0, 0.0, 0.0]
-            f = {"ADD": lambda p, q, r: p + q, "SUBTRACT": lambda p, q, r: p - q,
-                 "MULTIPLY": lambda p, q, r: p * q,
-                 "DIVIDE": lambda p, q, r: p / q if q != 0 else 0.0,
-                 "MULTIPLY_ADD": lambda p, q, r: p * q + r}.get(op)
+            if op in ("LENGTH", "DISTANCE"):
+                d = x if op == "LENGTH" else [p - q for p, q in zip(x, y)]
+                return math.sqrt(sum(p * p for p in d))
+            if op == "CROSS_PRODUCT":
+                return [x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2],
+                        x[0] * y[1] - x[1] * y[0]]
+            if op == "WRAP":  # wrap(a, max b, min c)
+                return [_floored_mod(p - r, q - r) + r for p, q, r in zip(x, y, z)]
+            f = _MATH.get(op) if op in _VMATH_PER_COMPONENT else None
             if f is not None:
                 return [f(p, q, r) for p, q, r in zip(x, y, z)]
         ins = {"vector": a, "vector_001": b, "vector_002": c}
-        output = "value" if op == "DOT_PRODUCT" else "vector"
+        output = "value" if op in ("DOT_PRODUCT", "LENGTH", "DISTANCE") else "vector"
         return self.out("vector_math", output, ins, {"operation": op})
 
     def scale(self, a, w):
@@ -215,8 +271,20 @@ _OPS = sorted(["constant", "convert", "dot", "add", "subtract", "multiply", "div
                "separate3", "separate4", "combine2", "combine3", "normalmap", "normal",
                "texcoord", "geompropvalue", "mix_bsdf", "mix_edf", "add_bsdf", "add_edf",
                "oren_nayar_diffuse_bsdf", "burley_diffuse_bsdf", "dielectric_bsdf",
-               "conductor_bsdf", "translucent_bsdf", "uniform_edf", "surface"],
+               "conductor_bsdf", "translucent_bsdf", "uniform_edf", "surface",
+               "floor", "ceil", "round", "absval", "sign", "sin", "cos", "tan", "asin", "acos",
+               "sqrt", "exp", "ln", "modulo", "power", "max", "min", "atan2", "clamp",
+               "invert", "remap", "extract", "magnitude", "distance", "crossproduct",
+               "layer_bsdf", "heighttonormal"],
               key=len, reverse=True)
+#: MaterialX unary operators (input ``in``) -> Cycles Math operation.
+_UNARY = {"floor": "FLOOR", "ceil": "CEIL", "round": "ROUND", "absval": "ABSOLUTE",
+          "sign": "SIGN", "sin": "SINE", "cos": "COSINE", "tan": "TANGENT", "asin": "ARCSINE",
+          "acos": "ARCCOSINE", "sqrt": "SQRT", "exp": "EXPONENT", "ln": "LOGARITHM"}
+#: MaterialX binary operators (in1, in2) -> (Cycles Math operation, in2's default). MaterialX's modulo is floored (GLSL mod), Cycles' MODULO truncated: floats use
+#: FLOORED_MODULO, vectors WRAP with min 0 (the same function).
+_BINARY = {"modulo": ("FLOORED_MODULO", 1.0), "power": ("POWER", 1.0), "max": ("MAXIMUM", 0.0),
+           "min": ("MINIMUM", 0.0)}
 _NOISES = ("ND_noise", "ND_fractal", "ND_cellnoise", "ND_worley", "ND_unifiednoise")
 GREY = [0.18, 0.18, 0.18]
 
@@ -344,6 +412,10 @@ class Translator:
         op, suffix = _op_of(sid)
         if op is None:
             raise Untranslatable("unsupported node")
+        if op in _UNARY:
+            return self._unary(s, suffix, _UNARY[op])
+        if op in _BINARY and op != "power":
+            return self._binary_op(s, suffix, op)
         return getattr(self, "_nd_" + op)(s, out, suffix)
 
     # UsdPreviewSurface helpers
@@ -473,6 +545,101 @@ class Translator:
     def _nd_divide(self, s, out, t):
         return self._binary(s, t, "DIVIDE")
 
+    def _per_component(self, op, t, a, b=0.0, c=0.0):
+        """Math ``op`` on floats; on vectors and colours the Vector Math operation of the same
+        function where there is one, else Math per component."""
+        if _data_type(t) == "FLOAT":
+            return self.g.math(op, a, b, c)
+        if op == "FLOORED_MODULO":
+            return self.g.vmath("WRAP", a, b, 0.0)
+        if op in _VMATH_PER_COMPONENT:
+            return self.g.vmath(op, a, b, c)
+
+        def part(v, i):
+            return self.g.separate(v, i) if is_link(v) or isinstance(v, list) else v
+
+        return self.g.combine(*(self.g.math(op, part(a, i), part(b, i), part(c, i))
+                                for i in range(3)))
+
+    def _unary(self, s, t, op):
+        a = self.input(s, "in", 0.0)
+        return self._per_component(op, t, a, math.e if op == "LOGARITHM" else 0.0)
+
+    def _binary_op(self, s, t, name):
+        op, default = _BINARY[name]
+        return self._per_component(op, t, self.input(s, "in1", 0.0),
+                                   self.input(s, "in2", default))
+
+    def _nd_power(self, s, out, t):
+        b = self.input(s, "in2", 1.0)
+        if not is_link(b) and isinstance(b, float) and b == 1.0:
+            return self.input(s, "in1", 0.0)  # x^1 = x, as Cycles' safe power gives it
+        return self._binary_op(s, t, "power")
+
+    def _nd_atan2(self, s, out, t):  # atan2(iny, inx); MaterialX 1.38: in1, in2
+        names = ("iny", "inx") if s.GetInput("iny") or s.GetInput("inx") else ("in1", "in2")
+        y = self.input(s, names[0], 0.0)
+        x = self.input(s, names[1], 1.0)
+        return self._per_component("ARCTAN2", t, y, x)
+
+    def _nd_clamp(self, s, out, t):
+        v = self.input(s, "in", 0.0)
+        lo = self.input(s, "low", 0.0)
+        hi = self.input(s, "high", 1.0)
+        if _data_type(t) == "FLOAT":
+            if not any(is_link(x) for x in (v, lo, hi)):
+                return min(max(_scalar(v), _scalar(lo)), _scalar(hi))
+            return self.g.out("clamp", "result", {"value": v, "min": lo, "max": hi},
+                              {"clamp_type": "MINMAX"})
+        return self.g.vmath("MINIMUM", self.g.vmath("MAXIMUM", v, lo), hi)
+
+    def _nd_invert(self, s, out, t):  # amount - in
+        return self._per_component("SUBTRACT", t, self.input(s, "amount", 1.0),
+                                   self.input(s, "in", 0.0))
+
+    def _nd_remap(self, s, out, t):
+        """outlow + (in - inlow) x (outhigh - outlow) / (inhigh - inlow), unclamped: Map Range
+        (Linear, no clamp)."""
+        v = self.input(s, "in", 0.0)
+        bounds = [self.input(s, n, d) for n, d in
+                  (("inlow", 0.0), ("inhigh", 1.0), ("outlow", 0.0), ("outhigh", 1.0))]
+        if _data_type(t) == "FLOAT":
+            if not any(is_link(x) for x in [v] + bounds):
+                a, b, c, d = (_scalar(x) for x in bounds)
+                f = (_scalar(v) - a) / (b - a) if b != a else 0.0
+                return c + f * (d - c)
+            names = ("from_min", "from_max", "to_min", "to_max")
+            return self.g.out("map_range", "result", {"value": v, **dict(zip(names, bounds))},
+                              {"data_type": "FLOAT", "interpolation_type": "LINEAR",
+                               "clamp": False})
+        names = ("from_min_float3", "from_max_float3", "to_min_float3", "to_max_float3")
+        ins = {n: (x if is_link(x) else _vec(x)) for n, x in zip(names, bounds)}
+        return self.g.out("map_range", "vector", {"vector": v, **ins},
+                          {"data_type": "FLOAT_VECTOR", "interpolation_type": "LINEAR",
+                           "clamp": False})
+
+    def _nd_extract(self, s, out, t):
+        index = int(self.authored(s, "index") or 0)
+        return self._separate(s, ("outx", "outy", "outz", "outw")[index] if 0 <= index < 4
+                              else f"index {index}")
+
+    def _nd_magnitude(self, s, out, t):
+        return self.g.vmath("LENGTH", self.input(s, "in", [0.0] * 3))
+
+    def _nd_distance(self, s, out, t):
+        return self.g.vmath("DISTANCE", self.input(s, "in1", [0.0] * 3),
+                            self.input(s, "in2", [0.0] * 3))
+
+    def _nd_crossproduct(self, s, out, t):
+        return self.g.vmath("CROSS_PRODUCT", self.input(s, "in1", [0.0] * 3),
+                            self.input(s, "in2", [0.0] * 3))
+
+    def _nd_heighttonormal(self, s, out, t):
+        raise Untranslatable(
+            "it takes the height's gradient per unit of texture coordinate (screen-space "
+            "differences), where Cycles' Bump takes it per unit of surface length: the two "
+            "agree only where the UV map has unit scale")
+
     def _nd_mix(self, s, out, t):
         fg = self.input(s, "fg", 0.0)
         bg = self.input(s, "bg", 0.0)
@@ -535,6 +702,9 @@ class Translator:
         space = str(self.authored(s, "space") or "tangent")
         if space not in ("tangent", "object"):
             raise Untranslatable(f"space `{space}`")
+        src = self.source(s, "in")
+        if src is not None and self.output(src[0], src[1]) is None:
+            return None  # its input is warned: the surface's own normal
         strength = self.input(s, "scale", 1.0)
         if is_link(strength) or _scalar(strength) != 1.0:
             self.diag.warn(s.GetPrim(), "normalmap scale read as the normal map's strength "
@@ -579,15 +749,19 @@ class Translator:
         return self.g.out("diffuse", "bsdf", {"color": list(GREY)})
 
     def _nd_mix_bsdf(self, s, out, t):
+        bg, fg = self.closure(s, "bg"), self.closure(s, "fg")
+        if bg is None and fg is None:
+            return None
         return self.g.out("mix_shader", "shader",
-                          {"fac": self.input(s, "mix", 0.0), "shader1": self.closure(s, "bg"),
-                           "shader2": self.closure(s, "fg")})
+                          {"fac": self.input(s, "mix", 0.0), "shader1": bg, "shader2": fg})
 
     _nd_mix_edf = _nd_mix_bsdf
 
     def _nd_add_bsdf(self, s, out, t):
-        return self.g.out("add_shader", "shader", {"shader1": self.closure(s, "in1"),
-                                                   "shader2": self.closure(s, "in2")})
+        a, b = self.closure(s, "in1"), self.closure(s, "in2")
+        if a is None or b is None:
+            return b if a is None else a
+        return self.g.out("add_shader", "shader", {"shader1": a, "shader2": b})
 
     _nd_add_edf = _nd_add_bsdf
 
@@ -639,8 +813,103 @@ class Translator:
                                              "normal": self._normal_in(s, "normal")})
 
     def _nd_uniform_edf(self, s, out, t):
-        return self.g.out("emission", "emission", {"color": self.input(s, "color", [1.0] * 3),
-                                                   "strength": 1.0})
+        color = self.input(s, "color", [1.0] * 3)
+        if not is_link(color) and not any(c > 0 for c in _vec(color)):
+            return None  # black: no emission
+        return self.g.out("emission", "emission", {"color": color, "strength": 1.0})
+
+    # Blender's Principled BSDF, as its exporter writes it where a BSDF is expected (in a Mix
+    # or Add Shader): ND_layer_bsdf(top: coat dielectric_bsdf, base: ND_multiply_bsdfC(
+    #   in1: layer(top: thin film, base: mix_bsdf(mix: Metallic,
+    #     bg: layer(top: specular dielectric_bsdf (weight: Specular IOR Level, ior: IOR),
+    #       base: mix_bsdf(mix: Transmission Weight, fg: transmission dielectric_bsdf (tint:
+    #         Base Color), bg: layer(top: sheen_bsdf, base: mix_bsdf(mix: Subsurface Weight,
+    #           bg: oren_nayar_diffuse_bsdf, fg: subsurface_bsdf)))),
+    #     fg: conductor_bsdf)),
+    #   in2: the coat's attenuation, mix(1, Coat Tint, Coat Weight)))
+
+    def _node(self, s, name, *ids):
+        """The node connected to input ``name`` when its id starts with one of ``ids``."""
+        src = self.source(s, name)
+        if src is None or not shader_id(src[0]).startswith(ids):
+            return None
+        return src[0]
+
+    def _blender_principled(self, layer):
+        """The pbrlib nodes of a Blender Principled BSDF whose top layer is ``layer``, by
+        role; None when the network has another structure."""
+        n = {"coat": self._node(layer, "top", "ND_dielectric_bsdf")}
+        base = self._node(layer, "base", "ND_multiply_bsdf", "ND_layer_bsdf")
+        if base is not None and shader_id(base).startswith("ND_multiply_bsdf"):
+            base = self._node(base, "in1", "ND_layer_bsdf")
+        n["thin_film"] = base
+        steps = [("thin_film", "base", "metal_mix", "ND_mix_bsdf"),
+                 ("metal_mix", "fg", "metal", "ND_conductor_bsdf"),
+                 ("metal_mix", "bg", "specular_layer", "ND_layer_bsdf"),
+                 ("specular_layer", "top", "specular", "ND_dielectric_bsdf"),
+                 ("specular_layer", "base", "transmission_mix", "ND_mix_bsdf"),
+                 ("transmission_mix", "fg", "transmission", "ND_dielectric_bsdf"),
+                 ("transmission_mix", "bg", "sheen_layer", "ND_layer_bsdf"),
+                 ("sheen_layer", "top", "sheen", "ND_sheen_bsdf"),
+                 ("sheen_layer", "base", "subsurface_mix", "ND_mix_bsdf"),
+                 ("subsurface_mix", "bg", "diffuse", "ND_oren_nayar_diffuse_bsdf")]
+        for parent, name, role, sid in steps:
+            node = n.get(parent)
+            n[role] = self._node(node, name, sid) if node is not None else None
+        return n if all(v is not None for v in n.values()) else None
+
+    def _blender_roughness(self, bsdf):
+        """A Principled lobe's roughness: the ``roughness`` of the ND_roughness_anisotropy
+        feeding it (Blender's Roughness), else the lobe's own."""
+        ra = self._node(bsdf, "roughness", "ND_roughness_anisotropy")
+        if ra is None:
+            return self._roughness(bsdf)
+        aniso = self.input(ra, "anisotropy", 0.0)
+        if is_link(aniso) or _scalar(aniso) != 0.0:
+            self.diag.warn(ra.GetPrim(), "anisotropy is not supported; isotropic roughness")
+        return self.input(ra, "roughness", 0.5)
+
+    def _nd_layer_bsdf(self, s, out, t):
+        n = self._blender_principled(s)
+        if n is None:
+            raise Untranslatable("a layering other than Blender's Principled BSDF (the "
+                                 "renderer layers BSDFs only as the Principled BSDF does)")
+        prim = s.GetPrim()
+        spec, diffuse, coat, sheen = n["specular"], n["diffuse"], n["coat"], n["sheen"]
+        tint = self.input(spec, "tint", [1.0] * 3)
+        if is_link(tint) or any(abs(c - 1.0) > 1e-6 for c in _vec(tint)):
+            self.diag.warn(spec.GetPrim(), "Specular Tint is not supported; white")
+        dr = self.input(diffuse, "roughness", 0.0)
+        if is_link(dr) or _scalar(dr) != 0.0:
+            self.diag.warn(diffuse.GetPrim(), "Diffuse Roughness is not supported; Lambert")
+        if self.connected(n["thin_film"], "top"):
+            self.diag.warn(n["thin_film"].GetPrim(), "thin film is not supported; ignored")
+        sub = self.input(n["subsurface_mix"], "mix", 0.0)
+        if is_link(sub) or _scalar(sub) > 0:
+            self.diag.warn(prim, "subsurface scattering in a node graph is read as its "
+                                 "weight only (radius and colour ignored)")
+        sheen_w = self.input(sheen, "weight", 0.0)
+        if is_link(sheen_w) or _scalar(sheen_w) > 0:
+            for name, d in (("color", [1.0] * 3), ("roughness", 0.5)):
+                v = self.input(sheen, name, d)
+                if is_link(v) or _vec(v) != _vec(d):
+                    self.diag.warn(sheen.GetPrim(), f"sheen `{name}` is not supported; ignored")
+        return self.g.out("principled", "bsdf", {
+            "base_color": self.input(n["transmission"], "tint", [0.8] * 3),
+            "metallic": self.input(n["metal_mix"], "mix", 0.0),
+            "roughness": self._blender_roughness(spec),
+            "ior": self.input(spec, "ior", 1.5),
+            "specular_ior_level": self.input(spec, "weight", 0.5),
+            "transmission_weight": self.input(n["transmission_mix"], "mix", 0.0),
+            "subsurface_weight": sub,
+            "sheen_weight": sheen_w,
+            "coat_weight": self.input(coat, "weight", 0.0),
+            "coat_roughness": self._blender_roughness(coat),
+            "coat_ior": self.input(coat, "ior", 1.5),
+            "coat_tint": self.input(coat, "tint", [1.0] * 3),
+            "normal": self._normal_in(spec, "normal"),
+            "coat_normal": self._normal_in(coat, "normal"),
+        }, name=prim.GetName())
 
     def _nd_surface(self, s, out, t):
         bsdf = self.closure(s, "bsdf")

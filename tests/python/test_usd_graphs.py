@@ -488,3 +488,317 @@ def test_blender_style_network_ifequal_multiply_image(stage_factory, tmp_path, m
     assert img["type"] == "image_texture" and nodes[img["inputs"]["vector"]["node"]]["type"] == "tex_coord"
     if have:
         photonmap.Scene.from_dict(r.ir)  # the core compiles it
+
+
+# -- MaterialX math as Blender's exporter writes it ------------------------------------------
+
+
+def _emissive_mtlx(stage, path, color_node, output="out"):
+    """A material whose surface is an ND_uniform_edf of ``color_node``'s ``output``."""
+    mat = UsdShade.Material.Define(stage, path)
+    edf = _mtlx_node(stage, f"{path}/NodeGraphs/Edf", "ND_uniform_edf")
+    edf.CreateInput("color", T.Color3f).ConnectToSource(color_node.ConnectableAPI(), output)
+    surf = UsdShade.Shader.Define(stage, f"{path}/Surface")
+    surf.CreateIdAttr("ND_surface")
+    surf.CreateInput("edf", T.Token).ConnectToSource(edf.ConnectableAPI(), "out")
+    surf.CreateOutput("surface", T.Token)
+    mat.CreateSurfaceOutput("mtlx").ConnectToSource(surf.ConnectableAPI(), "surface")
+    return mat
+
+
+def _fnode(stage, path, node_id, out_type=T.Float, **inputs):
+    """A MaterialX node: inputs are (shader, output) links or (type, value) constants."""
+    return _mtlx_node(stage, path, node_id, inputs, out_type=out_type)
+
+
+def _in(node, src, ty=T.Float):
+    """Connects ``node``'s ``in`` to ``src``'s ``out``."""
+    node.CreateInput("in", ty).ConnectToSource(src.ConnectableAPI(), "out")
+    return node
+
+
+def _uv_parts(stage, ng, scale):
+    """Blender's checker front end: texcoord x scale, modulo 2, each component floored."""
+    tc = _fnode(stage, f"{ng}/uv", "ND_texcoord_vector2", T.Float2)
+    mul = _fnode(stage, f"{ng}/mul", "ND_multiply_vector2", T.Float2, in1=(tc, "out"),
+                 in2=(T.Float2, Gf.Vec2f(*scale)))
+    mod = _fnode(stage, f"{ng}/mod", "ND_modulo_vector2", T.Float2, in1=(mul, "out"),
+                 in2=(T.Float2, Gf.Vec2f(2, 2)))
+    floors = []
+    for i in (0, 1):
+        ex = _in(_fnode(stage, f"{ng}/ex{i}", "ND_extract_vector2"), mod, T.Float2)
+        ex.CreateInput("index", T.Int).Set(i)
+        floors.append(_in(_fnode(stage, f"{ng}/floor{i}", "ND_floor_float"), ex))
+    return _fnode(stage, f"{ng}/sum", "ND_add_float", in1=(floors[0], "out"),
+                  in2=(floors[1], "out"))
+
+
+CELL_A, CELL_B = (0.9, 0.6, 0.1), (0.1, 0.2, 0.7)
+
+
+@_have("math", "vector_math", "separate_xyz", "mix")
+def test_blender_checker_floors_a_floored_modulo(stage_factory):
+    """Blender's Checker as its exporter writes it (ND_modulo_vector2, ND_extract_vector2,
+    ND_floor_float, ND_add_float, ND_ifequal_color3), at a negative scale along u, where a
+    truncated modulo would give no cell of colour A at all."""
+    stage, path = new(stage_factory, name="checker")
+    ng = "/Mat/C/NodeGraphs"
+    total = _uv_parts(stage, ng, (-4, 4))
+    sel = _fnode(stage, f"{ng}/sel", "ND_ifequal_color3", T.Color3f,
+                 value1=(total, "out"), value2=(T.Float, 1.0), in1=(T.Color3f, CELL_A),
+                 in2=(T.Color3f, CELL_B))
+    bind(plane(stage), _emissive_mtlx(stage, "/Mat/C", sel))
+    r, img = render(stage, path)
+    m = r.ir["materials"][0]
+    ops = sorted(n["params"]["operation"] for n in m["nodes"]
+                 if n["type"] in ("math", "vector_math"))
+    assert ops.count("FLOOR") == 2 and "WRAP" in ops and "MODULO" not in ops, ops
+    assert not [w for w in r.diagnostics.messages() if "/Mat/" in w]
+    u, v = pixel_uv()
+    a, b = -4 * u, 4 * v
+    cell = np.floor(np.mod(a, 2)) + np.floor(np.mod(b, 2))
+    expect = np.where((cell == 1)[..., None], CELL_A, CELL_B)
+    margin = 1.5 * SPAN / W * 4
+    ok = ((np.mod(a, 1) > margin) & (np.mod(a, 1) < 1 - margin)
+          & (np.mod(b, 1) > margin) & (np.mod(b, 1) < 1 - margin))
+    assert ok.sum() > W * W / 4 and (cell[ok] == 1).any() and (cell[ok] != 1).any()
+    assert np.allclose(img[ok], expect[ok], atol=0.03), np.abs(img[ok] - expect[ok]).max()
+
+
+@_have("math", "clamp", "map_range", "separate_xyz", "combine_xyz")
+def test_clamp_remap_absval_power_max_per_pixel(stage_factory):
+    """r = clamp(u, 0.3, 0.6); g = remap(v, 0.2..0.4 -> 0.1..0.2), unclamped as MaterialX's
+    remap; b = max(|u - 0.5|^2, 0.05): rendered as an emission and compared per pixel."""
+    stage, path = new(stage_factory, name="ops")
+    ng = "/Mat/O/NodeGraphs"
+    tc = _fnode(stage, f"{ng}/uv", "ND_texcoord_vector2", T.Float2)
+    comps = []
+    for i in (0, 1):
+        ex = _in(_fnode(stage, f"{ng}/ex{i}", "ND_extract_vector2"), tc, T.Float2)
+        ex.CreateInput("index", T.Int).Set(i)
+        comps.append(ex)
+    u_, v_ = comps
+
+    def unary(name, node_id, src, **consts):
+        n = _in(_fnode(stage, f"{ng}/{name}", node_id), src)
+        for k, val in consts.items():
+            n.CreateInput(k, T.Float).Set(val)
+        return n
+
+    r_ = unary("clamp", "ND_clamp_float", u_, low=0.3, high=0.6)
+    g_ = unary("remap", "ND_remap_float", v_, inlow=0.2, inhigh=0.4, outlow=0.1, outhigh=0.2)
+    d = _fnode(stage, f"{ng}/d", "ND_subtract_float", in1=(u_, "out"), in2=(T.Float, 0.5))
+    ab = unary("abs", "ND_absval_float", d)
+    pw = _fnode(stage, f"{ng}/pow", "ND_power_float", in1=(ab, "out"), in2=(T.Float, 2.0))
+    b_ = _fnode(stage, f"{ng}/max", "ND_max_float", in1=(pw, "out"), in2=(T.Float, 0.05))
+    rgb = _fnode(stage, f"{ng}/rgb", "ND_combine3_color3", T.Color3f, in1=(r_, "out"),
+                 in2=(g_, "out"), in3=(b_, "out"))
+    bind(plane(stage), _emissive_mtlx(stage, "/Mat/O", rgb))
+    r, img = render(stage, path)
+    m = r.ir["materials"][0]
+    (cl,) = nodes_of(m, "clamp")
+    assert cl["params"]["clamp_type"] == "MINMAX"
+    (mr,) = nodes_of(m, "map_range")
+    assert mr["params"]["clamp"] is False and mr["params"]["interpolation_type"] == "LINEAR"
+    assert not [w for w in r.diagnostics.messages() if "/Mat/" in w]
+    u, v = pixel_uv()
+    expect = np.stack([np.clip(u, 0.3, 0.6), 0.1 + (v - 0.2) * 0.5,
+                       np.maximum(np.abs(u - 0.5) ** 2, 0.05)], -1)
+    assert expect[..., 1].max() > 0.35 and expect[..., 1].min() < 0.1  # beyond the out range
+    assert np.allclose(img, expect, atol=0.02), np.abs(img - expect).max()
+
+
+@pytest.mark.parametrize("node_id, inputs, expect", [
+    ("ND_modulo_float", {"in1": -1.0, "in2": 3.0}, 2.0),  # floored, not C's fmod (-1)
+    ("ND_floor_float", {"in": -1.5}, -2.0),
+    ("ND_ceil_float", {"in": -1.5}, -1.0),
+    ("ND_clamp_float", {"in": 1.7, "low": 0.2, "high": 0.9}, 0.9),
+    ("ND_remap_float", {"in": 0.5, "inlow": 0.0, "inhigh": 0.25, "outlow": 0.0,
+                        "outhigh": 1.0}, 2.0),
+    ("ND_power_float", {"in1": 2.0, "in2": 3.0}, 8.0),
+    ("ND_min_float", {"in1": 0.4, "in2": 0.3}, 0.3),
+    ("ND_sign_float", {"in": -3.0}, -1.0),
+    ("ND_absval_float", {"in": -0.25}, 0.25),
+    ("ND_invert_float", {"in": 0.25}, 0.75),
+    ("ND_sqrt_float", {"in": 0.09}, 0.3),
+    ("ND_sin_float", {"in": math.pi / 6}, 0.5),
+    ("ND_atan2_float", {"iny": 1.0, "inx": -1.0}, 0.75 * math.pi),
+])
+def test_constant_math_is_folded(stage_factory, node_id, inputs, expect):
+    """Constant operands are folded into the consumer's input, with MaterialX's meaning."""
+    stage, path = new(stage_factory, name="fold")
+    n = _fnode(stage, "/Mat/F/NodeGraphs/op", node_id,
+               **{k: (T.Float, v) for k, v in inputs.items()})
+    mat = UsdShade.Material.Define(stage, "/Mat/F")
+    g = UsdShade.NodeGraph(stage.GetPrimAtPath("/Mat/F/NodeGraphs"))
+    g.CreateOutput("m_out", T.Float).ConnectToSource(n.ConnectableAPI(), "out")
+    pbr = UsdShade.Shader.Define(stage, "/Mat/F/PBR")
+    pbr.CreateIdAttr("ND_open_pbr_surface_surfaceshader")
+    pbr.CreateInput("geometry_opacity", T.Float).Set(0.5)  # a graph
+    pbr.CreateInput("base_metalness", T.Float).ConnectToSource(g.ConnectableAPI(), "m_out")
+    pbr.CreateOutput("surface", T.Token)
+    mat.CreateSurfaceOutput("mtlx").ConnectToSource(pbr.ConnectableAPI(), "surface")
+    bind(plane(stage), mat)
+    r = import_stage(stage, path)
+    (p,) = nodes_of(r.ir["materials"][0], "principled")
+    assert p["inputs"]["metallic"] == pytest.approx(expect, abs=1e-6)
+    assert not [w for w in r.diagnostics.messages() if "/Mat/" in w]
+
+
+def test_vector_modulo_is_floored():
+    g = shading_graph.Graph("g", available=frozenset({"vector_math"}))
+    assert g.vmath("WRAP", [-1.0, 5.0, 2.5], [3.0, 3.0, 3.0], 0.0) == pytest.approx([2, 2, 2.5])
+    out = g.vmath("WRAP", {"node": 0, "output": "uv"}, [2.0, 2.0, 2.0], 0.0)
+    assert g.nodes[out["node"]]["params"]["operation"] == "WRAP"
+
+
+# -- Blender's Principled BSDF inside a Mix Shader: ND_layer_bsdf stacks ------------------------
+
+
+def _blender_principled(stage, ng, base_color, metallic=0.0, roughness=0.5, ior=1.5,
+                        level=0.5, transmission=0.0, coat=0.0, coat_roughness=0.03):
+    """The pbrlib network Blender 5.0's exporter writes for a Principled BSDF whose BSDF goes
+    into a Mix Shader; returns its top ND_layer_bsdf. ``base_color``: a colour or a (node,
+    output) link."""
+    def node(name, node_id, out_type=T.Token, **inputs):
+        return _mtlx_node(stage, f"{ng}/{name}", node_id, inputs, out_type=out_type)
+
+    def ra(name, r):
+        return node(name, "ND_roughness_anisotropy", T.Float2, roughness=(T.Float, r),
+                    anisotropy=(T.Float, 0.0))
+
+    def color(shader, name):
+        if isinstance(base_color, tuple) and isinstance(base_color[0], UsdShade.Shader):
+            shader.CreateInput(name, T.Color3f).ConnectToSource(
+                base_color[0].ConnectableAPI(), base_color[1])
+        else:
+            shader.CreateInput(name, T.Color3f).Set(base_color)
+        return shader
+
+    coat_bsdf = node("coat", "ND_dielectric_bsdf", weight=(T.Float, coat),
+                     tint=(T.Color3f, (1, 1, 1)), ior=(T.Float, 1.5),
+                     scatter_mode=(T.String, "R"), roughness=(ra("coat_ra", coat_roughness), "out"))
+    art = node("art", "ND_artistic_ior", T.Color3f, reflectivity=(T.Color3f, (0.8, 0.8, 0.8)),
+               edge_color=(T.Color3f, (0.4, 0.4, 0.4)))
+    main_ra = ra("main_ra", roughness)
+    metal = node("metal", "ND_conductor_bsdf", ior=(art, "out"), extinction=(art, "out"),
+                 roughness=(main_ra, "out"))
+    spec = node("spec", "ND_dielectric_bsdf", weight=(T.Float, level),
+                tint=(T.Color3f, (1, 1, 1)), ior=(T.Float, ior), scatter_mode=(T.String, "R"),
+                roughness=(main_ra, "out"))
+    trans = color(node("trans", "ND_dielectric_bsdf", ior=(T.Float, ior),
+                       roughness=(ra("trans_ra", min(1.0, 2 * roughness)), "out")), "tint")
+    sss = node("sss", "ND_subsurface_bsdf", color=(T.Color3f, (0.8, 0.8, 0.8)))
+    sheen = node("sheen", "ND_sheen_bsdf", weight=(T.Float, 0.0), color=(T.Color3f, (1, 1, 1)),
+                 roughness=(T.Float, 0.5))
+    diffuse = color(node("diffuse", "ND_oren_nayar_diffuse_bsdf", weight=(T.Float, 1.0),
+                         roughness=(T.Float, 0.0)), "color")
+    sss_mix = node("sss_mix", "ND_mix_bsdf", bg=(diffuse, "out"), fg=(sss, "out"),
+                   mix=(T.Float, 0.0))
+    sheen_layer = node("sheen_layer", "ND_layer_bsdf", top=(sheen, "out"), base=(sss_mix, "out"))
+    trans_mix = node("trans_mix", "ND_mix_bsdf", bg=(sheen_layer, "out"), fg=(trans, "out"),
+                     mix=(T.Float, transmission))
+    spec_layer = node("spec_layer", "ND_layer_bsdf", top=(spec, "out"), base=(trans_mix, "out"))
+    metal_mix = node("metal_mix", "ND_mix_bsdf", bg=(spec_layer, "out"), fg=(metal, "out"),
+                     mix=(T.Float, metallic))
+    film_layer = node("film_layer", "ND_layer_bsdf", base=(metal_mix, "out"))
+    att = node("att", "ND_multiply_bsdfC", in1=(film_layer, "out"), in2=(T.Color3f, (1, 1, 1)))
+    return node("top", "ND_layer_bsdf", top=(coat_bsdf, "out"), base=(att, "out"))
+
+
+def test_blender_principled_layers_in_a_mix_shader_are_principled_nodes(stage_factory):
+    stage, path = new(stage_factory, sun=True, name="layers")
+    ng = "/Mat/L/NodeGraphs"
+    tc = _fnode(stage, f"{ng}/uv", "ND_texcoord_vector2", T.Float2)
+    rgb = _fnode(stage, f"{ng}/rgb", "ND_combine3_color3", T.Color3f, in1=(T.Float, 0.2),
+                 in2=(tc, "out"), in3=(T.Float, 0.1))
+    metal = _blender_principled(stage, f"{ng}/A", (0.8, 0.8, 0.82), metallic=1.0,
+                                roughness=0.25)
+    rough = _blender_principled(stage, f"{ng}/B", (rgb, "out"), roughness=0.9, ior=1.45,
+                                level=0.3, transmission=0.1, coat=0.5, coat_roughness=0.2)
+    mix = _mtlx_node(stage, f"{ng}/mix", "ND_mix_bsdf",
+                     {"bg": (metal, "out"), "fg": (rough, "out"), "mix": (T.Float, 0.3)})
+    bind(plane(stage), _mtlx_material(stage, "/Mat/L", mix))
+    r = import_stage(stage, path)
+    m = r.ir["materials"][0]
+    assert m["type"] == "graph"
+    assert not [w for w in r.diagnostics.messages() if "layer" in w], r.diagnostics.messages()
+    (mx,) = nodes_of(m, "mix_shader")
+    assert mx["inputs"]["fac"] == pytest.approx(0.3)
+    a = m["nodes"][mx["inputs"]["shader1"]["node"]]
+    b = m["nodes"][mx["inputs"]["shader2"]["node"]]
+    assert a["type"] == b["type"] == "principled"
+    ia, ib = a["inputs"], b["inputs"]
+    assert ia["base_color"] == pytest.approx([0.8, 0.8, 0.82])
+    assert (ia["metallic"], ia["roughness"], ia["specular_ior_level"]) == pytest.approx(
+        (1.0, 0.25, 0.5))
+    assert ia["coat_weight"] == 0.0 and ia["transmission_weight"] == 0.0
+    assert m["nodes"][ib["base_color"]["node"]]["type"] == "combine_xyz"  # the link
+    assert (ib["metallic"], ib["roughness"], ib["ior"], ib["specular_ior_level"],
+            ib["transmission_weight"], ib["coat_weight"], ib["coat_roughness"]) == pytest.approx(
+        (0.0, 0.9, 1.45, 0.3, 0.1, 0.5, 0.2))
+    if {"principled", "mix_shader", "combine_xyz", "tex_coord"} <= shading_graph.available_nodes():
+        photonmap.Scene.from_dict(r.ir)  # the core compiles it
+
+
+def test_other_layering_is_warned_with_its_path(stage_factory):
+    stage, path = new(stage_factory, name="layer2")
+    ng = "/Mat/L/NodeGraphs"
+    coat = _mtlx_node(stage, f"{ng}/coat", "ND_dielectric_bsdf",
+                      {"weight": (T.Float, 1.0), "scatter_mode": (T.String, "R")})
+    layer = _mtlx_node(stage, f"{ng}/layer", "ND_layer_bsdf",
+                       {"top": (coat, "out"), "base": (_diffuse(stage, f"{ng}/d", (0.5, 0.5, 0.5)),
+                                                       "out")})
+    mix = _mtlx_node(stage, f"{ng}/mix", "ND_mix_bsdf",
+                     {"bg": (layer, "out"), "fg": (_diffuse(stage, f"{ng}/e", (0.1, 0.1, 0.1)),
+                                                   "out"), "mix": (T.Float, 0.5)})
+    bind(plane(stage), _mtlx_material(stage, "/Mat/L", mix))
+    r = import_stage(stage, path)
+    assert not nodes_of(r.ir["materials"][0], "principled")
+    assert [w for w in r.diagnostics.messages() if f"{ng}/layer" in w and "ND_layer_bsdf" in w]
+
+
+def test_heighttonormal_is_warned_and_the_surface_normal_kept(stage_factory, tmp_path):
+    """Blender's Bump as its exporter writes it: ND_heighttonormal_vector3 into
+    ND_normalmap_float (scale: the Bump's distance) into OpenPBR's geometry_normal."""
+    stage, path = new(stage_factory, name="bump")
+    ng = "/Mat/B/NodeGraphs"
+    file = write_texture(tmp_path / "h.exr", TEX)
+    img = _fnode(stage, f"{ng}/img", "ND_image_float")
+    img.CreateInput("file", T.Asset).Set(file)
+    h2n = _in(_fnode(stage, f"{ng}/h2n", "ND_heighttonormal_vector3", T.Float3,
+                     scale=(T.Float, 1.0)), img)
+    nm = _in(_fnode(stage, f"{ng}/bump", "ND_normalmap_float", T.Float3, scale=(T.Float, 0.2)),
+             h2n, T.Float3)
+    mat = UsdShade.Material.Define(stage, "/Mat/B")
+    g = UsdShade.NodeGraph(stage.GetPrimAtPath(ng))
+    g.CreateOutput("n_out", T.Float3).ConnectToSource(nm.ConnectableAPI(), "out")
+    pbr = UsdShade.Shader.Define(stage, "/Mat/B/PBR")
+    pbr.CreateIdAttr("ND_open_pbr_surface_surfaceshader")
+    pbr.CreateInput("geometry_normal", T.Float3).ConnectToSource(g.ConnectableAPI(), "n_out")
+    pbr.CreateOutput("surface", T.Token)
+    mat.CreateSurfaceOutput("mtlx").ConnectToSource(pbr.ConnectableAPI(), "surface")
+    bind(plane(stage), mat)
+    r = import_stage(stage, path)
+    m = r.ir["materials"][0]
+    (p,) = nodes_of(m, "principled")
+    assert "normal" not in p["inputs"] and not nodes_of(m, "normal_map")
+    msgs = r.diagnostics.messages()
+    assert [w for w in msgs if f"{ng}/h2n" in w and "ND_heighttonormal_vector3" in w], msgs
+
+
+def test_black_edfs_emit_nothing(stage_factory):
+    """Blender writes an EDF beside every Principled BSDF, black without emission."""
+    stage, path = new(stage_factory, name="edf")
+    ng = "/Mat/E/NodeGraphs"
+    e1 = _mtlx_node(stage, f"{ng}/e1", "ND_uniform_edf", {"color": (T.Color3f, (0, 0, 0))})
+    e2 = _mtlx_node(stage, f"{ng}/e2", "ND_uniform_edf", {"color": (T.Color3f, (0, 0, 0))})
+    me = _mtlx_node(stage, f"{ng}/me", "ND_mix_edf", {"bg": (e1, "out"), "fg": (e2, "out"),
+                                                       "mix": (T.Float, 0.5)})
+    mat = _mtlx_material(stage, "/Mat/E", _diffuse(stage, f"{ng}/d", (0.5, 0.5, 0.5)))
+    surf = UsdShade.Shader(stage.GetPrimAtPath("/Mat/E/Surface"))
+    surf.CreateInput("edf", T.Token).ConnectToSource(me.ConnectableAPI(), "out")
+    bind(plane(stage), mat)
+    m = import_stage(stage, path).ir["materials"][0]
+    assert m["type"] == "graph" and not nodes_of(m, "emission")
+    assert not shading_graph.emits(m)
