@@ -629,7 +629,7 @@ impl<'a> Builder<'a> {
 }
 
 /// The node types the compiler knows besides closures and [`NodeOp`]s.
-const BUILTIN: &[&str] = &[
+pub(crate) const BUILTIN: &[&str] = &[
     "value",
     "rgb",
     "tex_coord",
@@ -664,6 +664,9 @@ pub fn node_specs() -> serde_json::Value {
         Ty::Closure => "closure",
     };
     for name in names {
+        // Properties a node cannot do without, for listing its sockets.
+        let curve = serde_json::json!([[0.0, 0.0, 0.0], [1.0, 1.0, 0.0]]);
+        let n_curves = if *name == "rgb_curves" { 4 } else { 1 };
         let desc = GraphDesc {
             name: String::new(),
             nodes: vec![NodeDesc {
@@ -671,6 +674,14 @@ pub fn node_specs() -> serde_json::Value {
                 params: [
                     ("texture".to_string(), serde_json::json!(0)),
                     ("color".to_string(), serde_json::json!([0.0, 0.0, 0.0])),
+                    (
+                        "stops".to_string(),
+                        serde_json::json!([[0.0, 0.0, 0.0, 0.0, 1.0]]),
+                    ),
+                    (
+                        "curves".to_string(),
+                        serde_json::json!(vec![curve; n_curves]),
+                    ),
                 ]
                 .into_iter()
                 .collect(),

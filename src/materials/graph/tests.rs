@@ -201,7 +201,19 @@ fn node_specs_list_every_type_with_its_sockets() {
         serde_json::json!(["alpha", "float"])
     );
     assert!(s["mix_shader"]["inputs"].as_array().unwrap().len() == 3);
-    assert!(s.as_object().unwrap().len() >= 26);
+    // Every type the compiler knows is listed (those needing properties too).
+    let all = super::compile::BUILTIN.len()
+        + super::closure::LeafKind::TYPES.len()
+        + super::nodes::NodeOp::TYPES.len();
+    assert_eq!(s.as_object().unwrap().len(), all);
+    assert_eq!(
+        s["color_ramp"]["outputs"][1],
+        serde_json::json!(["alpha", "float"])
+    );
+    assert_eq!(
+        s["rgb_curves"]["inputs"][1],
+        serde_json::json!(["color", "color"])
+    );
 }
 
 /// A floor under a card at z = 1 whose Alpha is a linear gradient along x in object space:
