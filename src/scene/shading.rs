@@ -49,9 +49,14 @@ impl Scene {
         if let Material::Graph(g) = mat {
             let sp = self.shading_point(si);
             let bsdf = g.shade(&sp, &self.textures, Want::All).bsdf;
+            // The graph's shading normal (Bump, Normal Map) is the one every estimate's cosine
+            // reads; it faces the ray.
+            let n = bsdf.frame().n;
             if bsdf.flags() & LobeFlags::TRANSMISSION == 0 && sp.backfacing {
                 si.ng = -si.ng;
-                si.ns = -si.ns;
+                si.ns = n;
+            } else {
+                si.ns = if sp.backfacing { -n } else { n };
             }
             return bsdf;
         }

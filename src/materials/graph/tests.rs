@@ -373,3 +373,24 @@ fn converters_compile_and_run_as_their_nodes() {
         "{got} vs {want} (noise {noise})"
     );
 }
+
+#[test]
+fn the_graphs_normal_is_the_hits_shading_normal() {
+    // A floor whose Normal Map tilts the normal towards +x: the hit's shading normal (which
+    // every estimate's cosine reads) is the tilted one, from above and from below.
+    let sc = crate::render::terms::testing::scene(serde_json::json!({
+        "materials": [{"type": "graph", "name": "tilted", "nodes": [
+            {"type": "normal_map", "inputs": {"color": [0.8, 0.5, 0.9]}},
+            {"type": "diffuse", "inputs": {"normal": {"node": 0, "output": "normal"}}}
+        ], "surface": {"node": 1}}],
+        "meshes": [{"name": "floor", "material": 0,
+                    "positions": [[-10, -10, 0], [10, -10, 0], [10, 10, 0], [-10, 10, 0]],
+                    "uvs": [[0, 0], [1, 0], [1, 1], [0, 1]],
+                    "indices": [[0, 1, 2], [0, 2, 3]]}],
+    }));
+    let (si, bsdf) = crate::render::terms::testing::hit_below(&sc, 0.3);
+    let c = Vec3::new(0.6, 0.0, 0.8);
+    let want = c.normalize();
+    assert!((si.ns - want).length() < 1e-3, "{}", si.ns);
+    assert!((bsdf.frame().n - want).length() < 1e-3);
+}
