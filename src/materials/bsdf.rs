@@ -163,6 +163,34 @@ pub struct Bsdf {
     coated: [bool; MAX_LOBES],
     /// The subsurface material's lobe, which camera paths walk below, if any.
     subsurface: Option<u8>,
+    /// With a bumped or normal-mapped frame: the surface's own (smooth) normal in the local
+    /// frame and the bump's GGX alpha^2, for [`bump_shadowing`].
+    bump: Option<(Vec3, f32)>,
+}
+
+/// Cycles' bump shadowing (Conty Estevez et al. 2019, "A Microfacet-Based Shadowing Function
+/// to Solve the Bump Terminator Problem"): light `wi` (local) reaching a lobe of a bumped
+/// frame whose smooth normal is `ns` (local). Zero when `wi` lies on the other side of the
+/// smooth surface than of the bumped one; for diffuse lobes, also the GGX shadowing G1 of a
+/// roughness that grows with the bump's tilt.
+#[inline]
+fn bump_shadowing(ns: Vec3, alpha2: f32, wi: Vec3, diffuse: bool) -> f32 {
+    let cos_nsi = ns.dot(wi);
+    if cos_nsi * ns.z * wi.z < 0.0 {
+        return 0.0;
+    }
+    if !diffuse {
+        return 1.0;
+    }
+    let cos_i = cos_nsi.abs();
+    if ns.z.abs() >= 1.0 || cos_i >= 1.0 {
+        return 1.0;
+    }
+    if cos_i < 1e-6 {
+        return 0.0;
+    }
+    let tan2_i = (1.0 - cos_i * cos_i) / (cos_i * cos_i);
+    2.0 / (1.0 + (1.0 + alpha2 * tan2_i).sqrt())
 }
 
 impl Bsdf {
@@ -176,7 +204,21 @@ impl Bsdf {
             coat: None,
             coated: [false; MAX_LOBES],
             subsurface: None,
+            bump: None,
         }
+    }
+
+    /// Marks the frame as bumped away from the surface's smooth normal `smooth` (world space):
+    /// light is then shadowed as Cycles shadows bump-mapped closures ([`bump_shadowing`]).
+    pub fn set_bump_shadowing(&mut self, smooth: Vec3) {
+        let ns = self.frame.to_local(smooth);
+        let cos_d = ns.z.abs();
+        if !(cos_d < 1.0) || !ns.is_finite() {
+            self.bump = None;
+            return;
+        }
+        let tan2_d = 1.0 / (cos_d * cos_d) - 1.0;
+        self.bump = Some((ns, (0.125 * tan2_d).clamp(0.0, 1.0)));
     }
 
     /// Puts `coat` over every lobe added so far (the coat's own reflection is added after, as
@@ -227,6 +269,7 @@ impl Bsdf {
         };
         let mut b = Bsdf::new(self.frame);
         b.coat = self.coat;
+        b.bump = self.bump;
         for (i, (w, l)) in self.lobes().enumerate() {
             if i != k as usize && b.add(w, *l) {
                 b.coated[b.count - 1] = self.coated[i];
@@ -284,7 +327,10 @@ impl Bsdf {
                 continue;
             }
             let k = self.count - 1;
-            if other.coated[i] && other.coat.is_some() && (self.coat.is_none() || self.coat == other.coat) {
+            if other.coated[i]
+                && other.coat.is_some()
+                && (self.coat.is_none() || self.coat == other.coat)
+            {
                 self.coat = other.coat;
                 self.coated[k] = true;
             }
@@ -448,6 +494,7 @@ impl Bsdf {
     fn part(&self, keep: impl Fn(&Lobe) -> bool) -> Bsdf {
         let mut b = Bsdf::new(self.frame);
         b.coat = self.coat;
+        b.bump = self.bump;
         for (i, (w, l)) in self.lobes().enumerate() {
             if keep(l) && b.add(w, *l) {
                 b.coated[b.count - 1] = self.coated[i];
@@ -573,7 +620,15 @@ impl Bsdf {
         let mut f = Vec3::ZERO;
         for (w, l) in self.lobes_at(wo) {
             if sel.keeps(l) {
-                f += w * l.eval(wo, wi, sel.mask);
+                let g = match self.bump {
+                    None => 1.0,
+                    Some((ns, a2)) => {
+                        bump_shadowing(ns, a2, wi, l.flags() & LobeFlags::DIFFUSE != 0)
+                    }
+                };
+                if g > 0.0 {
+                    f += w * g * l.eval(wo, wi, sel.mask);
+                }
             }
         }
         if f.is_finite() {

@@ -170,6 +170,9 @@ impl ShaderGraph {
                     );
                 }
             }
+            if normal != sp.n {
+                out.bsdf.set_bump_shadowing(sp.n);
+            }
             out
         })
     }
