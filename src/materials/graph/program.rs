@@ -157,7 +157,6 @@ impl Instr {
             Op::Bump { invert } => {
                 let n = if linked(5) { inp[5] } else { sp.n };
                 out[0] = geo::bump(
-                    sp,
                     n,
                     [ctx.offsets[1], ctx.offsets[2]],
                     inp[2].x,
