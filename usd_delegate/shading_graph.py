@@ -158,6 +158,7 @@ class Graph:
         self.name = name
         self.available = available_nodes() if available is None else available
         self.nodes: list[dict] = []
+        self._separated: dict = {}
 
     def add(self, kind: str, inputs=None, params=None, name: str = "") -> int:
         if kind not in self.available:
@@ -239,7 +240,10 @@ class Graph:
     def separate(self, v, axis: int):
         if not is_link(v):
             return _vec(v)[axis]
-        return self.out("separate_xyz", "xyz"[axis], {"vector": v})
+        key = (v["node"], v["output"])
+        if key not in self._separated:  # one separate_xyz per vector
+            self._separated[key] = self.add("separate_xyz", {"vector": v})
+        return {"node": self._separated[key], "output": "xyz"[axis]}
 
     def combine(self, x, y, z=0.0):
         if not any(is_link(t) for t in (x, y, z)):

@@ -27,6 +27,13 @@ HARD_FALLOFF = ("exporter: neither Soft Falloff (off here) nor camera visibility
                 "written, only 'float inputs:radius = 0.1': the importer reads Blender's "
                 "defaults, Soft Falloff on and the light hidden from the camera, so the sphere "
                 "is missing from frame: block (8,2) -90.4% (-308 sigma), pooled -7.5%")
+# Node trees (node_scenes.py): what the exporter's MaterialX network does not carry. Each names
+# the line of the material's network that shows it.
+NOISE = ("exporter: the Noise Texture is written as MaterialX's noise, 'uniform token info:id = "
+         "\"{id}\"' ({prim}), another function than Cycles' Noise Texture, which the importer "
+         "warns and does not translate (its consumer keeps its input's value): {what}")
+FLAT = ("exporter: nothing of the {nodes} into {socket} is written, only a constant, "
+        "'{line}' ({prim}): {what}")
 #: scene -> reason, for the add-on path (tests/blender/test_corpus.py): none, since the add-on
 #: exports the scene itself.
 ADDON: dict[str, str] = {}
@@ -41,6 +48,75 @@ USD: dict[str, str] = {
     "area_spread60": SPREAD,
     "area_square": CAMERA_VISIBLE.format('RectLight "Area"', "block (9,1) -99.2% (-439 sigma), "
                                                             "pooled -29.0%"),
+    "nodes_bump": NOISE.format(
+        id="ND_fractal3d_float", prim="Bumpy/NodeGraphs/bnode__Noise_Texture_Fac",
+        what="the Bump's height is lost (the Bump itself is written as "
+             "'ND_heighttonormal_vector3', a gradient per unit of texture coordinate, also "
+             "warned), so the surfaces render unbumped: block (11,4) +17.5% (+26.6 sigma)"),
+    "nodes_emission_screen": FLAT.format(
+        nodes="Gradient Texture and ColorRamp", socket="the Emission's Color",
+        line="color3f inputs:color = (5, 5, 5)", prim="Screen/NodeGraphs/bnode__Emission_EDF",
+        what="the screen is white at strength 5 instead of blue to orange: block (8,1) "
+             "+163.6% (+725 sigma), pooled +127.7%"),
+    "nodes_glass_transparent": (
+        "exporter: the Mix Shader of a Glass and a Transparent BSDF is written with 'float "
+        "inputs:opacity = 0' on its ND_surface (GlassyGhost/node), and the Transparent BSDF as "
+        "a white 'ND_oren_nayar_diffuse_bsdf': MaterialX's opacity 0 cuts the whole surface "
+        "out, so the sphere is missing: block (11,12) +60.6% (+76.9 sigma), pooled +1.6%"),
+    "nodes_group": FLAT.format(
+        nodes="node group's Noise Texture and ColorRamp", socket="the Base Color",
+        line="color3f inputs:base_color = (0.8, 0.8, 0.8)",
+        prim="Stone/bnode__Principled_BSDF",
+        what="block (12,10) +124.2% (+291 sigma), pooled +14.3%"),
+    "nodes_leaf_alpha": (
+        "exporter: the Checker Texture is written as a 2D checker of the UV ('uniform token "
+        "info:id = \"ND_texcoord_vector2\"', Leaf/NodeGraphs/node_texcoord, into "
+        "ND_modulo_vector2, ND_floor_float and 'ND_ifequal_float'), where Cycles' checker is "
+        "3D over Generated coordinates: the flat plane's generated z is 0.5, and floor(3 x "
+        "0.5) = 1 inverts Cycles' pattern, so the holes are where Cycles has leaf: block "
+        "(12,5) +301% (+267 sigma)"),
+    "nodes_marble": FLAT.format(
+        nodes="Wave Texture and ColorRamp", socket="the Base Color",
+        line="color3f inputs:base_color = (0.8, 0.8, 0.8)",
+        prim="Marble/bnode__Principled_BSDF",
+        what="no veins: block (11,11) +40.0% (+76 sigma), pooled +3.3%"),
+    "nodes_mix_math": NOISE.format(
+        id="ND_fractal3d_float", prim="Patches/NodeGraphs/bnode__Noise_Texture_Fac",
+        what="the Greater Than's patches and the Map Range's roughness are lost (and the Mix "
+             "node's Multiply is written as a plain 'ND_mix_color3'): block (9,12) +38.7% "
+             "(+52 sigma), pooled +2.5%"),
+    "nodes_noise_values": NOISE.format(
+        id="ND_fractal3d_color3FA", prim="NoiseValues/NodeGraphs/bnode__Noise_Texture_Color",
+        what="the emission is black: every block -100%"),
+    "nodes_plastic": FLAT.format(
+        nodes="Layer Weight (Fresnel)", socket="the Mix Shader's Fac",
+        line="float inputs:mix = 0.5", prim="Plastic/NodeGraphs/bnode__Mix_Shader_BSDF",
+        what="half diffuse, half glossy everywhere instead of glossy at grazing angles only: "
+             "block (14,13) +188% (+116 sigma), pooled +5.1%"),
+    "nodes_rust": FLAT.format(
+        nodes="Noise Texture and ColorRamp", socket="the Mix Shader's Fac",
+        line="float inputs:mix = 0.5", prim="Rust/NodeGraphs/bnode__Mix_Shader_BSDF",
+        what="a uniform half-and-half mix of the two Principled BSDFs instead of rust patches "
+             "on metal: block (15,12) +64.9% (+77.6 sigma)"),
+    "nodes_tiles_normal": FLAT.format(
+        nodes="Brick Texture", socket="the Base Color",
+        line="color3f inputs:base_color = (0.8, 0.8, 0.8)", prim="Tiles/bnode__Principled_BSDF",
+        what="no bricks, only the normal map's bevels: block (10,10) +187% (+159 sigma), "
+             "pooled +11.4%"),
+    "nodes_voronoi": FLAT.format(
+        nodes="Voronoi Texture", socket="the Base Color",
+        line="color3f inputs:base_color = (0.8, 0.8, 0.8)", prim="Cells/bnode__Principled_BSDF",
+        what="no cells: block (13,10) +141% (+210 sigma), pooled +11.2%"),
+    "nodes_voronoi_values": FLAT.format(
+        nodes="Voronoi Texture and ColorRamp", socket="the Emission's Color",
+        line="color3f inputs:color = (1, 1, 1)",
+        prim="VoronoiValues/NodeGraphs/bnode__Emission_EDF",
+        what="the plane is white: block (1,2) +369% (+1634 sigma), pooled +115.5%"),
+    "nodes_wood": FLAT.format(
+        nodes="Mapping, Noise Texture and ColorRamp", socket="the Base Color",
+        line="color3f inputs:base_color = (0.8, 0.8, 0.8)", prim="Wood/bnode__Principled_BSDF",
+        what="a light grey floor instead of brown wood: block (7,14) +143% (+159 sigma), "
+             "pooled +15.1%"),
     "point_r01_hard": HARD_FALLOFF,
     "point_r01_soft": CAMERA_VISIBLE.format('SphereLight "Point"', "block (8,2) -90.2% (-299 "
                                                                   "sigma), pooled -4.5%"),
