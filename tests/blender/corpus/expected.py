@@ -52,17 +52,12 @@ USD: dict[str, str] = {
         id="ND_fractal3d_float", prim="Bumpy/NodeGraphs/bnode__Noise_Texture_Fac",
         what="the Bump's height is lost (the Bump itself is written as "
              "'ND_heighttonormal_vector3', a gradient per unit of texture coordinate, also "
-             "warned), so the surfaces render unbumped: block (11,4) +17.5% (+26.6 sigma)"),
+             "warned), so the surfaces render unbumped"),
     "nodes_emission_screen": FLAT.format(
         nodes="Gradient Texture and ColorRamp", socket="the Emission's Color",
         line="color3f inputs:color = (5, 5, 5)", prim="Screen/NodeGraphs/bnode__Emission_EDF",
         what="the screen is white at strength 5 instead of blue to orange: block (8,1) "
              "+163.6% (+725 sigma), pooled +127.7%"),
-    "nodes_glass_transparent": (
-        "exporter: the Mix Shader of a Glass and a Transparent BSDF is written with 'float "
-        "inputs:opacity = 0' on its ND_surface (GlassyGhost/node), and the Transparent BSDF as "
-        "a white 'ND_oren_nayar_diffuse_bsdf': MaterialX's opacity 0 cuts the whole surface "
-        "out, so the sphere is missing: block (11,12) +60.6% (+76.9 sigma), pooled +1.6%"),
     "nodes_group": FLAT.format(
         nodes="node group's Noise Texture and ColorRamp", socket="the Base Color",
         line="color3f inputs:base_color = (0.8, 0.8, 0.8)",
@@ -98,11 +93,6 @@ USD: dict[str, str] = {
         line="float inputs:mix = 0.5", prim="Rust/NodeGraphs/bnode__Mix_Shader_BSDF",
         what="a uniform half-and-half mix of the two Principled BSDFs instead of rust patches "
              "on metal: block (15,12) +64.9% (+77.6 sigma)"),
-    "nodes_tiles_normal": FLAT.format(
-        nodes="Brick Texture", socket="the Base Color",
-        line="color3f inputs:base_color = (0.8, 0.8, 0.8)", prim="Tiles/bnode__Principled_BSDF",
-        what="no bricks, only the normal map's bevels: block (10,10) +187% (+159 sigma), "
-             "pooled +11.4%"),
     "nodes_voronoi": FLAT.format(
         nodes="Voronoi Texture", socket="the Base Color",
         line="color3f inputs:base_color = (0.8, 0.8, 0.8)", prim="Cells/bnode__Principled_BSDF",

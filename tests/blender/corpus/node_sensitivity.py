@@ -33,11 +33,12 @@ def _input_scaled(material, kind, socket, f, default):
 
 
 def _alpha_flipped(material):
-    """The checker's two colours swapped: solid where there were holes."""
+    """The Principled's Alpha through an Invert: solid where there were holes."""
     def modify(ir):
-        for n in _nodes(ir, material, "checker_texture"):
-            i = n["inputs"]
-            i["color1"], i["color2"] = i["color2"], i["color1"]
+        (m,) = [m for m in ir["materials"] if m.get("name") == material]
+        for n in [n for n in m["nodes"] if n["type"] == "principled"]:
+            m["nodes"].append({"type": "invert", "inputs": {"color": n["inputs"]["alpha"]}})
+            n["inputs"]["alpha"] = {"node": len(m["nodes"]) - 1, "output": "color"}
         return ir
     return modify
 
@@ -46,9 +47,9 @@ def _alpha_flipped(material):
 CASES = {
     "ramp_stops_0.05_later": ("nodes_wood", _ramp_stops("Wood", 0.05)),
     "ramp_stops_0.05_earlier": ("nodes_wood", _ramp_stops("Wood", -0.05)),
-    "bump_strength_10pct_more": ("nodes_bump", _input_scaled("BumpyWall", "bump", "strength",
+    "bump_strength_10pct_more": ("nodes_bump", _input_scaled("Bumpy", "bump", "strength",
                                                              1.1, 1.0)),
-    "bump_strength_10pct_less": ("nodes_bump", _input_scaled("BumpyWall", "bump", "strength",
+    "bump_strength_10pct_less": ("nodes_bump", _input_scaled("Bumpy", "bump", "strength",
                                                              0.9, 1.0)),
     "noise_scale_5pct_larger": ("nodes_noise_values", _input_scaled(
         "NoiseValues", "noise_texture", "scale", 1.05, 5.0)),
