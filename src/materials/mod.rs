@@ -270,9 +270,16 @@ impl Material {
     /// The material of graph `g` (at JSON pointer `pointer`, in a scene of `n_textures`):
     /// one closure with constant inputs becomes the plain material it is; a graph that does
     /// not compile (validation reports it first) renders grey diffuse.
-    pub fn from_graph(g: &crate::scene::graph_desc::GraphDesc, pointer: &str, n_textures: usize) -> Material {
+    pub fn from_graph(
+        g: &crate::scene::graph_desc::GraphDesc,
+        pointer: &str,
+        n_textures: usize,
+    ) -> Material {
         match graph::ShaderGraph::new(g, pointer, n_textures) {
-            Ok(sg) => match sg.as_constant().and_then(|(k, v)| graph_constant::plain(&g.name, k, &v)) {
+            Ok(sg) => match sg
+                .as_constant()
+                .and_then(|(k, v)| graph_constant::plain(&g.name, k, &v))
+            {
                 Some(desc) => Material::from_desc(&desc),
                 None => Material::Graph(Box::new(sg)),
             },

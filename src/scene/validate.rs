@@ -425,10 +425,12 @@ fn validate_material(i: usize, m: &MaterialDesc, scene: &SceneDesc) -> Result<()
             c.non_negative("strength", *strength)
         }
         MaterialDesc::Null { .. } => Ok(()),
-        MaterialDesc::Graph(g) => {
-            crate::materials::graph::ShaderGraph::new(g, &format!("/materials/{i}"), scene.textures.len())
-                .map(|_| ())
-        }
+        MaterialDesc::Graph(g) => crate::materials::graph::ShaderGraph::new(
+            g,
+            &format!("/materials/{i}"),
+            scene.textures.len(),
+        )
+        .map(|_| ()),
         MaterialDesc::Principled(p) => {
             c.color_input("base_color", &p.base_color, scene)?;
             c.float_input("metallic", &p.metallic, 0.0, 1.0, scene)?;
