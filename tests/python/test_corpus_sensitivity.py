@@ -19,17 +19,23 @@ from test_corpus_usd import SEEDS  # noqa: E402
 _CONTROLS: dict = {}
 
 
-def _render(name: str, ir: dict):
-    setting = settings("ci", refs.tags(name))
-    outs = [render_usd.render_ir(ir, setting, seed=s) for s in SEEDS]
+def _compare(name: str, outs):
     ref, _, _ = usd_export.corrected(refs.usd_path(name), refs.load(name))
     return compare.compare(name, tuple(o["combined"] for o in outs), ref)
 
 
+def _render(name: str, ir: dict):
+    setting = settings("ci", refs.tags(name))
+    return _compare(name, [render_usd.render_ir(ir, setting, seed=s) for s in SEEDS])
+
+
 def _control(name: str):
+    """The scene as read: its IR, and its renders' comparison (the corpus test's renders,
+    shared through render_usd.render_seeds)."""
     if name not in _CONTROLS:
         ir, _ = render_usd.load_ir(name)
-        _CONTROLS[name] = (ir, _render(name, copy.deepcopy(ir)))
+        outs, _ = render_usd.render_seeds(name, settings("ci", refs.tags(name)), SEEDS)
+        _CONTROLS[name] = (ir, _compare(name, outs))
     return _CONTROLS[name]
 
 

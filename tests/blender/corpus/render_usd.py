@@ -11,6 +11,7 @@ writes ``DIR/<scene>_s<seed>.npz`` as render_addon.py does.
 
 from __future__ import annotations
 
+import json
 import os
 import sys
 import time
@@ -48,6 +49,26 @@ def render_stage(name: str, setting: dict, seed: int = 1) -> dict:
     out = render_ir(ir, setting, seed)
     out["warnings"] = [f"{p}: {m}" for p, m in res.diagnostics.warnings]
     return out
+
+
+#: (scene, setting, seeds) -> (renders, import warnings): the stage renders as read, kept for the
+#: pytest session, so that the corpus test and the sensitivity cases' controls of the same
+#: scene share them (a render is deterministic for its seed).
+_AS_READ: dict = {}
+
+
+def render_seeds(name: str, setting: dict, seeds) -> tuple[list, list]:
+    """``name``'s stage as read, rendered once per seed: each render's ``combined``,
+    ``error`` and ``seconds``, and the import's warnings. Kept for the session."""
+    key = (name, json.dumps(setting, sort_keys=True), tuple(seeds))
+    if key not in _AS_READ:
+        ir, res = load_ir(name)
+        outs = []
+        for s in seeds:
+            out = render_ir(ir, setting, s)
+            outs.append({k: out[k] for k in ("combined", "error", "seconds")})
+        _AS_READ[key] = (outs, [f"{p}: {m}" for p, m in res.diagnostics.warnings])
+    return _AS_READ[key]
 
 
 def main() -> None:
