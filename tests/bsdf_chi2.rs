@@ -147,7 +147,7 @@ fn nearly_index_matched_dielectric_is_a_clean_pass_through() {
                 if s.wi.z * wo.z < 0.0 {
                     // Snell bends it by at most ~ |eta - 1| / cos(theta) (1e-3 at 85 degrees).
                     assert!((s.wi + wo).length() < 3e-3, "straight through: {:?}", s.wi);
-                    assert!((s.importance_weight() - Vec3::ONE).abs().max_element() < 1e-4);
+                    assert!((s.weight - Vec3::ONE).abs().max_element() < 1e-4);
                 }
             }
             assert_eq!(bsdf.pdf(wo, -wo), 0.0);
@@ -184,8 +184,10 @@ fn smooth_dielectric_choice_follows_fresnel_and_tir() {
                     let sin_i = (1.0 - wo.z * wo.z).sqrt();
                     let sin_t = (1.0 - s.wi.z * s.wi.z).max(0.0).sqrt();
                     assert!((sin_i - s.eta * sin_t).abs() < 1e-4);
-                    // Radiance is scaled by 1/eta^2; the flux weight is the tint.
-                    let w = s.weight * s.eta * s.eta;
+                    // The camera's weight is the tint (no 1/eta^2, as in Cycles); the
+                    // photon's, its adjoint, is scaled by 1/eta^2.
+                    assert!((s.weight - Vec3::ONE).abs().max_element() < 1e-5);
+                    let w = s.importance_weight() * s.eta * s.eta;
                     assert!((w - Vec3::ONE).abs().max_element() < 1e-5);
                 }
             }

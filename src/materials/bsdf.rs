@@ -3,9 +3,12 @@
 //! Conventions: the local frame has z along the shading normal; `wo` (towards the viewer, or
 //! where a photon goes next when tracing backwards) and `wi` (towards the light) both point
 //! away from the surface. `eval` returns f(wo, wi) without the cosine. Transmission is
-//! expressed for radiance transport: crossing into a medium of relative IOR eta scales
-//! radiance by 1/eta^2 (Veach 1997 §5.2). Flux (photons) is not scaled; see
-//! [`BsdfSample::importance_weight`].
+//! expressed as Cycles expresses it: a camera path crossing a refractive boundary is weighted
+//! by the Fresnel transmittance and the tint only, without the 1/eta^2 that physical radiance
+//! takes in the denser medium (Veach 1997 §5.2). For closed objects in air the two agree (each
+//! path enters and leaves); where a path leaves a medium without refracting (a Mix Shader of
+//! Glass and Transparent, an alpha cut-out of glass), Cycles' image is this one. Photons,
+//! which carry the adjoint, take the eta^2 instead; see [`BsdfSample::importance_weight`].
 
 use super::layer::CoatLayer;
 use super::lobe::Lobe;
@@ -56,11 +59,13 @@ impl BsdfSample {
     pub fn is_delta(&self) -> bool {
         self.flags & LobeFlags::SPECULAR != 0
     }
-    /// The weight for flux or importance transport (photon tracing): the radiance weight
-    /// without the 1/eta^2 scaling of refraction.
+    /// The weight for flux or importance transport (photon tracing), the adjoint of `weight`:
+    /// refraction into a medium of relative IOR eta scales it by 1/eta^2 (a photon entering
+    /// glass from air carries 1/eta^2 of its power, and gets it back on leaving by refraction),
+    /// so that a photon estimate answers what a camera path weighted by `weight` would.
     #[inline]
     pub fn importance_weight(&self) -> Spectrum {
-        self.weight * (self.eta * self.eta)
+        self.weight / (self.eta * self.eta)
     }
 }
 
@@ -591,7 +596,7 @@ impl Bsdf {
         let mut s = self.sample_sel(wo_l, u_lobe, u, sel)?;
         if !s.is_delta() && s.flags & LobeFlags::REFLECTION != 0 {
             // Reflection: evaluate with the directions swapped (the reciprocal lobes give the
-            // same value; refraction keeps its radiance convention, see `importance_weight`).
+            // same value; refraction keeps the camera's, see `importance_weight`).
             let f = self.eval_sel(s.wi, wo_l, sel);
             s.weight = f * (s.wi.z.abs() / s.pdf);
         }

@@ -7,8 +7,8 @@ use glam::{Vec2, Vec3};
 
 /// Smooth dielectric boundary (glass, water). Reflection and refraction are both Dirac
 /// deltas; one is chosen with probability R or T = 1 - R (exact Fresnel, total internal
-/// reflection included). Refraction scales radiance by 1/eta^2 (Veach 1997 eq. 5.16) and
-/// by the tint.
+/// reflection included). Refraction scales by (1 - R) and the tint, not by 1/eta^2: radiance
+/// is carried as Cycles carries it (see [`crate::materials::bsdf`]).
 ///
 /// | parameter | meaning |
 /// |---|---|
@@ -73,14 +73,14 @@ impl SmoothDielectric {
         }
         Some(BsdfSample {
             wi,
-            weight: self.tint * ((1.0 - r) / prob * eta_ti * eta_ti),
+            weight: self.tint * ((1.0 - r) / prob),
             pdf: prob,
             flags: LobeFlags::TRANSMISSION | LobeFlags::SPECULAR,
             eta: eta_it,
         })
     }
 
-    /// Exact: R for reflection, (1 - R) x tint for transmission (flux, no 1/eta^2).
+    /// Exact: R for reflection, (1 - R) x tint for transmission.
     pub fn albedo(&self, wo: Vec3, mask: u8) -> Spectrum {
         let r = fresnel_dielectric(wo.z, self.eta).0;
         let mut a = Vec3::ZERO;

@@ -148,7 +148,7 @@ mod tests {
     }
 
     /// The table against the mean sampled weight of the lobe itself (reflection or refraction
-    /// chosen by Fresnel, weight G2/G1 with the refraction's radiance factor 1/eta^2 undone).
+    /// chosen by Fresnel, weight G2/G1).
     #[test]
     fn albedo_is_the_lobe_s_sampled_energy() {
         let mut rng = Rng::new(5, 1);
@@ -171,7 +171,7 @@ mod tests {
             let mut sum = 0.0f64;
             for _ in 0..n {
                 if let Some(s) = lobe.sample(wo, rng.f32(), rng.vec2(), 0xff) {
-                    sum += (s.weight.x * s.eta * s.eta) as f64;
+                    sum += s.weight.x as f64;
                 }
             }
             let mc = sum / n as f64;

@@ -10,9 +10,10 @@ use glam::{Vec2, Vec3};
 /// Rough dielectric boundary (frosted glass), Walter et al. 2007:
 ///
 /// - reflection, eq. 20: f_r = F(wo.m) D(m) G2 / (4 |wo.n| |wi.n|), m = h_r (eq. 13);
-/// - refraction, eq. 21 (radiance form, the eta_o^2 of the paper cancelled by the 1/eta^2
-///   radiance scaling): f_t = |wo.m| |wi.m| (1 - F) D(m) G2 / (|wo.n| |wi.n| (wo.m + eta wi.m)^2),
-///   m = h_t = normalize(wo + eta wi) (eq. 16), eta = IOR of wi's side / IOR of wo's side.
+/// - refraction, eq. 21 as Cycles evaluates it (no 1/eta^2 radiance scaling, see
+///   [`crate::materials::bsdf`]): f_t = eta^2 |wo.m| |wi.m| (1 - F) D(m) G2 / (|wo.n| |wi.n|
+///   (wo.m + eta wi.m)^2), m = h_t = normalize(wo + eta wi) (eq. 16), eta = IOR of wi's side /
+///   IOR of wo's side.
 ///
 /// Sampling draws a visible normal for wo (Heitz 2018), then reflects with probability
 /// F(wo.m) and refracts otherwise; the pdf uses the Jacobians of eqs. 14 and 17.
@@ -121,7 +122,8 @@ impl RoughDielectric {
             if denom == 0.0 {
                 return Vec3::ZERO;
             }
-            self.tint * (ms * (1.0 - f) * d * g2 * (om * im).abs() / (cos * denom * denom))
+            let eta2 = g.eta * g.eta;
+            self.tint * (ms * (1.0 - f) * d * g2 * eta2 * (om * im).abs() / (cos * denom * denom))
         }
     }
 
@@ -176,7 +178,7 @@ impl RoughDielectric {
             }
             (
                 wi,
-                self.tint * ((1.0 - f) / pt * eta_ti * eta_ti),
+                self.tint * ((1.0 - f) / pt),
                 eta_it,
                 LobeFlags::TRANSMISSION | LobeFlags::GLOSSY,
             )

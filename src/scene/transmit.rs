@@ -84,19 +84,24 @@ impl Scene {
     /// The first visible thing along the ray, passing invisible boundaries (updating
     /// `stack`), with the media's transmittance up to it.
     pub fn intersect_through(&self, ray: &Ray, stack: &mut MediumStack) -> (SceneHit, Spectrum) {
-        self.intersect_through_lights(ray, stack, None)
+        self.intersect_through_lights(ray, stack, false, None)
     }
 
     /// As [`Scene::intersect_through`], also handing every analytic light crossed on the way
-    /// to `on_light`, with the media's transmittance up to it.
+    /// to `on_light`, with the media's transmittance up to it. With `transparent`, partly
+    /// transparent surfaces that do not emit are passed too, their transparency taken into
+    /// the transmittance as a shadow ray takes it ([`Scene::transmittance`]): what a light
+    /// sample and a BSDF sample of the same direct estimate see must be the same.
     pub fn intersect_through_lights(
         &self,
         ray: &Ray,
         stack: &mut MediumStack,
+        transparent: bool,
         mut on_light: Option<&mut dyn FnMut(LightHit, Spectrum)>,
     ) -> (SceneHit, Spectrum) {
         let mut ray = *ray;
         let mut t = Spectrum::ONE;
+        let mut transparent_hits = 0u32;
         for _ in 0..MAX_CROSSINGS {
             let hit = self.intersect(&ray);
             let len = ray.d.length();
@@ -123,6 +128,26 @@ impl Scene {
             }
             match hit {
                 SceneHit::Surface(si) if self.is_null(&si) => {
+                    self.update_stack(stack, &si, ray.d);
+                    ray = si.spawn_ray(ray.d);
+                }
+                SceneHit::Surface(si)
+                    if transparent
+                        && self.transparent
+                        && !self.emissive.contains_key(&(si.instance, si.prim)) =>
+                {
+                    let pass = self
+                        .materials
+                        .get(si.material as usize)
+                        .map_or(Spectrum::ZERO, |m| self.transparency(m, &si));
+                    if pass.max_element() <= 0.0 {
+                        return (SceneHit::Surface(si), t);
+                    }
+                    transparent_hits += 1;
+                    if transparent_hits > super::shading::MAX_TRANSPARENT {
+                        return (SceneHit::Miss, Spectrum::ZERO);
+                    }
+                    t *= pass;
                     self.update_stack(stack, &si, ray.d);
                     ray = si.spawn_ray(ray.d);
                 }

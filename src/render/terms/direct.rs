@@ -132,6 +132,7 @@ pub fn estimate_with(
             let (hit, tr) = scene.intersect_through_lights(
                 &ray,
                 &mut ray_stack,
+                true,
                 Some(&mut |lh: LightHit, tr: Spectrum| {
                     let light = &scene.lights[lh.index as usize];
                     let pdf = scene.light_sampler.next_event_pmf(lh.index as usize)
