@@ -118,8 +118,9 @@ fn blocks_merge_to_the_bits_of_one_render() {
     }
 }
 
-/// Passes differ and converge: the error against a 256-pass image falls as passes grow, and
-/// a different seed gives a different image.
+/// Passes differ and converge: the error against a 64-pass image falls from 4 to 32 passes
+/// (4 to 16 is within one seed's scatter at 3,000 photons a pass), and a different seed gives
+/// a different image.
 #[test]
 fn passes_are_independent_estimates() {
     let desc = small_scene("cornell_spheres");
@@ -135,8 +136,8 @@ fn passes_are_independent_estimates() {
     assert!(bits(&a.film) != bits(&b.film));
     let long = run(64, 3).film.combined();
     let e4 = rel_mse(&a.film.combined(), &long);
-    let e16 = rel_mse(&run(16, 1).film.combined(), &long);
-    assert!(e16 < e4, "error must fall with passes: {e4} -> {e16}");
+    let e32 = rel_mse(&run(32, 1).film.combined(), &long);
+    assert!(e32 < e4, "error must fall with passes: {e4} -> {e32}");
 }
 
 fn reference() -> (Image, Image) {
@@ -192,13 +193,14 @@ fn errors(mode: RenderMode, passes: &[u32], seed: u64) -> (Vec<f64>, Vec<f64>) {
 }
 
 /// Consistency against Mitsuba's path-traced reference of the caustic scene (128x128,
-/// 20,000 photons per pass): the error falls at every step from 4 to 64 passes, with a
+/// 20,000 photons per pass): the error falls at every step from 8 to 128 passes, with a
 /// log-log slope between -1 and -0.4 (theory: variance as N^-α = N^-0.7, squared bias as
-/// N^-2(1-α) = N^-0.6; K&Z 2011), and within 2x of the per-pixel progressive mode's at 64
-/// passes. Measured figures (and 256, 1024 passes) are in BENCHMARKS.md.
+/// N^-2(1-α) = N^-0.6; K&Z 2011), and within 2x of the per-pixel progressive mode's at 128
+/// passes. The first passes, at the initial radius, scatter too much from seed to seed to fit
+/// a slope through (4 passes: relMSE 1.8e-2 and 8.9e-2 for seeds 3 and 4). Measured figures (and 256, 1024 passes) are in BENCHMARKS.md.
 #[test]
 fn pppm_converges_to_the_reference_as_sppm_does() {
-    let passes = [4u32, 16, 64];
+    let passes = [8u32, 32, 128];
     let (pixel, blocks) = errors(RenderMode::Pppm, &passes, 3);
     let (sppm_pixel, sppm_blocks) = errors(RenderMode::Sppm, &passes[2..], 3);
     let xs: Vec<f64> = passes.iter().map(|&k| k as f64).collect();
@@ -217,7 +219,7 @@ fn pppm_converges_to_the_reference_as_sppm_does() {
     );
     assert!(
         pixel[2] < 2.0 * sppm_pixel[0] && blocks[2] < 2.0 * sppm_blocks[0],
-        "pppm {:.3e}/{:.3e} against sppm {:.3e}/{:.3e} at 64 passes",
+        "pppm {:.3e}/{:.3e} against sppm {:.3e}/{:.3e} at 128 passes",
         pixel[2],
         blocks[2],
         sppm_pixel[0],
