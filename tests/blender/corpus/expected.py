@@ -58,6 +58,11 @@ USD: dict[str, str] = {
         line="color3f inputs:color = (5, 5, 5)", prim="Screen/NodeGraphs/bnode__Emission_EDF",
         what="the screen is white at strength 5 instead of blue to orange: block (8,1) "
              "+163.6% (+725 sigma), pooled +127.7%"),
+    "nodes_glass_transparent": (
+        "exporter: the Transparent BSDF is written as a white diffuse, 'uniform token info:id = "
+        "\"ND_oren_nayar_diffuse_bsdf\"' (GlassyGhost/NodeGraphs/bnode__Transparent_BSDF_BSDF), "
+        "under the Mix Shader's 'ND_mix_bsdf': half the sphere is white chalk instead of "
+        "clear: block (11,12) +60.7% (+76.9 sigma), pooled +1.6%"),
     "nodes_group": FLAT.format(
         nodes="node group's Noise Texture and ColorRamp", socket="the Base Color",
         line="color3f inputs:base_color = (0.8, 0.8, 0.8)",

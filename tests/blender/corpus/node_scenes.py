@@ -227,11 +227,9 @@ def nodes_tiles_normal():
     return sc
 
 
-@open_scene("nodes_glass_transparent", "A Mix Shader (Fac 0.5) of a Glass BSDF (IOR 1.45) and "
-            "a Transparent BSDF on the sphere.",
-            "the lower part of the sphere (its caustic seen through it) is brighter: blocks "
-            "(13,12) +39% (+12.4 sigma), (12,12) +17% (+9.8 sigma) at ci, four seeds; cause "
-            "not found yet.")
+@node_scene("nodes_glass_transparent", "A Mix Shader (Fac 0.5) of a Glass BSDF (IOR 1.45) "
+            "and a Transparent BSDF on the sphere: paths that enter by refraction and leave "
+            "straight through, which Cycles weights without the 1/eta^2 of radiance.")
 def nodes_glass_transparent():
     sc = reset()
     room()
