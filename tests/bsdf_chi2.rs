@@ -10,7 +10,7 @@ use photonmap::sampling::Rng;
 use photonmap::scene::desc::{ColorInput, FloatInput, MaterialDesc, PrincipledDesc};
 
 /// Tests in this file, for the Šidák correction.
-const NUM_TESTS: usize = 60;
+const NUM_TESTS: usize = 66;
 
 fn local() -> Frame {
     Frame {
@@ -265,6 +265,60 @@ fn chi2_principled_mixture() {
                 wo_at(deg),
                 &cfg(*fine, false),
             );
+        }
+    }
+}
+
+/// Lobes in two frames (a specular normal bent away from the diffuse one, as under a normal
+/// map): the mixture still samples its own pdf, and a sample's weight is f |cos| / pdf.
+#[test]
+fn chi2_split_normals() {
+    let bent = Vec3::new(0.35, -0.2, 1.0).normalize();
+    let sets: Vec<(&str, Bsdf, f64)> = vec![
+        (
+            "plastic r=0.3",
+            principled(|d| d.roughness = FloatInput::Value(0.3)).bsdf(local(), Vec2::ZERO, &[]),
+            0.008,
+        ),
+        (
+            "lambert + rough glass r=0.4",
+            Bsdf::new(local())
+                .with(0.5, dielectric_lobe(1.5, 0.4, Vec3::ONE, false))
+                .with(
+                    0.5,
+                    Lobe::Lambert(photonmap::materials::diffuse::Lambert {
+                        albedo: Vec3::splat(0.8),
+                    }),
+                ),
+            0.01,
+        ),
+    ];
+    for (name, mut bsdf, fine) in sets {
+        bsdf.set_specular_normal(bent, Vec3::X);
+        for deg in [5.0f32, 50.0, 80.0] {
+            let wo = wo_at(deg);
+            chi2_bsdf(&format!("split {name} {deg}"), &bsdf, wo, &cfg(fine, false));
+            let mut rng = Rng::new(5, deg as u64);
+            let mut n = 0;
+            for _ in 0..2000 {
+                let u = rng.vec3();
+                let Some(s) = bsdf.sample(wo, u.x, Vec2::new(u.y, u.z)) else {
+                    continue;
+                };
+                if s.is_delta() {
+                    continue;
+                }
+                let want = bsdf.eval(wo, s.wi) * (s.wi.z.abs() / s.pdf);
+                assert!(
+                    (s.weight - want).abs().max_element() <= 1e-4 * (1.0 + want.max_element()),
+                    "{name} {deg}: weight {} against f cos / pdf {}",
+                    s.weight,
+                    want
+                );
+                assert!((bsdf.pdf(wo, s.wi) - s.pdf).abs() <= 1e-4 * s.pdf.max(1.0));
+                n += 1;
+            }
+            assert!(n > 1000, "{name} {deg}: {n} samples");
         }
     }
 }

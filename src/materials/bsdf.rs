@@ -13,7 +13,7 @@
 use super::layer::CoatLayer;
 use super::lobe::Lobe;
 use crate::math::{Frame, Spectrum};
-use glam::{Vec2, Vec3};
+use glam::{Mat3, Vec2, Vec3};
 
 /// Bit flags describing lobes and sampled events (a closed set of `u8` constants).
 pub struct LobeFlags;
@@ -153,6 +153,15 @@ const SELECT_GLOSSY: Selection = Selection {
     exclude: LobeFlags::DIFFUSE | LobeFlags::SPECULAR,
 };
 
+/// Which direction's cosine a caller multiplies f by (see [`Bsdf::set_specular_normal`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum CosineOf {
+    Wi,
+    /// None: a photon's flux carries the cosine of the surface it landed on, the smooth
+    /// surface's under a bump (the frame's without one).
+    Flux,
+}
+
 /// Maximum number of lobes in one BSDF.
 pub const MAX_LOBES: usize = 5;
 
@@ -171,6 +180,9 @@ pub struct Bsdf {
     /// With a bumped or normal-mapped frame: the surface's own (smooth) normal in the local
     /// frame and the bump's GGX alpha^2, for [`bump_shadowing`].
     bump: Option<(Vec3, f32)>,
+    /// With a specular normal of its own ([`Bsdf::set_specular_normal`]): the rotation from
+    /// the frame's local space to the local space of the non-diffuse lobes.
+    spec: Option<Mat3>,
 }
 
 /// Cycles' bump shadowing (Conty Estevez et al. 2019, "A Microfacet-Based Shadowing Function
@@ -210,6 +222,77 @@ impl Bsdf {
             coated: [false; MAX_LOBES],
             subsurface: None,
             bump: None,
+            spec: None,
+        }
+    }
+
+    /// Gives the non-diffuse lobes the normal `n` (world space) in place of the frame's, as
+    /// Cycles gives its glossy, glass and Principled specular closures a normal bent towards
+    /// the geometric one where the bumped normal would reflect the view below the surface
+    /// ([`super::specular_normal::valid_specular_normal`]); diffuse lobes keep the frame's.
+    pub fn set_specular_normal(&mut self, n: Vec3, dpdu: Vec3) {
+        if !n.is_finite() || n == self.frame.n {
+            self.spec = None;
+            return;
+        }
+        let f = Frame::from_normal_tangent(n, dpdu);
+        let col = |v: Vec3| f.to_local(self.frame.to_world(v));
+        self.spec = Some(Mat3::from_cols(col(Vec3::X), col(Vec3::Y), col(Vec3::Z)));
+    }
+
+    /// Lobe `l` as it is seen from `wo` (local): a diffuse base layered under a specular
+    /// layer with a normal of its own takes the layer's albedo at that normal's cosine, as
+    /// Cycles layers it.
+    #[inline]
+    fn view_lobe(&self, l: &Lobe, wo: Vec3) -> Lobe {
+        match (&self.spec, l) {
+            (Some(r), Lobe::CoatedDiffuse(c)) => {
+                let mut c = *c;
+                c.pin_view(wo.z.abs(), (*r * wo).z.abs());
+                Lobe::CoatedDiffuse(c)
+            }
+            _ => *l,
+        }
+    }
+
+    /// Lobe `l`'s albedo estimate towards `wo` (local).
+    #[inline]
+    fn lobe_albedo(&self, l: &Lobe, wo: Vec3, mask: u8) -> Spectrum {
+        self.view_lobe(l, wo).albedo(self.in_lobe(l, wo), mask)
+    }
+
+    /// `v` (local) in the local space of lobe `l`.
+    #[inline]
+    fn in_lobe(&self, l: &Lobe, v: Vec3) -> Vec3 {
+        match &self.spec {
+            Some(r) if l.flags() & LobeFlags::DIFFUSE == 0 => *r * v,
+            _ => v,
+        }
+    }
+
+    /// Lobe `l`'s f at local `wo`, `wi`, scaled for what the caller multiplies it by
+    /// ([`CosineOf`]) so that the product carries the lobe's own cosine.
+    #[inline]
+    fn lobe_eval(&self, l: &Lobe, wo: Vec3, wi: Vec3, mask: u8, cosine: CosineOf) -> Spectrum {
+        let (wo_l, wi_l) = match &self.spec {
+            Some(r) if l.flags() & LobeFlags::DIFFUSE == 0 => (*r * wo, *r * wi),
+            _ => (wo, wi),
+        };
+        let f = self.view_lobe(l, wo).eval(wo_l, wi_l, mask);
+        match cosine {
+            CosineOf::Wi if wi_l != wi => f * (wi_l.z.abs() / wi.z.abs()),
+            CosineOf::Flux => match self.bump {
+                Some((ns, _)) => {
+                    let c = ns.dot(wi).abs();
+                    if c > 0.0 {
+                        f * (wi_l.z.abs() / c)
+                    } else {
+                        Spectrum::ZERO
+                    }
+                }
+                None => f * (wi_l.z.abs() / wi.z.abs()),
+            },
+            _ => f,
         }
     }
 
@@ -275,6 +358,7 @@ impl Bsdf {
         let mut b = Bsdf::new(self.frame);
         b.coat = self.coat;
         b.bump = self.bump;
+        b.spec = self.spec;
         for (i, (w, l)) in self.lobes().enumerate() {
             if i != k as usize && b.add(w, *l) {
                 b.coated[b.count - 1] = self.coated[i];
@@ -396,6 +480,19 @@ impl Bsdf {
         self.eval_local(self.frame.to_local(wo), self.frame.to_local(wi))
     }
 
+    /// f(wo, wi) for light that arrives as a photon's flux, which carries the cosine of the
+    /// surface it landed on: [`Bsdf::eval`] times each lobe's cosine over that surface's (the
+    /// smooth normal's under a bump or normal map, where the lobes' normals differ from it;
+    /// plain f otherwise).
+    pub fn eval_flux(&self, wo: Vec3, wi: Vec3) -> Spectrum {
+        self.eval_mode(
+            self.frame.to_local(wo),
+            self.frame.to_local(wi),
+            SELECT_ALL,
+            CosineOf::Flux,
+        )
+    }
+
     /// Solid-angle pdf of [`Bsdf::sample`] producing `wi`, for world-space directions.
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         self.pdf_local(self.frame.to_local(wo), self.frame.to_local(wi))
@@ -428,7 +525,7 @@ impl Bsdf {
             if l.flags() & LobeFlags::DIFFUSE == 0 {
                 continue;
             }
-            if let Some(r) = l.irradiance_response(wo) {
+            if let Some(r) = self.view_lobe(l, wo).irradiance_response(wo) {
                 *out.get_or_insert(Vec3::ZERO) += w * r;
             }
         }
@@ -468,7 +565,7 @@ impl Bsdf {
         let wo = self.frame.to_local(wo);
         self.lobes_at(wo)
             .filter(|(_, l)| SELECT_GLOSSY.keeps(l))
-            .map(|(w, l)| w * l.albedo(wo, SELECT_GLOSSY.mask).max(Vec3::ZERO))
+            .map(|(w, l)| w * self.lobe_albedo(l, wo, SELECT_GLOSSY.mask).max(Vec3::ZERO))
             .sum()
     }
 
@@ -478,8 +575,10 @@ impl Bsdf {
     pub fn for_view(&self, wo: Vec3) -> Bsdf {
         let wo_l = self.frame.to_local(wo);
         let mut b = *self;
-        for l in b.lobes[..b.count].iter_mut() {
-            l.fix_view(wo_l);
+        for i in 0..b.count {
+            let v = self.in_lobe(&self.lobes[i], wo_l);
+            b.lobes[i] = self.view_lobe(&self.lobes[i], wo_l);
+            b.lobes[i].fix_view(v);
         }
         b
     }
@@ -500,6 +599,7 @@ impl Bsdf {
         let mut b = Bsdf::new(self.frame);
         b.coat = self.coat;
         b.bump = self.bump;
+        b.spec = self.spec;
         for (i, (w, l)) in self.lobes().enumerate() {
             if keep(l) && b.add(w, *l) {
                 b.coated[b.count - 1] = self.coated[i];
@@ -528,7 +628,7 @@ impl Bsdf {
         let wo = self.frame.to_local(wo);
         self.lobes_at(wo)
             .filter(|(_, l)| sel.keeps(l))
-            .map(|(w, l)| w * l.albedo(wo, sel.mask).max(Vec3::ZERO))
+            .map(|(w, l)| w * self.lobe_albedo(l, wo, sel.mask).max(Vec3::ZERO))
             .sum()
     }
 
@@ -560,13 +660,17 @@ impl Bsdf {
             return (d, s, t);
         }
         for (w, l) in self.lobes_at(wo) {
-            let r = w * l.albedo(wo, LobeFlags::REFLECTION).max(Vec3::ZERO);
+            let r = w * self
+                .lobe_albedo(l, wo, LobeFlags::REFLECTION)
+                .max(Vec3::ZERO);
             if l.flags() & LobeFlags::DIFFUSE != 0 {
                 d += r;
             } else {
                 s += r;
             }
-            t += w * l.albedo(wo, LobeFlags::TRANSMISSION).max(Vec3::ZERO);
+            t += w * self
+                .lobe_albedo(l, wo, LobeFlags::TRANSMISSION)
+                .max(Vec3::ZERO);
         }
         let total = mean(d) + mean(s) + mean(t);
         if total > 1.0 {
@@ -596,9 +700,16 @@ impl Bsdf {
         let mut s = self.sample_sel(wo_l, u_lobe, u, sel)?;
         if !s.is_delta() && s.flags & LobeFlags::REFLECTION != 0 {
             // Reflection: evaluate with the directions swapped (the reciprocal lobes give the
-            // same value; refraction keeps the camera's, see `importance_weight`).
-            let f = self.eval_sel(s.wi, wo_l, sel);
-            s.weight = f * (s.wi.z.abs() / s.pdf);
+            // same value; refraction keeps the camera's, see `importance_weight`). Under a
+            // bump the photon's flux carries the smooth surface's cosine where it arrived and
+            // leaves with the smooth surface's cosine (Veach 1997 §5.3, the adjoint BSDF with
+            // shading normals): f(wi, wo) cos_lobe(wo) / cos_s(wo) cos_s(wi) / pdf.
+            let f = self.eval_mode(s.wi, wo_l, sel, CosineOf::Flux);
+            let cos_out = match self.bump {
+                Some((ns, _)) => ns.dot(s.wi).abs(),
+                None => s.wi.z.abs(),
+            };
+            s.weight = f * (cos_out / s.pdf);
         }
         Some(BsdfSample {
             wi: self.frame.to_world(s.wi),
@@ -619,6 +730,11 @@ impl Bsdf {
     }
 
     fn eval_sel(&self, wo: Vec3, wi: Vec3, sel: Selection) -> Spectrum {
+        self.eval_mode(wo, wi, sel, CosineOf::Wi)
+    }
+
+    /// f of the selected lobes; `cosine`: see [`Bsdf::lobe_eval`].
+    fn eval_mode(&self, wo: Vec3, wi: Vec3, sel: Selection, cosine: CosineOf) -> Spectrum {
         if wo.z == 0.0 || wi.z == 0.0 {
             return Vec3::ZERO;
         }
@@ -632,7 +748,7 @@ impl Bsdf {
                     }
                 };
                 if g > 0.0 {
-                    f += w * g * l.eval(wo, wi, sel.mask);
+                    f += w * g * self.lobe_eval(l, wo, wi, sel.mask, cosine);
                 }
             }
         }
@@ -649,7 +765,7 @@ impl Bsdf {
         let mut sum = 0.0;
         for (i, (w, l)) in self.lobes_at(wo).enumerate() {
             if sel.keeps(l) {
-                let a = mean(w * l.albedo(wo, sel.mask));
+                let a = mean(w * self.lobe_albedo(l, wo, sel.mask));
                 let v = a;
                 if v > 0.0 && v.is_finite() {
                     p[i] = v;
@@ -676,7 +792,7 @@ impl Bsdf {
         let mut pdf = 0.0;
         for (i, (_, l)) in self.lobes().enumerate() {
             if p[i] > 0.0 && l.flags() & LobeFlags::SPECULAR == 0 {
-                pdf += p[i] * l.pdf(wo, wi, sel.mask);
+                pdf += p[i] * l.pdf(self.in_lobe(l, wo), self.in_lobe(l, wi), sel.mask);
             }
         }
         if pdf.is_finite() {
@@ -713,7 +829,10 @@ impl Bsdf {
         let pk = p[k];
         let uc = ((u_lobe - cdf) / pk).clamp(0.0, 0.999_999_94);
         let lobe = &self.lobes[k];
-        let s = lobe.sample(wo, uc, u, sel.mask)?;
+        let mut s = lobe.sample(self.in_lobe(lobe, wo), uc, u, sel.mask)?;
+        if let Some(r) = self.spec.filter(|_| lobe.flags() & LobeFlags::DIFFUSE == 0) {
+            s.wi = r.transpose() * s.wi;
+        }
         if s.is_delta() {
             let weight = self.weight_at(k, wo) * s.weight / pk;
             let pdf = pk * s.pdf;

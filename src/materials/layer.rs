@@ -455,6 +455,13 @@ impl CoatedDiffuse {
         self.view = Some((mu, self.transmitted(mu)));
     }
 
+    /// Pins the view-dependent weight for the view cosine `mu` to the specular layer's albedo
+    /// at cosine `mu_layer` (a layer whose normal is not the base's).
+    pub fn pin_view(&mut self, mu: f32, mu_layer: f32) {
+        self.view = None;
+        self.view = Some((mu, self.transmitted(mu_layer)));
+    }
+
     fn transmitted(&self, mu: f32) -> f32 {
         if let Some((m, t)) = self.view {
             if m == mu {

@@ -337,7 +337,7 @@ fn radiance_in<P: PhotonRecord>(
             EstimateFilter::Constant => 1.0,
             EstimateFilter::Cone { k } => (1.0 - nb.dist2.sqrt() / (k * r)).max(0.0),
         };
-        let c = bsdf.eval(wo, wi) * (ph.power() * scale) * w;
+        let c = bsdf.eval_flux(wo, wi) * (ph.power() * scale) * w;
         sum += c;
         if let Some(f) = share.as_mut() {
             f(group_of(ph.user_flags()), c * inv);

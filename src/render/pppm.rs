@@ -552,7 +552,7 @@ fn gather(global: &PhotonMap, vps: &[VisiblePoint], r2: f32, ctx: &EyeCtx) -> Te
             if wi.dot(vp.n) <= 0.0 || !ctx.settings.terms.contains(t) {
                 return;
             }
-            let c = vp.beta * vp.bsdf.eval(vp.wo, wi) * ph.power();
+            let c = vp.beta * vp.bsdf.eval_flux(vp.wo, wi) * ph.power();
             if is_finite3(c) {
                 phi.add(t, c);
             }

@@ -349,7 +349,7 @@ fn gather(
             if wi.dot(vp.n) <= 0.0 || !s.terms.contains(t) {
                 return;
             }
-            let c = vp.beta * vp.bsdf.eval(vp.wo, wi) * ph.power();
+            let c = vp.beta * vp.bsdf.eval_flux(vp.wo, wi) * ph.power();
             if is_finite3(c) {
                 phi.add(t, c);
                 if let Some(g) = phi_groups.get_mut(group_of(ph.user_flags())) {
