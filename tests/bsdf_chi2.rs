@@ -10,7 +10,7 @@ use photonmap::sampling::Rng;
 use photonmap::scene::desc::{ColorInput, FloatInput, MaterialDesc, PrincipledDesc};
 
 /// Tests in this file, for the Šidák correction.
-const NUM_TESTS: usize = 66;
+const NUM_TESTS: usize = 70;
 
 fn local() -> Frame {
     Frame {
@@ -321,4 +321,36 @@ fn chi2_split_normals() {
             assert!(n > 1000, "{name} {deg}: {n} samples");
         }
     }
+}
+
+/// The Translucent BSDF (diffuse transmission), alone and mixed with Lambertian reflection,
+/// from both sides: it samples its pdf and transmits its albedo.
+#[test]
+fn chi2_translucent() {
+    use photonmap::materials::diffuse::Lambert;
+    use photonmap::materials::translucent::Translucent;
+    let t = Lobe::Translucent(Translucent {
+        albedo: Vec3::new(0.3, 0.6, 0.9),
+    });
+    let alone = Bsdf::new(local()).with(1.0, t);
+    let mixed = Bsdf::new(local()).with(0.5, t).with(
+        0.5,
+        Lobe::Lambert(Lambert {
+            albedo: Vec3::splat(0.8),
+        }),
+    );
+    for (name, bsdf) in [("translucent", &alone), ("translucent + lambert", &mixed)] {
+        for wo in [wo_at(30.0), wo_at(150.0)] {
+            chi2_bsdf(&format!("{name} {}", wo.z), bsdf, wo, &cfg(0.02, true));
+        }
+    }
+    // Every sample crosses the surface and carries the albedo.
+    let mut rng = Rng::new(9, 0);
+    for _ in 0..1000 {
+        let wo = wo_at(40.0);
+        let s = alone.sample(wo, rng.f32(), rng.vec2()).expect("a sample");
+        assert!(s.wi.z < 0.0);
+        assert!((s.weight - Vec3::new(0.3, 0.6, 0.9)).abs().max_element() < 1e-5);
+    }
+    assert_eq!(alone.eval(wo_at(40.0), wo_at(20.0)), Vec3::ZERO);
 }

@@ -532,6 +532,24 @@ impl Bsdf {
         out
     }
 
+    /// The diffuse transmission lobes' radiance towards `wo` (world space) per unit of
+    /// irradiance from the other side; None without such a lobe.
+    pub fn transmission_response(&self, wo: Vec3) -> Option<Spectrum> {
+        let wo = self.frame.to_local(wo);
+        let mut out: Option<Spectrum> = None;
+        for (w, l) in self.lobes_at(wo) {
+            if let Lobe::Translucent(t) = l {
+                *out.get_or_insert(Vec3::ZERO) += w * t.albedo * crate::math::INV_PI;
+            }
+        }
+        out
+    }
+
+    /// Whether a diffuse lobe transmits: light from behind the surface reaches the viewer.
+    pub fn transmits_diffusely(&self) -> bool {
+        self.lobes().any(|(_, l)| matches!(l, Lobe::Translucent(_)))
+    }
+
     /// Whether paths go on through this surface rather than end on it: rough glass (a glossy
     /// transmission lobe, no diffuse lobe). Like a mirror or smooth glass it stores no
     /// photons, photons through it are caustic photons, and eye and gather paths continue

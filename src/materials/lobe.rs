@@ -13,6 +13,7 @@ use super::diffuse::Lambert;
 use super::glossy::MicrofacetReflection;
 use super::layer::CoatedDiffuse;
 use super::rough_dielectric::RoughDielectric;
+use super::translucent::Translucent;
 use crate::math::Spectrum;
 use glam::{Vec2, Vec3};
 
@@ -24,6 +25,7 @@ pub enum Lobe {
     SmoothDielectric(SmoothDielectric),
     RoughDielectric(RoughDielectric),
     CoatedDiffuse(CoatedDiffuse),
+    Translucent(Translucent),
 }
 
 /// Applies `$body` to the lobe inside whichever variant `$self` is.
@@ -36,6 +38,7 @@ macro_rules! dispatch {
             Lobe::SmoothDielectric($l) => $body,
             Lobe::RoughDielectric($l) => $body,
             Lobe::CoatedDiffuse($l) => $body,
+            Lobe::Translucent($l) => $body,
         }
     };
 }

@@ -25,6 +25,7 @@ pub mod rough_dielectric;
 pub mod specular_normal;
 pub mod subsurface;
 pub mod texture;
+pub mod translucent;
 
 pub use bsdf::{Bsdf, BsdfSample, Component, LobeFlags, MAX_LOBES};
 pub use lobe::Lobe;

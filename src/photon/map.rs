@@ -315,6 +315,8 @@ fn radiance_in<P: PhotonRecord>(
     };
     let r = r2.sqrt();
     let bsdf = bsdf.for_view(wo);
+    // A surface that transmits diffusely takes the photons that arrived on either side.
+    let both_sides = bsdf.transmits_diffusely();
     let norm = match filter {
         EstimateFilter::Constant => 1.0,
         EstimateFilter::Cone { k } => 1.0 - 2.0 / (3.0 * k),
@@ -330,7 +332,7 @@ fn radiance_in<P: PhotonRecord>(
             continue;
         }
         let wi = ph.incoming();
-        if wi.dot(n) <= 0.0 {
+        if wi.dot(n) <= 0.0 && !both_sides {
             continue;
         }
         let w = match filter {

@@ -12,6 +12,7 @@ use crate::materials::lobe::Lobe;
 use crate::materials::microfacet::NEAR_SPECULAR_ROUGHNESS;
 use crate::materials::principled::Principled;
 use crate::materials::texture::{ColorParam, FloatParam};
+use crate::materials::translucent::Translucent;
 use crate::materials::{dielectric_lobe, reflection_lobe};
 use crate::math::{Frame, Spectrum};
 use glam::{Vec2, Vec3};
@@ -31,7 +32,7 @@ pub enum LeafKind {
     Transparent,
     /// Emission: color, strength.
     Emission,
-    /// Translucent BSDF: color, normal (renders as diffuse reflection).
+    /// Translucent BSDF: color, normal (diffuse transmission).
     Translucent,
     /// Holdout (renders black).
     Holdout,
@@ -207,9 +208,6 @@ impl LeafKind {
                         "Coat Normal is not supported; the coat uses the Normal input".to_string(),
                     );
                 }
-            }
-            LeafKind::Translucent => {
-                w.push("the Translucent BSDF renders as diffuse reflection".to_string())
             }
             LeafKind::Holdout => w.push("Holdout renders black".to_string()),
             LeafKind::Sheen => w.push("the Sheen BSDF is not supported; renders black".to_string()),
@@ -450,10 +448,16 @@ pub fn add_leaf(
             };
             out.bsdf.absorb(&p.bsdf(frame, Vec2::ZERO, &[]), w);
         }
-        LeafKind::Diffuse | LeafKind::Translucent => {
+        LeafKind::Diffuse => {
             if want_bsdf {
                 let albedo = color(v(0));
                 out.bsdf.add(w, Lobe::Lambert(Lambert { albedo }));
+            }
+        }
+        LeafKind::Translucent => {
+            if want_bsdf {
+                let albedo = color(v(0));
+                out.bsdf.add(w, Lobe::Translucent(Translucent { albedo }));
             }
         }
         LeafKind::Glossy { multiscatter } => {

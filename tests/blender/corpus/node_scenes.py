@@ -267,6 +267,34 @@ def nodes_leaf_alpha():
     return sc
 
 
+@node_scene("nodes_translucent", "A paper screen: a standing plane (0.9 x 0.9) whose material "
+            "is a Mix Shader (Fac 0.5) of a Translucent BSDF (warm white) and a Diffuse BSDF, "
+            "lit only by a point light (40 W, radius 0.05) behind it, between it and the back "
+            "wall; the side the camera sees glows with the light passed through.")
+def nodes_translucent():
+    sc = reset()
+    room()
+    m = bpy.data.materials.new("PaperScreen")
+    m.use_nodes = True
+    nt = m.node_tree
+    out = nt.nodes["Material Output"]
+    for n in [n for n in nt.nodes if n.type != "OUTPUT_MATERIAL"]:
+        nt.nodes.remove(n)
+    tr = nt.nodes.new("ShaderNodeBsdfTranslucent")
+    tr.inputs["Color"].default_value = (0.9, 0.75, 0.5, 1.0)
+    df = nt.nodes.new("ShaderNodeBsdfDiffuse")
+    df.inputs["Color"].default_value = (0.8, 0.8, 0.8, 1.0)
+    mix = nt.nodes.new("ShaderNodeMixShader")
+    mix.inputs["Fac"].default_value = 0.5
+    nt.links.new(tr.outputs["BSDF"], mix.inputs[1])
+    nt.links.new(df.outputs["BSDF"], mix.inputs[2])
+    nt.links.new(mix.outputs["Shader"], out.inputs["Surface"])
+    plane("Screen", (0.0, 0.1, 0.7), (90, 0, 0), 0.9, m)
+    light("POINT", (0.0, 0.55, 0.7), energy=40.0, shadow_soft_size=0.05)
+    camera()
+    return sc
+
+
 @node_scene("nodes_emission_screen", "No lights: a screen (plane 1.0 x 0.6 on the back wall) "
             "whose Emission colour is a Gradient Texture (linear, generated) through a "
             "ColorRamp (blue to orange), strength 5.")

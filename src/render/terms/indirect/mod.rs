@@ -46,8 +46,17 @@ pub fn estimate(
     }
     let mut l = from_media(ctx, si, bsdf, scratch, split.as_deref_mut());
     let response = bsdf.diffuse_response(si.wo);
-    if let Some(response) = response {
+    // The side the viewer is on (a transmitting surface keeps its own orientation).
+    let front = {
         let n = si.ng.dot(si.ns).signum() * si.ns;
+        if si.ng.dot(si.wo) < 0.0 {
+            -n
+        } else {
+            n
+        }
+    };
+    if let Some(response) = response {
+        let n = front;
         let mut sp = scaled(&mut split, response);
         let cached = match ctx.cache {
             Some(c) => c.lookup(si.p, n, sp.as_mut()),
@@ -70,6 +79,24 @@ pub fn estimate(
                 .irradiance
             }
         };
+        l += response * e;
+    }
+    if let Some(response) = bsdf.transmission_response(si.wo) {
+        // Light through a translucent surface: a hemisphere gather behind it (no cache).
+        let n = -front;
+        let mut sp = scaled(&mut split, response);
+        let e = gather_hemisphere(
+            ctx.scene,
+            ctx.maps,
+            si,
+            n,
+            rays,
+            stack,
+            rng,
+            scratch,
+            sp.as_mut(),
+        )
+        .irradiance;
         l += response * e;
     }
     if bsdf.has_glossy() {
