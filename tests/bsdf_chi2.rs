@@ -3,14 +3,16 @@
 
 use glam::{Vec2, Vec3};
 use photonmap::materials::fresnel::{fresnel_dielectric, Fresnel};
-use photonmap::materials::{dielectric_lobe, reflection_lobe, Bsdf, Lobe, Material};
+use photonmap::materials::{
+    dielectric_lobe, reflection_lobe, refraction_lobe, Bsdf, Lobe, Material,
+};
 use photonmap::math::Frame;
 use photonmap::sampling::chi2::{assert_chi2, Chi2Config, Chi2Report};
 use photonmap::sampling::Rng;
 use photonmap::scene::desc::{ColorInput, FloatInput, MaterialDesc, PrincipledDesc};
 
 /// Tests in this file, for the Šidák correction.
-const NUM_TESTS: usize = 70;
+const NUM_TESTS: usize = 74;
 
 fn local() -> Frame {
     Frame {
@@ -353,4 +355,37 @@ fn chi2_translucent() {
         assert!((s.weight - Vec3::new(0.3, 0.6, 0.9)).abs().max_element() < 1e-5);
     }
     assert_eq!(alone.eval(wo_at(40.0), wo_at(20.0)), Vec3::ZERO);
+}
+
+/// Cycles' Refraction BSDF: refraction alone, not scaled by the Fresnel transmittance. The
+/// rough lobe samples its pdf; every sample crosses the surface; the smooth one carries the
+/// tint whole (none under total internal reflection).
+#[test]
+fn chi2_refraction_only() {
+    let tint = Vec3::new(0.9, 0.8, 0.7);
+    let rough = Bsdf::new(local()).with(1.0, refraction_lobe(1.45, 0.3, tint));
+    for deg in [20.0f32, 70.0, 160.0, 120.0] {
+        let wo = wo_at(deg);
+        chi2_bsdf(
+            &format!("refraction r=0.3 {deg}"),
+            &rough,
+            wo,
+            &cfg(0.01, false),
+        );
+        let mut rng = Rng::new(11, deg as u64);
+        for _ in 0..500 {
+            if let Some(s) = rough.sample(wo, rng.f32(), rng.vec2()) {
+                assert!(s.wi.z * wo.z < 0.0, "{deg}: a reflection");
+            }
+        }
+    }
+    let smooth = Bsdf::new(local()).with(1.0, refraction_lobe(1.45, 0.0, tint));
+    let s = smooth
+        .sample(wo_at(50.0), 0.01, Vec2::ZERO)
+        .expect("a refraction");
+    assert!(s.wi.z < 0.0 && (s.weight - tint).abs().max_element() < 1e-6);
+    // From inside beyond the critical angle (43.6 degrees at 1.45): nothing.
+    assert!(smooth
+        .sample(wo_at(180.0 - 60.0), 0.5, Vec2::ZERO)
+        .is_none());
 }

@@ -347,6 +347,8 @@ class MaterialTable:
         sid = _shader_id(node)
         if sid not in mtlx_bsdf.FLAT:
             return sid in mtlx_bsdf.GRAPH_ONLY
+        if sid == "ND_dielectric_bsdf" and str(self._value(node, "scatter_mode", {}) or "R") == "T":
+            return True  # refraction alone: the graph's Refraction BSDF
         inputs = [i.GetBaseName() for i in node.GetInputs()]
         if sid == "ND_conductor_bsdf":  # its ior and extinction: constants or ND_artistic_ior
             inputs = [n for n in inputs if n not in ("ior", "extinction")]

@@ -32,7 +32,7 @@ one is warned and its consumer's input keeps its value.
 | ``ND_mix_bsdf``/``ND_mix_edf``, ``ND_add_bsdf``/``ND_add_edf`` | `mix_shader` (fac = mix, shader1 = bg), `add_shader` |
 | ``ND_layer_bsdf`` stack of Blender's Principled BSDF (its exporter's BSDF for a Principled in a Mix or Add Shader: coat over thin film over metal/specular/transmission/sheen/diffuse) | `principled` (Base Color from the transmission lobe's tint; Roughness from ``ND_roughness_anisotropy``; Specular IOR Level = the specular lobe's weight) |
 | ``ND_oren_nayar_diffuse_bsdf``, ``ND_burley_diffuse_bsdf`` | `diffuse` (color x weight) |
-| ``ND_dielectric_bsdf`` | `glass` (tint x weight; scatter_mode other than RT warned) |
+| ``ND_dielectric_bsdf`` | `glass` (tint x weight); scatter_mode `T`: `refraction` (Blender's Refraction BSDF); `R` warned |
 | ``ND_conductor_bsdf`` | `glossy` (normal-incidence reflectance x weight; constant ior only) |
 | ``ND_translucent_bsdf``, ``ND_uniform_edf`` | `translucent`, `emission` (none when black) |
 | ``ND_surface`` | its bsdf `add_shader` its edf; opacity as a `mix_shader` with `transparent` |
@@ -797,6 +797,12 @@ class Translator:
 
     def _nd_dielectric_bsdf(self, s, out, t):
         mode = str(self.authored(s, "scatter_mode") or "R")
+        if mode == "T":
+            # Transmission alone: Blender writes its Refraction BSDF so.
+            color = self.g.scale(self.input(s, "tint", [1.0] * 3), self.input(s, "weight", 1.0))
+            return self.g.out("refraction", "bsdf", {
+                "color": color, "roughness": self._roughness(s),
+                "ior": self.input(s, "ior", 1.5), "normal": self._normal_in(s, "normal")})
         if mode != "RT":
             self.diag.warn(s.GetPrim(), f"scatter_mode `{mode}` is read as RT (reflection and "
                                         f"transmission)")

@@ -28,7 +28,7 @@ TYPES = {
     "ShaderNodeBsdfGlossy": "glossy",
     "ShaderNodeBsdfAnisotropic": "glossy",
     "ShaderNodeBsdfGlass": "glass",
-    "ShaderNodeBsdfRefraction": "glass",
+    "ShaderNodeBsdfRefraction": "refraction",
     "ShaderNodeBsdfTransparent": "transparent",
     "ShaderNodeBsdfTranslucent": "translucent",
     "ShaderNodeEmission": "emission",
@@ -244,9 +244,6 @@ class GraphBuilder:
         for b in BOOLS:
             if hasattr(node, b) and isinstance(getattr(node, b), bool):
                 p[b] = bool(getattr(node, b))
-        if node.bl_idname == "ShaderNodeBsdfRefraction":
-            self.warn(f"material '{self.mat}': node '{node.name}' (ShaderNodeBsdfRefraction) "
-                      f"renders as a Glass BSDF (with its reflection)")
         if kind in ("principled", "glossy", "glass"):
             p["multiscatter"] = getattr(node, "distribution", "MULTI_GGX") == "MULTI_GGX"
             p.pop("distribution", None)

@@ -14,10 +14,12 @@ use glam::{Vec2, Vec3};
 /// |---|---|
 /// | `eta` | relative IOR, inside / outside (the normal points outside) |
 /// | `tint` | transmittance multiplier (1 = clear) |
+/// | `refraction_only` | Cycles' Refraction BSDF: no reflection, and refraction not scaled by 1 - R (none under total internal reflection) |
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SmoothDielectric {
     pub eta: f32,
     pub tint: Spectrum,
+    pub refraction_only: bool,
 }
 
 impl SmoothDielectric {
@@ -38,7 +40,7 @@ impl SmoothDielectric {
             return None;
         }
         let (r, cos_t, eta_it, eta_ti) = fresnel_dielectric(wo.z, self.eta);
-        let can_r = mask & LobeFlags::REFLECTION != 0;
+        let can_r = mask & LobeFlags::REFLECTION != 0 && !self.refraction_only;
         let can_t = mask & LobeFlags::TRANSMISSION != 0;
         let (reflect, prob) = match (can_r, can_t) {
             (true, true) => {
@@ -67,22 +69,28 @@ impl SmoothDielectric {
         if r >= 1.0 {
             return None;
         }
+        let t = if self.refraction_only { 1.0 } else { 1.0 - r };
         let wi = Vec3::new(-eta_ti * wo.x, -eta_ti * wo.y, cos_t).normalize_or_zero();
         if wi.z * wo.z >= 0.0 {
             return None;
         }
         Some(BsdfSample {
             wi,
-            weight: self.tint * ((1.0 - r) / prob),
+            weight: self.tint * (t / prob),
             pdf: prob,
             flags: LobeFlags::TRANSMISSION | LobeFlags::SPECULAR,
             eta: eta_it,
         })
     }
 
-    /// Exact: R for reflection, (1 - R) x tint for transmission.
+    /// Exact: R for reflection, (1 - R) x tint for transmission (refraction only: none, and
+    /// tint unless the light is totally reflected).
     pub fn albedo(&self, wo: Vec3, mask: u8) -> Spectrum {
         let r = fresnel_dielectric(wo.z, self.eta).0;
+        if self.refraction_only {
+            let through = mask & LobeFlags::TRANSMISSION != 0 && r < 1.0;
+            return if through { self.tint } else { Vec3::ZERO };
+        }
         let mut a = Vec3::ZERO;
         if mask & LobeFlags::REFLECTION != 0 {
             a += Vec3::splat(r);

@@ -164,6 +164,7 @@ mod tests {
                 eta: ior,
                 tint: Vec3::ONE,
                 multiscatter: false,
+                refraction_only: false,
             };
             let z = if outside { mu } else { -mu };
             let wo = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, z);

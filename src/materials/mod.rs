@@ -90,6 +90,22 @@ pub fn coat_lobe(
 /// (0 = smooth) and transmission `tint`; with `multiscatter`, a rough one compensated for
 /// multiple scattering between microfacets as Cycles' Multiscatter GGX glass is.
 pub fn dielectric_lobe(eta: f32, roughness: f32, tint: Spectrum, multiscatter: bool) -> Lobe {
+    interface_lobe(eta, roughness, tint, multiscatter, false)
+}
+
+/// Cycles' Refraction BSDF: the refraction of [`dielectric_lobe`] alone, not scaled by the
+/// Fresnel transmittance (GGX without multiple-scattering compensation, as Cycles has it).
+pub fn refraction_lobe(eta: f32, roughness: f32, tint: Spectrum) -> Lobe {
+    interface_lobe(eta, roughness, tint, false, true)
+}
+
+fn interface_lobe(
+    eta: f32,
+    roughness: f32,
+    tint: Spectrum,
+    multiscatter: bool,
+    refraction_only: bool,
+) -> Lobe {
     let eta = if eta.is_finite() && eta > 0.0 {
         eta
     } else {
@@ -101,9 +117,14 @@ pub fn dielectric_lobe(eta: f32, roughness: f32, tint: Spectrum, multiscatter: b
             eta,
             tint,
             multiscatter,
+            refraction_only,
         })
     } else {
-        Lobe::SmoothDielectric(SmoothDielectric { eta, tint })
+        Lobe::SmoothDielectric(SmoothDielectric {
+            eta,
+            tint,
+            refraction_only,
+        })
     }
 }
 

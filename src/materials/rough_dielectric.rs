@@ -31,6 +31,9 @@ pub struct RoughDielectric {
     pub eta: f32,
     pub tint: Spectrum,
     pub multiscatter: bool,
+    /// Cycles' Refraction BSDF: no reflection, refraction not scaled by 1 - F (none where a
+    /// facet reflects totally).
+    pub refraction_only: bool,
 }
 
 /// Half vector of (wo, wi) oriented to the upper hemisphere, the relative IOR eta of wi's
@@ -83,13 +86,23 @@ impl RoughDielectric {
         Some(Geometry { m, eta, reflect })
     }
 
+    /// The shares of reflection and refraction at a facet of Fresnel reflectance `f`.
+    fn split(&self, f: f32) -> (f32, f32) {
+        if self.refraction_only {
+            (0.0, if f < 1.0 { 1.0 } else { 0.0 })
+        } else {
+            (f, 1.0 - f)
+        }
+    }
+
     /// Probabilities of choosing reflection and refraction for Fresnel reflectance `f`.
-    fn choice(f: f32, mask: u8) -> (f32, f32) {
+    fn choice(&self, f: f32, mask: u8) -> (f32, f32) {
+        let (r, t) = self.split(f);
         match (
-            mask & LobeFlags::REFLECTION != 0,
+            mask & LobeFlags::REFLECTION != 0 && r > 0.0,
             mask & LobeFlags::TRANSMISSION != 0,
         ) {
-            (true, true) => (f, 1.0 - f),
+            (true, true) => (r, t),
             (true, false) => (1.0, 0.0),
             (false, true) => (0.0, 1.0),
             (false, false) => (0.0, 0.0),
@@ -110,7 +123,7 @@ impl RoughDielectric {
         }
         let d = self.ggx.d(g.m);
         let g2 = self.ggx.g2(wo, wi, g.m);
-        let f = fresnel_dielectric(wo.dot(g.m), self.eta).0;
+        let (f, t) = self.split(fresnel_dielectric(wo.dot(g.m), self.eta).0);
         let cos = (wo.z * wi.z).abs();
         let ms = self.ms_factor(wo);
         if g.reflect {
@@ -123,7 +136,7 @@ impl RoughDielectric {
                 return Vec3::ZERO;
             }
             let eta2 = g.eta * g.eta;
-            self.tint * (ms * (1.0 - f) * d * g2 * eta2 * (om * im).abs() / (cos * denom * denom))
+            self.tint * (ms * t * d * g2 * eta2 * (om * im).abs() / (cos * denom * denom))
         }
     }
 
@@ -133,7 +146,7 @@ impl RoughDielectric {
         };
         let om = wo.dot(g.m);
         let f = fresnel_dielectric(om, self.eta).0;
-        let (pr, pt) = Self::choice(f, mask);
+        let (pr, pt) = self.choice(f, mask);
         let dv = self.ggx.pdf_visible(wo, g.m);
         if g.reflect {
             // Walter eq. 14: |dh/dwi| = 1 / (4 |wi.h|).
@@ -155,7 +168,8 @@ impl RoughDielectric {
         }
         let m = self.ggx.sample_visible(wo, u);
         let (f, cos_t, eta_it, eta_ti) = fresnel_dielectric(wo.dot(m), self.eta);
-        let (pr, pt) = Self::choice(f, mask);
+        let (pr, pt) = self.choice(f, mask);
+        let (fr, ft) = self.split(f);
         if pr + pt <= 0.0 {
             return None;
         }
@@ -164,12 +178,12 @@ impl RoughDielectric {
             let wi = reflect_dir(wo, m)?;
             (
                 wi,
-                Vec3::splat(f / pr),
+                Vec3::splat(fr / pr),
                 1.0,
                 LobeFlags::REFLECTION | LobeFlags::GLOSSY,
             )
         } else {
-            if f >= 1.0 || pt <= 0.0 {
+            if ft <= 0.0 || pt <= 0.0 {
                 return None;
             }
             let wi = refract(wo, m, cos_t, eta_ti).normalize_or_zero();
@@ -178,7 +192,7 @@ impl RoughDielectric {
             }
             (
                 wi,
-                self.tint * ((1.0 - f) / pt),
+                self.tint * (ft / pt),
                 eta_it,
                 LobeFlags::TRANSMISSION | LobeFlags::GLOSSY,
             )
@@ -205,6 +219,10 @@ impl RoughDielectric {
     /// internal reflection, and a component chosen by these estimates must never have zero
     /// probability where it scatters. (With the compensation the lobe's energy is all of it.)
     pub fn albedo(&self, wo: Vec3, mask: u8) -> Spectrum {
+        if self.refraction_only {
+            let through = mask & LobeFlags::TRANSMISSION != 0;
+            return if through { self.tint } else { Vec3::ZERO };
+        }
         let r = fresnel_dielectric(wo.z, self.eta).0.clamp(0.02, 0.98);
         let mut a = Vec3::ZERO;
         if mask & LobeFlags::REFLECTION != 0 {

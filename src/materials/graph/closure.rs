@@ -13,7 +13,7 @@ use crate::materials::microfacet::NEAR_SPECULAR_ROUGHNESS;
 use crate::materials::principled::Principled;
 use crate::materials::texture::{ColorParam, FloatParam};
 use crate::materials::translucent::Translucent;
-use crate::materials::{dielectric_lobe, reflection_lobe};
+use crate::materials::{dielectric_lobe, reflection_lobe, refraction_lobe};
 use crate::math::{Frame, Spectrum};
 use glam::{Vec2, Vec3};
 
@@ -28,6 +28,8 @@ pub enum LeafKind {
     Glossy { multiscatter: bool },
     /// Glass BSDF: color, roughness, ior, normal.
     Glass { multiscatter: bool },
+    /// Refraction BSDF: color, roughness, ior, normal (refraction alone, no Fresnel factor).
+    Refraction,
     /// Transparent BSDF: color. Light passes straight through, weighted by the colour.
     Transparent,
     /// Emission: color, strength.
@@ -90,6 +92,7 @@ impl LeafKind {
         "glass",
         "transparent",
         "translucent",
+        "refraction",
         "emission",
         "holdout",
         "sheen",
@@ -142,6 +145,18 @@ impl LeafKind {
                         ("color", Color, V([1.0; 3])),
                         ("roughness", Float, F(0.0)),
                         ("ior", Float, F(1.5)),
+                        normal,
+                    ],
+                    &out,
+                ),
+            ),
+            "refraction" => (
+                LeafKind::Refraction,
+                NodeSpec::new(
+                    &[
+                        ("color", Color, V([1.0; 3])),
+                        ("roughness", Float, F(0.0)),
+                        ("ior", Float, F(1.45)),
                         normal,
                     ],
                     &out,
@@ -233,7 +248,7 @@ impl Leaf {
         match self.kind {
             LeafKind::Principled { .. } => Some(self.ins[pin::NORMAL]),
             LeafKind::Diffuse | LeafKind::Glossy { .. } | LeafKind::Sheen => Some(self.ins[2]),
-            LeafKind::Glass { .. } => Some(self.ins[3]),
+            LeafKind::Glass { .. } | LeafKind::Refraction => Some(self.ins[3]),
             LeafKind::Translucent => Some(self.ins[1]),
             _ => None,
         }
@@ -357,7 +372,7 @@ pub fn leaf_has_specular(leaf: &Leaf, konst: &[bool], init: &[Vec3]) -> bool {
                 || (!zero(pin::COAT) && !rough_above(pin::COAT_ROUGHNESS))
         }
         LeafKind::Glossy { .. } => !rough_above(1),
-        LeafKind::Glass { .. } => true,
+        LeafKind::Glass { .. } | LeafKind::Refraction => true,
         _ => false,
     }
 }
@@ -474,6 +489,13 @@ pub fn add_leaf(
                     w,
                     dielectric_lobe(eta(ior), unit(x(1)), color(v(0)), multiscatter),
                 );
+            }
+        }
+        LeafKind::Refraction => {
+            if want_bsdf {
+                let ior = sane(x(2), 1.0, 10.0, 1.45);
+                out.bsdf
+                    .add(w, refraction_lobe(eta(ior), unit(x(1)), color(v(0))));
             }
         }
         LeafKind::Transparent => out.transparency += w * color(v(0)),

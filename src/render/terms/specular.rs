@@ -119,6 +119,7 @@ mod tests {
         let glass = Lobe::SmoothDielectric(SmoothDielectric {
             eta: 1.5,
             tint: Spectrum::ONE,
+            refraction_only: false,
         });
         for follow in [Follow::Specular, Follow::NearSpecular] {
             assert_eq!(taken(&bsdf(&[(1.0, lambert())]), follow).0, 0.0);
@@ -146,6 +147,7 @@ mod tests {
             eta: 1.5,
             tint: Spectrum::ONE,
             multiscatter: true,
+            refraction_only: false,
         });
         let b = bsdf(&[(1.0, rough)]);
         assert!(b.passes_through());

@@ -295,6 +295,29 @@ def nodes_translucent():
     return sc
 
 
+@node_scene("nodes_refraction", "A Refraction BSDF (IOR 1.45, roughness 0.2, GGX) on the "
+            "sphere, next to the cube, under the ceiling light: light passes into and out of "
+            "it with no reflection, and it throws a soft caustic.")
+def nodes_refraction():
+    sc = reset()
+    room()
+    m = bpy.data.materials.new("RefractOnly")
+    m.use_nodes = True
+    nt = m.node_tree
+    out = nt.nodes["Material Output"]
+    for n in [n for n in nt.nodes if n.type != "OUTPUT_MATERIAL"]:
+        nt.nodes.remove(n)
+    rf = nt.nodes.new("ShaderNodeBsdfRefraction")
+    rf.distribution = "GGX"
+    rf.inputs["IOR"].default_value = 1.45
+    rf.inputs["Roughness"].default_value = 0.2
+    nt.links.new(rf.outputs["BSDF"], out.inputs["Surface"])
+    props(mat_sphere=m)
+    ceiling_area()
+    camera()
+    return sc
+
+
 @node_scene("nodes_emission_screen", "No lights: a screen (plane 1.0 x 0.6 on the back wall) "
             "whose Emission colour is a Gradient Texture (linear, generated) through a "
             "ColorRamp (blue to orange), strength 5.")
