@@ -40,6 +40,8 @@ TYPES = {
     "ShaderNodeNewGeometry": "geometry",
     "ShaderNodeUVMap": "uv_map",
     "ShaderNodeObjectInfo": "object_info",
+    "ShaderNodeAttribute": "attribute",
+    "ShaderNodeVertexColor": "attribute",
     "ShaderNodeLayerWeight": "layer_weight",
     "ShaderNodeFresnel": "fresnel",
     "ShaderNodeMapping": "mapping",
@@ -288,6 +290,18 @@ class GraphBuilder:
                       f"object ('{node.object.name}') render as this object's own")
         elif kind == "uv_map" and node.uv_map:
             p["uv_map"] = node.uv_map
+        elif kind == "attribute":
+            if node.bl_idname == "ShaderNodeVertexColor":
+                name = node.layer_name  # empty: the mesh's default colour attribute
+            else:
+                name = node.attribute_name
+                if node.attribute_type != "GEOMETRY":
+                    self.warn(f"material '{self.mat}': node '{node.name}': "
+                              f"{node.attribute_type.lower()} attributes are not supported; "
+                              f"reads zero")
+                    name = "\0unsupported"
+            p = {"name": name}
+            self.stats.setdefault("attributes", set()).add(name)
         return p
 
     def surface(self, socket):

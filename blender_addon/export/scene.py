@@ -125,7 +125,8 @@ def export_scene(depsgraph, camera: dict | None = None, window: Window | None = 
         if entry is None:
             name = obj.name if kind != "MESH" else f"{obj.name} ({obj.data.name})"
             shape = {} if medium is not None else None
-            m = export_mesh(obj, name, slots or [materials.get(None)], shape)
+            m = export_mesh(obj, name, slots or [materials.get(None)], shape,
+                            mat_exporter.stats.get("attributes", ()), warn)
             if m is not None and medium is not None:
                 m["interior_medium"] = medium
                 _check_boundary(obj, shape, inst.matrix_world, warn)

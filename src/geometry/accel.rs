@@ -9,7 +9,7 @@ use super::bvh_wide::WideBvh;
 use super::float::gamma;
 use super::huge_pages;
 use super::interaction::{transform_point_error, SurfaceInteraction};
-use super::mesh::{Instance, MeshGeom};
+use super::mesh::{AttributeValues, Instance, MeshGeom, MAX_ATTRIBUTES};
 use super::ray::Ray;
 use super::triangle::{
     face_normal, intersect_triangle, intersect_triangle_from_volume, is_degenerate, TriRay,
@@ -24,6 +24,7 @@ static EMPTY_MESH: MeshGeom = MeshGeom {
     normals: None,
     uvs: None,
     material_ids: Vec::new(),
+    attributes: Vec::new(),
 };
 
 /// Closest hit of a ray.
@@ -79,6 +80,8 @@ impl RayCtx {
 #[derive(Clone, Debug, Default)]
 pub struct Accel {
     meshes: Vec<MeshGeom>,
+    /// Whether some mesh carries named attributes.
+    any_attributes: bool,
     blas: Vec<Blas>,
     instances: Vec<Instance>,
     inst: Vec<InstData>,
@@ -238,8 +241,10 @@ impl Accel {
         }
         let cents: Vec<Vec3> = wb.iter().map(|b| b.center()).collect();
         let top = WideBvh::build_cancellable(&wb, &cents, cancel)?;
+        let any_attributes = meshes.iter().any(|m| !m.attributes.is_empty());
         Some(Accel {
             meshes,
+            any_attributes,
             blas,
             instances,
             inst,
@@ -476,7 +481,36 @@ impl Accel {
             instance: hit.instance,
             prim: hit.prim,
             t: hit.t,
+            bary: Vec2::new(b1, b2),
         }
+    }
+
+    /// The named attributes of the mesh at `si`, interpolated; none when it has none.
+    pub fn attributes(&self, si: &SurfaceInteraction) -> AttributeValues {
+        let mut out = AttributeValues::default();
+        let Some(m) = self
+            .instances
+            .get(si.instance as usize)
+            .and_then(|i| self.meshes.get(i.mesh as usize))
+        else {
+            return out;
+        };
+        let (b1, b2) = (si.bary.x, si.bary.y);
+        let b0 = 1.0 - b1 - b2;
+        for (key, vals) in m.attributes.iter().take(MAX_ATTRIBUTES) {
+            if let Some(v) = tri_attr(Some(vals.as_slice()), m.indices.get(si.prim as usize)) {
+                let k = out.len as usize;
+                out.keys[k] = *key;
+                out.values[k] = b0 * v[0] + b1 * v[1] + b2 * v[2];
+                out.len += 1;
+            }
+        }
+        out
+    }
+
+    /// Whether some mesh carries named attributes.
+    pub fn has_attributes(&self) -> bool {
+        self.any_attributes
     }
 
     /// World-space dp/dv at a hit (from the triangle's UVs; zero without UVs or when they

@@ -16,6 +16,7 @@ fn soup(n: usize, rng: &mut Rng, size: f32) -> MeshGeom {
     }
     MeshGeom {
         material_ids: (0..n as u32).collect(),
+        attributes: Vec::new(),
         positions,
         indices,
         normals: None,

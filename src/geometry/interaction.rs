@@ -20,6 +20,7 @@ pub const SHADOW_EPSILON: f32 = 0.0001;
 /// | `dpdu` | ∂p/∂u in world space (a tangent perpendicular to `ng` when the uv mapping is degenerate) |
 /// | `wo` | unit direction back along the incoming ray, `−d/|d|` |
 /// | `material`, `instance`, `prim`, `t` | material index of the triangle, and the hit record |
+/// | `bary` | the hit's barycentrics `(b1, b2)` in its triangle |
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfaceInteraction {
     pub p: Vec3,
@@ -33,6 +34,7 @@ pub struct SurfaceInteraction {
     pub instance: u32,
     pub prim: u32,
     pub t: f32,
+    pub bary: Vec2,
 }
 
 /// Offsets a point off a surface so that a ray leaving it in direction `w` cannot

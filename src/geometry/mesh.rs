@@ -1,7 +1,7 @@
 //! Triangle meshes in object space, and instances placing them in the world.
 
 use crate::math::{Bounds3, Transform};
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 
 /// Indexed triangle mesh in object space.
 ///
@@ -12,6 +12,7 @@ use glam::{Vec2, Vec3};
 /// | `normals` | optional per-vertex shading normals (same length as `positions`) |
 /// | `uvs` | optional per-vertex texture coordinates (same length as `positions`) |
 /// | `material_ids` | one material index per triangle; missing entries read as material 0 |
+/// | `attributes` | named per-vertex RGBA attributes, by [`attribute_key`] of their names |
 ///
 /// Out-of-range vertex indices are tolerated: such triangles read vertex 0 in their place
 /// and are usually degenerate, so they are never hit.
@@ -22,6 +23,36 @@ pub struct MeshGeom {
     pub normals: Option<Vec<Vec3>>,
     pub uvs: Option<Vec<Vec2>>,
     pub material_ids: Vec<u32>,
+    pub attributes: Vec<(u64, Vec<Vec4>)>,
+}
+
+/// Most named attributes one mesh carries.
+pub const MAX_ATTRIBUTES: usize = 4;
+
+/// The key of an attribute name (64-bit FNV-1a of its UTF-8 bytes): the Attribute node
+/// and the mesh meet on it.
+pub fn attribute_key(name: &str) -> u64 {
+    name.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// The named attributes at a surface point, interpolated (at most [`MAX_ATTRIBUTES`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AttributeValues {
+    pub len: u8,
+    pub keys: [u64; MAX_ATTRIBUTES],
+    pub values: [Vec4; MAX_ATTRIBUTES],
+}
+
+impl AttributeValues {
+    /// The value of the attribute with key `key`, if the point has it.
+    #[inline]
+    pub fn get(&self, key: u64) -> Option<Vec4> {
+        (0..self.len as usize)
+            .find(|&i| self.keys[i] == key)
+            .map(|i| self.values[i])
+    }
 }
 
 impl MeshGeom {

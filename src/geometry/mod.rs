@@ -24,6 +24,6 @@ pub use float::{gamma, next_float_down, next_float_up, MACHINE_EPSILON};
 pub use interaction::{
     offset_ray_origin, transform_point_error, SurfaceInteraction, SHADOW_EPSILON,
 };
-pub use mesh::{Instance, MeshGeom};
+pub use mesh::{attribute_key, AttributeValues, Instance, MeshGeom, MAX_ATTRIBUTES};
 pub use ray::Ray;
 pub use triangle::{intersect_triangle, TriHit, TriRay};

@@ -67,6 +67,7 @@ pub fn sphere_displaced(
         normals: None,
         uvs: None,
         material_ids,
+        attributes: Vec::new(),
     }
 }
 
@@ -101,6 +102,7 @@ pub fn cuboid(min: Vec3, max: Vec3) -> MeshGeom {
         normals: None,
         uvs: None,
         material_ids: vec![0; 12],
+        attributes: Vec::new(),
     }
 }
 
@@ -131,5 +133,6 @@ pub fn terrain(x0: f32, y0: f32, size: f32, n: u32, height: impl Fn(f32, f32) ->
         normals: None,
         uvs: None,
         material_ids,
+        attributes: Vec::new(),
     }
 }

@@ -476,6 +476,17 @@ fn mesh_geom(m: &MeshDesc) -> MeshGeom {
             Some(mi) => mi.clone(),
             None => vec![m.material; m.indices.len()],
         },
+        attributes: m
+            .attributes
+            .iter()
+            .flatten()
+            .map(|(name, vals)| {
+                (
+                    crate::geometry::attribute_key(name),
+                    vals.iter().map(|v| glam::Vec4::from(*v)).collect(),
+                )
+            })
+            .collect(),
     }
 }
 

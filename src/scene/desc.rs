@@ -253,6 +253,7 @@ pub enum SensorFit {
 /// | `indices` | triangles, three vertex indices each |
 /// | `normals` | optional per-vertex shading normals |
 /// | `uvs` | optional per-vertex texture coordinates |
+/// | `attributes` | optional named per-vertex attributes (colour attributes, Blender's named attributes, USD primvars) as linear RGBA, read by the Attribute node |
 /// | `material` | material of every triangle (index into `materials`) |
 /// | `material_indices` | optional per-triangle material, overrides `material` |
 /// | `transform` | object-to-world |
@@ -268,6 +269,8 @@ pub struct MeshDesc {
     pub normals: Option<Vec<[f32; 3]>>,
     #[serde(default)]
     pub uvs: Option<Vec<[f32; 2]>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub attributes: Option<std::collections::BTreeMap<String, Vec<[f32; 4]>>>,
     #[serde(default)]
     pub material: u32,
     #[serde(default)]
@@ -292,6 +295,7 @@ impl Default for MeshDesc {
             indices: Vec::new(),
             normals: None,
             uvs: None,
+            attributes: None,
             material: 0,
             material_indices: None,
             transform: IDENTITY,

@@ -39,6 +39,11 @@ impl Scene {
                 .get(si.instance as usize)
                 .copied()
                 .unwrap_or_default(),
+            attributes: if self.accel.has_attributes() {
+                self.accel.attributes(si)
+            } else {
+                Default::default()
+            },
         }
     }
 

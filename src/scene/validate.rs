@@ -513,6 +513,37 @@ fn validate_mesh(i: usize, m: &MeshDesc, scene: &SceneDesc) -> Result<()> {
             }
         }
     }
+    if let Some(attrs) = &m.attributes {
+        if attrs.len() > crate::geometry::MAX_ATTRIBUTES {
+            return Err(c.err(
+                "attributes",
+                format!(
+                    "has {} attributes; at most {} per mesh are read",
+                    attrs.len(),
+                    crate::geometry::MAX_ATTRIBUTES
+                ),
+            ));
+        }
+        for (name, vals) in attrs {
+            if vals.len() != m.positions.len() {
+                return Err(c.err(
+                    &format!("attributes/{name}"),
+                    format!(
+                        "has {} entries for {} vertices",
+                        vals.len(),
+                        m.positions.len()
+                    ),
+                ));
+            }
+            for (j, v) in vals.iter().enumerate() {
+                for (k, x) in v.iter().enumerate() {
+                    if !x.is_finite() {
+                        c.finite(&format!("attributes/{name}/{j}/{k}"), *x)?;
+                    }
+                }
+            }
+        }
+    }
     let nm = scene.materials.len();
     let check_mat = |field: &str, idx: u32| -> Result<()> {
         if (idx as usize) < nm {

@@ -6,6 +6,7 @@ test_corpus.py); these tests check what the export writes."""
 from __future__ import annotations
 
 import bpy
+import numpy as np
 import photonmap
 from corpus import node_scenes
 from corpus.scenes import principled
@@ -52,12 +53,12 @@ def test_an_unsupported_node_is_warned_and_the_rest_of_the_graph_kept(addon):
     node_scenes.nodes_checker()
     m = bpy.data.materials["CheckerFloor"]
     nt = m.node_tree
-    attr = nt.nodes.new("ShaderNodeAttribute")
-    attr.name = "Paint"
-    nt.links.new(attr.outputs["Color"], nt.nodes["Principled BSDF"].inputs["Roughness"])
+    lp = nt.nodes.new("ShaderNodeLightPath")
+    lp.name = "Trick"
+    nt.links.new(lp.outputs["Is Camera Ray"], nt.nodes["Principled BSDF"].inputs["Roughness"])
     ex = _export(addon)
     g = _graph(ex, "CheckerFloor")
-    assert any("'CheckerFloor'" in w and "'Paint'" in w and "ShaderNodeAttribute" in w
+    assert any("'CheckerFloor'" in w and "'Trick'" in w and "ShaderNodeLightPath" in w
                for w in ex.warnings), ex.warnings
     assert ex.counts["unsupported_nodes"] == 1
     (p,) = [n for n in g["nodes"] if n["type"] == "principled"]
@@ -115,3 +116,24 @@ def test_plain_principled_with_a_constant_alpha_below_one_is_a_graph(addon):
     assert g["type"] == "graph"
     (p,) = [n for n in g["nodes"] if n["type"] == "principled"]
     assert abs(p["inputs"]["alpha"] - 0.4) < 1e-6
+
+
+def test_colour_attributes_reach_the_meshes_that_have_them(addon):
+    node_scenes.nodes_vertex_colors()
+    ex = _export(addon)
+    assert not ex.warnings, ex.warnings
+    g = _graph(ex, "PaintedCube")
+    (a,) = [n for n in g["nodes"] if n["type"] == "attribute"]
+    assert a["params"]["name"] == "Paint"
+    (v,) = [n for n in _graph(ex, "Painted")["nodes"] if n["type"] == "attribute"]
+    assert v["params"]["name"] == ""  # the Color Attribute node: the default colour attribute
+    meshes = {m["name"].split(" ")[0]: m for m in ex.ir["meshes"]}
+    # Only the meshes with a read attribute carry it; the walls carry none.
+    assert set(meshes["Cube"]["attributes"]) == {"Paint"}
+    assert set(meshes["Sphere"]["attributes"]) == {""}
+    assert "attributes" not in meshes["Floor"]
+    paint = meshes["Cube"]["attributes"]["Paint"]
+    assert paint.shape == (len(meshes["Cube"]["positions"]), 4)
+    # Byte colours arrive linear (stored as sRGB bytes): the face painted 0.9 reads 0.896.
+    assert np.isclose(paint[:, 0].max(), 0.8963, atol=2e-3), paint[:, 0].max()
+    photonmap.Scene.from_dict(ex.ir)

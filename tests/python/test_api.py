@@ -210,6 +210,32 @@ def test_invalid_dict_is_a_scene_error_naming_the_field():
     s["meshes"][0]["indices"] = np.array([[0, 1, -2]])
     with pytest.raises(photonmap.SceneError, match=r"/meshes/0/indices/0/2"):
         photonmap.Scene.from_dict(s)
+    s = numpy_scene()
+    s["meshes"][0]["attributes"] = {"Paint": np.ones((3, 4), np.float32)}
+    with pytest.raises(photonmap.SceneError, match=r"/meshes/0/attributes/Paint.*3 entries for 4"):
+        photonmap.Scene.from_dict(s)
+
+
+def test_a_mesh_attribute_colours_the_floor_through_an_attribute_node():
+    """Per-vertex attributes interpolate across the triangles: a floor emitting its 'Paint'
+    attribute shows the blend of its corners' colours."""
+    s = numpy_scene(n=16)
+    s["lights"] = []
+    s["meshes"][0]["attributes"] = {"Paint": np.array(
+        [[1, 0, 0, 1], [1, 0, 0, 1], [0, 0, 1, 1], [0, 0, 1, 1]], np.float32)}
+    s["materials"] = [{"type": "graph", "name": "painted", "nodes": [
+        {"type": "attribute", "params": {"name": "Paint"}},
+        {"type": "emission", "inputs": {"color": {"node": 0, "output": "color"},
+                                        "strength": 1.0}}], "surface": {"node": 1}}]
+    out = photonmap.render(photonmap.Scene.from_dict(s), spp=4, seed=1)
+    img = out["combined"][..., :3]
+    covered = img.sum(-1) > 0.5
+    assert covered.mean() > 0.2
+    # Red and blue always sum to one where the floor is seen; green is zero.
+    rb = img[..., 0] + img[..., 2]
+    assert np.allclose(rb[covered], 1.0, atol=1e-3) and np.all(img[..., 1][covered] < 1e-4)
+    # Both ends of the ramp are in view.
+    assert img[..., 0][covered].max() > 0.7 and img[..., 2][covered].max() > 0.7
 
 
 def test_panic_becomes_an_exception():

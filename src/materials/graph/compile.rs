@@ -166,6 +166,24 @@ impl<'a> Builder<'a> {
                 value(Op::UvMap { variant: 0 }, true, true),
                 spec(&[], &[("uv", Vector)]),
             ),
+            "attribute" => (
+                value(
+                    Op::Attribute {
+                        key: crate::geometry::attribute_key(p.str_or("name", "")?),
+                    },
+                    true,
+                    false,
+                ),
+                spec(
+                    &[],
+                    &[
+                        ("color", Color),
+                        ("vector", Vector),
+                        ("fac", Float),
+                        ("alpha", Float),
+                    ],
+                ),
+            ),
             "object_info" => (
                 value(Op::ObjectInfo, true, false),
                 spec(
@@ -635,6 +653,7 @@ pub(crate) const BUILTIN: &[&str] = &[
     "tex_coord",
     "geometry",
     "uv_map",
+    "attribute",
     "object_info",
     "layer_weight",
     "fresnel",

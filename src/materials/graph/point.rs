@@ -1,5 +1,6 @@
 //! What the nodes read at a shading point.
 
+use crate::geometry::AttributeValues;
 use glam::{Mat4, Vec2, Vec3};
 
 /// The object a shading point lies on, as the coordinate nodes see it.
@@ -82,6 +83,7 @@ impl ObjectCoords {
 /// | `dpdu`, `dpdv` | world-space derivatives of `p` along u and v (zero when unknown) |
 /// | `wo` | unit direction towards the ray's origin (Cycles' I) |
 /// | `object` | the object's coordinate systems |
+/// | `attributes` | the mesh's named attributes at the point |
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShadingPoint {
     pub p: Vec3,
@@ -93,6 +95,7 @@ pub struct ShadingPoint {
     pub wo: Vec3,
     pub backfacing: bool,
     pub object: ObjectCoords,
+    pub attributes: AttributeValues,
 }
 
 impl ShadingPoint {
@@ -108,6 +111,7 @@ impl ShadingPoint {
             wo: n,
             backfacing: false,
             object: ObjectCoords::default(),
+            attributes: AttributeValues::default(),
         }
     }
 

@@ -30,6 +30,10 @@ pub enum Op {
     UvMap { variant: u8 },
     /// Outputs: location, random, object_index.
     ObjectInfo,
+    /// A named mesh attribute (by [`crate::geometry::attribute_key`]). Outputs: color,
+    /// vector, fac (the mean of the colour, as Cycles reads a colour as a float here), alpha;
+    /// zero where the mesh has no such attribute, as in Cycles.
+    Attribute { key: u64 },
     /// Inputs: blend, normal. Outputs: fresnel, facing.
     LayerWeight,
     /// Inputs: ior, normal. Output: fac.
@@ -131,6 +135,13 @@ impl Instr {
                 out[6] = f(if sp.backfacing { 1.0 } else { 0.0 });
             }
             Op::UvMap { variant } => out[0] = ctx.moved(*variant).1.extend(0.0),
+            Op::Attribute { key } => {
+                let v = sp.attributes.get(*key).unwrap_or(glam::Vec4::ZERO);
+                out[0] = v.truncate();
+                out[1] = v.truncate();
+                out[2] = f((v.x + v.y + v.z) / 3.0);
+                out[3] = f(v.w);
+            }
             Op::ObjectInfo => {
                 out[0] = sp.object.location;
                 out[1] = f(sp.object.random);

@@ -424,3 +424,33 @@ fn bump_shadowing_dims_diffuse_light_as_cycles() {
     assert!(under.dot(n) > 0.0);
     assert_eq!(bsdf.eval(sp.wo, under), Vec3::ZERO);
 }
+
+#[test]
+fn the_attribute_node_reads_the_mesh_attribute_of_its_name() {
+    let g = graph(serde_json::json!({
+        "name": "painted",
+        "nodes": [
+            {"type": "attribute", "params": {"name": "Paint"}},
+            {"type": "emission", "inputs": {"color": {"node": 0, "output": "color"},
+                                            "strength": {"node": 0, "output": "alpha"}}},
+            {"type": "emission", "inputs": {"color": [1.0, 1.0, 1.0],
+                                            "strength": {"node": 0, "output": "fac"}}},
+            {"type": "add_shader", "inputs": {"shader1": {"node": 1}, "shader2": {"node": 2}}}
+        ],
+        "surface": {"node": 3}
+    }));
+    let sg = ShaderGraph::new(&g, "/materials/0", 0).unwrap();
+    let mut sp = point();
+    // Without the attribute: zero, as in Cycles.
+    assert_eq!(sg.shade(&sp, &[], Want::Light).emission, Vec3::ZERO);
+    let a = &mut sp.attributes;
+    a.len = 2;
+    a.keys[0] = crate::geometry::attribute_key("Other");
+    a.values[0] = glam::Vec4::splat(9.0);
+    a.keys[1] = crate::geometry::attribute_key("Paint");
+    a.values[1] = glam::Vec4::new(0.2, 0.4, 0.9, 0.5);
+    let e = sg.shade(&sp, &[], Want::Light).emission;
+    // colour x alpha + white x mean(colour).
+    let want = Vec3::new(0.2, 0.4, 0.9) * 0.5 + Vec3::splat(0.5);
+    assert!((e - want).abs().max_element() < 1e-6, "{e} vs {want}");
+}

@@ -59,6 +59,12 @@ USD: dict[str, str] = {
         prim="Tiles/bnode__Principled_BSDF",
         what="the floor is plain light grey where Cycles has dark mortar lines: block (10,14) "
              "+177.8% (+111.6 sigma), pooled +5.2%"),
+    "nodes_vertex_colors": FLAT.format(
+        nodes="Color Attribute and Attribute nodes", socket="the Base Color",
+        line="color3f inputs:base_color = (0.8, 0.8, 0.8)",
+        prim="Painted/bnode__Principled_BSDF and PaintedCube/bnode__Principled_BSDF",
+        what="the sphere and the cube are plain light grey where Cycles paints them: block "
+             "(5,9) +515.5% (+201.9 sigma), pooled +16.1%"),
     "nodes_emission_screen": FLAT.format(
         nodes="Gradient Texture and ColorRamp", socket="the Emission's Color",
         line="color3f inputs:color = (5, 5, 5)", prim="Screen/NodeGraphs/bnode__Emission_EDF",
