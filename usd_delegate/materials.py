@@ -32,9 +32,8 @@ and added BSDFs, the layered BSDFs Blender writes for a Principled BSDF in a Mix
 a graph subsurface scattering is read as its weight only (warned).
 
 Warned: useSpecularWorkflow = 1 (approximated, specularColor ignored), clearcoat,
-displacement, occlusion, fuzz/sheen and thin-film; UsdPrimvarReader of anything but a float2
-(no vertex colours: displayColor readers give their fallback); a primvar other than ``st``
-(read as the mesh's UV set); wrapT differing from wrapS; missing texture files (the
+displacement, occlusion, fuzz/sheen and thin-film; int and string UsdPrimvarReaders (their
+fallback); a UV primvar other than ``st`` (read as the mesh's UV set); wrapT differing from wrapS; missing texture files (the
 UsdUVTexture's fallback, else magenta); every node that cannot be translated (named by prim
 path and ``info:id``; its consumer keeps its input's value). UsdPreviewSurface has no
 subsurface.
@@ -139,6 +138,8 @@ class MaterialTable:
         self.time = time
         self.materials: list[dict] = []
         self._index: dict = {}
+        #: Names of the primvars some material reads per vertex (the meshes carry them).
+        self.attribute_names: set[str] = set()
 
     def index_of(self, prim) -> int:
         """IR material index of the material bound to ``prim`` (or its displayColor)."""
@@ -155,9 +156,22 @@ class MaterialTable:
         pv = UsdGeom.PrimvarsAPI(prim).GetPrimvar("displayColor")
         if pv and pv.HasAuthoredValue():
             v = pv.Get(self.time)
+            varying = v is not None and pv.GetInterpolation() != "constant" and (
+                len(v) > 1 or (pv.IsIndexed() and len(pv.GetIndices(self.time)) > 1))
+            if varying:
+                # Colour per face or vertex: a diffuse surface reading it per vertex.
+                key = ("displayColor", "varying")
+                if key not in self._index:
+                    self.attribute_names.add("displayColor")
+                    self.materials.append({
+                        "type": "graph", "name": "displayColor (per vertex)",
+                        "nodes": [{"type": "attribute", "params": {"name": "displayColor"}},
+                                  {"type": "diffuse",
+                                   "inputs": {"color": {"node": 0, "output": "color"}}}],
+                        "surface": {"node": 1}})
+                    self._index[key] = len(self.materials) - 1
+                return self._index[key]
             if v is not None and len(v):
-                if len(v) > 1:
-                    self.diag.warn(prim, "non-constant displayColor: the first value is used")
                 color = tuple(float(c) for c in v[0])
         key = ("displayColor", color)
         if key not in self._index:

@@ -159,10 +159,16 @@ def _expand(values, indices, interp, n_points, n_faces, n_corners, what, prim, d
     return rows
 
 
-def read_mesh(prim, time, diag, material_of):
+#: Most primvars one IR mesh carries per vertex (the core's MAX_ATTRIBUTES).
+MAX_ATTRIBUTES = 4
+
+
+def read_mesh(prim, time, diag, material_of, attribute_names=()):
     """The IR mesh of a UsdGeom.Mesh, in the prim's local space, or None if it has no faces.
 
-    ``material_of(prim)`` gives the IR material index of a prim's bound material.
+    ``material_of(prim)`` gives the IR material index of a prim's bound material;
+    ``attribute_names`` (filled as materials are read) the primvars some material reads per
+    vertex: those the mesh has become its ``attributes`` (linear RGBA per vertex).
     """
     mesh = UsdGeom.Mesh(prim)
     pts = mesh.GetPointsAttr().Get(time)
@@ -200,6 +206,8 @@ def read_mesh(prim, time, diag, material_of):
     corner_ids = corners.reshape(-1)
     face_ids = np.repeat(tri_face, 3)
     point_ids = fvi[corner_ids]
+    # The materials first: reading them names the primvars they read per vertex.
+    material, material_ids = subset_materials(prim, n_faces, tri_face, diag, material_of)
 
     # Normals: primvars:normals wins over normals.
     nrm_rows = nrm_data = None
@@ -230,12 +238,41 @@ def read_mesh(prim, time, diag, material_of):
         if f is not None:
             uv_data, uv_rows = vals.reshape(-1, 2), f(corner_ids, face_ids, point_ids)
 
-    # One vertex per distinct (point, normal row, uv row) used by a corner.
+    # Primvars read per vertex, as RGBA rows.
+    attrs = []  # (name, data rows, row per corner)
+    for name in sorted(attribute_names):
+        pv = _primvar(mesh, name, time, diag, prim) if name else None
+        if pv is None:
+            continue
+        vals, ind, interp = pv
+        width = vals.shape[1] if vals.ndim == 2 else 1
+        if width > 4:
+            diag.warn(prim, f"primvars:{name}: {width} components; not read")
+            continue
+        data = np.zeros((len(vals), 4))
+        flat = vals.reshape(len(vals), width)
+        data[:, :width] = flat
+        if width == 1:
+            data[:, 1:3] = flat
+        if width < 4:
+            data[:, 3] = 1.0
+        f = _expand(data, ind, interp, len(points), n_faces, n_corners, f"primvars:{name}", prim, diag)
+        if f is None:
+            continue
+        if len(attrs) == MAX_ATTRIBUTES:
+            diag.warn(prim, f"more than {MAX_ATTRIBUTES} primvars are read per vertex; "
+                            f"primvars:{name} reads zero")
+            continue
+        attrs.append((name, data, f(corner_ids, face_ids, point_ids)))
+
+    # One vertex per distinct (point, normal row, uv row, primvar rows) used by a corner.
     keys = [point_ids]
     if nrm_rows is not None:
         keys.append(nrm_rows)
     if uv_rows is not None:
         keys.append(uv_rows)
+    keys += [rows for _, _, rows in attrs]
+    attributes = {}
     if len(keys) == 1:
         positions = points
         indices = point_ids.reshape(-1, 3)
@@ -254,6 +291,10 @@ def read_mesh(prim, time, diag, material_of):
             col += 1
         if uv_rows is not None:
             uvs = uv_data[uniq[:, col]]
+            col += 1
+        for name, data, _ in attrs:
+            attributes[name] = data[uniq[:, col]].astype(np.float32)
+            col += 1
 
     scheme = mesh.GetSubdivisionSchemeAttr().Get(time)
     if scheme not in (None, UsdGeom.Tokens.none):
@@ -270,7 +311,6 @@ def read_mesh(prim, time, diag, material_of):
             ln = np.linalg.norm(normals, axis=1, keepdims=True)
         normals = normals / np.maximum(ln, 1e-20)
 
-    material, material_ids = subset_materials(prim, n_faces, tri_face, diag, material_of)
     if not mesh.GetDoubleSidedAttr().Get(time):
         pass  # surfaces are shaded on both sides, as Cycles does; recorded in the stats
 
@@ -282,6 +322,7 @@ def read_mesh(prim, time, diag, material_of):
         "uvs": None if uvs is None else uvs.astype(np.float32),
         "material": material,
         "material_indices": material_ids,
+        **({"attributes": attributes} if attributes else {}),
     }
 
 

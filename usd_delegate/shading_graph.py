@@ -11,10 +11,11 @@ one is warned and its consumer's input keeps its value.
 |---|---|
 | ``UsdUVTexture`` (file, wrapS, scale, bias, sourceColorSpace, fallback; rgb, r, g, b, a) | `image_texture` (scale and bias baked into the texture), `separate_xyz` for r, g, b |
 | ``UsdPrimvarReader_float2`` | the mesh UV (a varname other than ``st`` is warned) |
-| ``UsdPrimvarReader_float/float3/...`` | warned (no vertex primvars in the core); its ``fallback`` |
+| ``UsdPrimvarReader_float/float3/float4/normal/point/vector`` | `attribute` of the varname (the mesh's primvar per vertex; `fac`, the mean, for `_float`); int and string readers warned, their ``fallback`` |
 | ``UsdTransform2d`` | `mapping` (POINT: scale, then rotation in degrees, then translation) |
 | ``ND_image_*``, ``ND_tiledimage_*``, ``ND_gltf_image_*`` | `image_texture` (tiled: `mapping` with uvtiling, -uvoffset) |
 | ``ND_texcoord_*``, ``ND_geompropvalue_vector2`` | the mesh UV |
+| ``ND_geompropvalue_*`` (float, color, vector) | `attribute` of the geomprop (the mesh's primvar per vertex) |
 | ``ND_constant_*``, ``ND_convert_*``, ``ND_dot_*`` | the value itself |
 | ``ND_add/subtract/multiply/divide_*`` | `math` (floats) or `vector_math` |
 | ``ND_floor/ceil/round/absval/sign/sin/cos/tan/asin/acos/sqrt/exp/ln_*``, ``ND_power/max/min_*``, ``ND_atan2_*``, ``ND_invert_*`` | `math` (floats) or `vector_math` (per component as `math` where it has no such operation) |
@@ -151,6 +152,18 @@ def _scalar(v):
     return sum(v) / 3.0 if isinstance(v, list) else float(v)
 
 
+def _rgba(v):
+    """A reader's fallback (a number or 2-4 numbers) as RGBA, or None."""
+    if v is None:
+        return None
+    try:
+        c = [float(x) for x in v]
+    except TypeError:
+        c = [float(v)] * 3
+    c = (c + [0.0, 0.0, 0.0])[:3] + [c[3] if len(c) > 3 else 1.0]
+    return c if all(math.isfinite(x) for x in c) else None
+
+
 class Graph:
     """An IR graph under construction."""
 
@@ -259,6 +272,14 @@ class Graph:
 
     def uv(self):
         return self.out("tex_coord", "uv")
+
+    def attribute(self, name: str, output: str, fallback=None):
+        """The mesh primvar ``name`` read per vertex (the core's Attribute node); ``fallback``
+        (RGBA) where a mesh lacks it."""
+        params = {"name": name}
+        if fallback is not None:
+            params["fallback"] = fallback
+        return self.out("attribute", output, params=params)
 
 
 # -- the translator -------------------------------------------------------------------------
@@ -397,12 +418,17 @@ class Translator:
             return self.g.uv()
         if sid.startswith("UsdPrimvarReader_"):
             name = str(self.authored(s, "varname") or "")
-            fb = const(self.authored(s, "fallback"))
-            self.diag.warn(s.GetPrim(), f"`{sid}` reads primvar `{name}` per vertex, which the "
-                                        f"renderer does not support; "
-                                        + ("its fallback is used" if fb is not None
-                                           else "its consumer's input value is used"))
-            return fb
+            if sid == "UsdPrimvarReader_int" or sid == "UsdPrimvarReader_string":
+                fb = const(self.authored(s, "fallback"))
+                self.diag.warn(s.GetPrim(), f"`{sid}` is not supported; "
+                                            + ("its fallback is used" if fb is not None
+                                               else "its consumer's input value is used"))
+                return fb
+            # A mesh without the primvar reads the reader's fallback (zero without one).
+            self.table.attribute_names.add(name)
+            fb = self.authored(s, "fallback")
+            return self.g.attribute(name, "fac" if sid == "UsdPrimvarReader_float" else "color",
+                                    _rgba(fb))
         if sid == "UsdTransform2d":
             return self._transform2d(s)
         if sid in PREVIEW_IDS:
@@ -733,9 +759,12 @@ class Translator:
         return self.g.uv()
 
     def _nd_geompropvalue(self, s, out, t):
-        if not t.startswith("vector2"):
-            raise Untranslatable("vertex primvars other than the UV set")
         name = str(self.authored(s, "geomprop") or "")
+        if not t.startswith("vector2"):
+            if t.startswith(("integer", "boolean", "string", "filename")):
+                raise Untranslatable(f"geomprop of type `{t}`")
+            self.table.attribute_names.add(name)
+            return self.g.attribute(name, "fac" if t.startswith("float") else "color")
         if name not in ("st", "UVMap", "uv"):
             self.diag.warn(s.GetPrim(), f"geomprop `{name}` read as the mesh's UV set")
         return self.g.uv()

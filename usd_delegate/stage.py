@@ -148,7 +148,7 @@ def _import_stage(stage, frame, camera, purposes, strict, width, where) -> Impor
     groups = LightGroups(time)
 
     def add_mesh(prim, local: np.ndarray):
-        m = read_mesh(prim, time, diag, materials.index_of)
+        m = read_mesh(prim, time, diag, materials.index_of, materials.attribute_names)
         if m is None:
             return None
         m["transform"] = ir_matrix(local)

@@ -274,6 +274,9 @@ impl Bsdf {
     /// ([`CosineOf`]) so that the product carries the lobe's own cosine.
     #[inline]
     fn lobe_eval(&self, l: &Lobe, wo: Vec3, wi: Vec3, mask: u8, cosine: CosineOf) -> Spectrum {
+        if self.spec.is_none() && (self.bump.is_none() || cosine != CosineOf::Flux) {
+            return l.eval(wo, wi, mask);
+        }
         let (wo_l, wi_l) = match &self.spec {
             Some(r) if l.flags() & LobeFlags::DIFFUSE == 0 => (*r * wo, *r * wi),
             _ => (wo, wi),

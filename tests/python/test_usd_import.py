@@ -6,6 +6,7 @@ import pytest
 from conftest import add_camera, add_mesh, import_stage, quad
 from pxr import Gf, Sdf, Usd, UsdGeom, UsdLux, UsdShade, Vt
 
+import photonmap
 import usd_delegate
 
 
@@ -458,3 +459,73 @@ def test_mtlx_surface_unsupported_bsdf_names_the_node(stage_factory):
     r = import_stage(stage, path)
     assert r.ir["materials"][0]["type"] == "diffuse"
     assert [w for w in r.diagnostics.messages() if "/Mat/S/NodeGraphs/n" in w and "ND_sheen_bsdf" in w]
+
+
+def _emissive_reader_material(stage, path, reader_id, varname, out_type):
+    """A graph of a primvar reader into an emission colour (MaterialX surface over a
+    UsdPrimvarReader), so that a render shows the primvar's value directly."""
+    mat = UsdShade.Material.Define(stage, path)
+    rd = UsdShade.Shader.Define(stage, path + "/Reader")
+    rd.CreateIdAttr(reader_id)
+    rd.CreateInput("varname", Sdf.ValueTypeNames.String).Set(varname)
+    rd.CreateOutput("result", out_type)
+    sh = UsdShade.Shader.Define(stage, path + "/Preview")
+    sh.CreateIdAttr("UsdPreviewSurface")
+    sh.CreateInput("diffuseColor", Sdf.ValueTypeNames.Color3f).Set((0, 0, 0))
+    sh.CreateInput("emissiveColor", Sdf.ValueTypeNames.Color3f).ConnectToSource(
+        rd.ConnectableAPI(), "result")
+    mat.CreateSurfaceOutput().ConnectToSource(sh.ConnectableAPI(), "surface")
+    return mat
+
+
+@pytest.mark.parametrize("interp", ["vertex", "faceVarying", "uniform"])
+def test_a_primvar_reader_reads_the_mesh_primvar_per_vertex(stage_factory, interp):
+    stage, path = stage_factory()
+    pts = [(-1, -1, 0), (0, -1, 0), (0, 1, 0), (-1, 1, 0), (1, -1, 0), (1, 1, 0)]
+    m = add_mesh(stage, "/M", pts, [4, 4], [0, 1, 2, 3, 1, 4, 5, 2])
+    pv = UsdGeom.PrimvarsAPI(m).CreatePrimvar("paint", Sdf.ValueTypeNames.Color3fArray, interp)
+    red, blue = (1, 0, 0), (0, 0, 1)
+    pv.Set({"vertex": [red, red, red, red, blue, blue],
+            "faceVarying": [red] * 4 + [blue] * 4,
+            "uniform": [red, blue]}[interp])
+    mat = _emissive_reader_material(stage, "/Mat/Paint", "UsdPrimvarReader_float3", "paint",
+                                    Sdf.ValueTypeNames.Float3)
+    UsdShade.MaterialBindingAPI.Apply(m.GetPrim()).Bind(mat)
+    add_camera(stage)
+    r = import_stage(stage, path)
+    assert not [w for w in r.diagnostics.messages() if "paint" in w], r.diagnostics.messages()
+    mesh = r.ir["meshes"][0]
+    a = mesh["attributes"]["paint"]
+    assert a.shape == (len(mesh["positions"]), 4)
+    # The left square's corners read red, the right one's blue (shared edge points split or
+    # blended as the interpolation says).
+    left = mesh["positions"][:, 0] < -0.5
+    right = mesh["positions"][:, 0] > 0.5
+    assert np.allclose(a[left], [1, 0, 0, 1]) and np.allclose(a[right], [0, 0, 1, 1])
+    out = photonmap.render(photonmap.Scene.from_dict(r.ir), spp=4, seed=1)
+    img = out["combined"][..., :3]
+    w = img.shape[1]
+    # Left of the image is the red square, right the blue one (the camera looks down -z).
+    row = img[img.shape[0] // 2]
+    assert row[w // 4, 0] > 0.9 and row[w // 4, 2] < 1e-3
+    if interp == "vertex":  # the shared middle points are red: the right square blends
+        r, b = row[w // 2:int(0.8 * w), 0], row[w // 2:int(0.8 * w), 2]
+        assert np.allclose(r + b, 1.0, atol=0.02) and np.all(np.diff(b) >= -0.02) and b[-1] > 0.6
+    else:
+        assert row[3 * w // 4, 2] > 0.9 and row[3 * w // 4, 0] < 1e-3
+
+
+def test_per_vertex_displayColor_without_a_material_is_read_per_vertex(stage_factory):
+    stage, path = stage_factory()
+    m = quad(stage)
+    pv = UsdGeom.PrimvarsAPI(m).CreatePrimvar("displayColor", Sdf.ValueTypeNames.Color3fArray,
+                                             "vertex")
+    pv.Set([(1, 0, 0), (0, 1, 0), (0, 0, 1), (1, 1, 1)])
+    add_camera(stage)
+    r = import_stage(stage, path)
+    (mat,) = r.ir["materials"]
+    assert mat["type"] == "graph" and mat["nodes"][0]["params"]["name"] == "displayColor"
+    a = r.ir["meshes"][0]["attributes"]["displayColor"]
+    i = int(np.argmin(np.linalg.norm(r.ir["meshes"][0]["positions"] - [1, 1, 0], axis=1)))
+    assert np.allclose(a[i], [0, 0, 1, 1])
+    photonmap.Scene.from_dict(r.ir)

@@ -170,6 +170,20 @@ impl<'a> Builder<'a> {
                 value(
                     Op::Attribute {
                         key: crate::geometry::attribute_key(p.str_or("name", "")?),
+                        fallback: match n.params.get("fallback") {
+                            None => glam::Vec4::ZERO,
+                            Some(v) => {
+                                let bad =
+                                    || p.err("fallback", "must be a list of 4 numbers (RGBA)");
+                                let a = v.as_array().filter(|a| a.len() == 4).ok_or_else(bad)?;
+                                let mut f = [0.0f32; 4];
+                                for (k, x) in a.iter().enumerate() {
+                                    f[k] = x.as_f64().filter(|x| x.is_finite()).ok_or_else(bad)?
+                                        as f32;
+                                }
+                                glam::Vec4::from(f)
+                            }
+                        },
                     },
                     true,
                     false,

@@ -32,8 +32,8 @@ pub enum Op {
     ObjectInfo,
     /// A named mesh attribute (by [`crate::geometry::attribute_key`]). Outputs: color,
     /// vector, fac (the mean of the colour, as Cycles reads a colour as a float here), alpha;
-    /// zero where the mesh has no such attribute, as in Cycles.
-    Attribute { key: u64 },
+    /// `fallback` where the mesh has no such attribute (zero by default, as in Cycles).
+    Attribute { key: u64, fallback: glam::Vec4 },
     /// Inputs: blend, normal. Outputs: fresnel, facing.
     LayerWeight,
     /// Inputs: ior, normal. Output: fac.
@@ -135,8 +135,8 @@ impl Instr {
                 out[6] = f(if sp.backfacing { 1.0 } else { 0.0 });
             }
             Op::UvMap { variant } => out[0] = ctx.moved(*variant).1.extend(0.0),
-            Op::Attribute { key } => {
-                let v = sp.attributes.get(*key).unwrap_or(glam::Vec4::ZERO);
+            Op::Attribute { key, fallback } => {
+                let v = sp.attributes.get(*key).unwrap_or(*fallback);
                 out[0] = v.truncate();
                 out[1] = v.truncate();
                 out[2] = f((v.x + v.y + v.z) / 3.0);
