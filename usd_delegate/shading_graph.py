@@ -27,6 +27,8 @@ one is warned and its consumer's input keeps its value.
 | ``ND_mix_<float,color3,vector3>`` | `mix` (MIX, factor unclamped): bg + mix x (fg - bg) |
 | ``ND_ifequal/ifgreater/ifgreatereq_*`` | `math` COMPARE / GREATER_THAN / LESS_THAN into `mix` |
 | ``ND_dotproduct_vector3``, ``ND_normalize_vector3`` | `vector_math` DOT_PRODUCT, NORMALIZE |
+| ``ND_position_vector3`` | `tex_coord` object (space `object`, `model`) or `geometry` position (`world`) |
+| ``ND_rotate3d_vector3`` | `mapping` (a constant angle about the x, y or z axis; other axes untranslatable) |
 | ``ND_separate2/3/4_*``, ``ND_combine2/3_*`` | `separate_xyz`, `combine_xyz` (an image's alpha for ``outa``) |
 | ``ND_normalmap*`` | `normal_map` (TANGENT or OBJECT; scale as strength, warned when not 1) |
 | ``ND_normal_vector3`` | the geometry's normal |
@@ -292,7 +294,8 @@ _WRAP = {"periodic": "repeat", "clamp": "clamp", "mirror": "mirror", "constant":
 _MTLX_CS = {"srgb_texture": "sRGB", "lin_rec709": "raw", "raw": "raw"}
 #: MaterialX operators by node name (the id without ``ND_`` and its type suffix), longest first.
 _OPS = sorted(["constant", "convert", "dot", "add", "subtract", "multiply", "divide", "mix",
-               "ifequal", "ifgreater", "ifgreatereq", "dotproduct", "normalize", "separate2",
+               "ifequal", "ifgreater", "ifgreatereq", "dotproduct", "normalize", "rotate3d", "position",
+               "separate2",
                "separate3", "separate4", "combine2", "combine3", "normalmap", "normal",
                "texcoord", "geompropvalue", "mix_bsdf", "mix_edf", "add_bsdf", "add_edf",
                "oren_nayar_diffuse_bsdf", "burley_diffuse_bsdf", "dielectric_bsdf",
@@ -697,6 +700,30 @@ class Translator:
     def _nd_dotproduct(self, s, out, t):
         return self.g.vmath("DOT_PRODUCT", self.input(s, "in1", [0.0] * 3),
                             self.input(s, "in2", [0.0] * 3))
+
+    def _nd_position(self, s, out, t):
+        space = str(self.authored(s, "space") or "object")
+        if space == "world":
+            return self.g.out("geometry", "position")
+        return self.g.out("tex_coord", "object")
+
+    def _nd_rotate3d(self, s, out, t):
+        """A rotation by a constant angle (degrees) about a constant principal axis."""
+        v = self.input(s, "in", [0.0, 0.0, 0.0])
+        amount, axis = self.input(s, "amount", 0.0), self.input(s, "axis", [0.0, 1.0, 0.0])
+        if is_link(amount) or is_link(axis):
+            raise Untranslatable("a computed rotation")
+        a = math.radians(_scalar(amount))
+        if a == 0.0:
+            return v
+        ax = _vec(axis)
+        n = math.sqrt(sum(c * c for c in ax))
+        for i in range(3):
+            if n > 0 and abs(abs(ax[i]) / n - 1.0) < 1e-6:
+                rot = [0.0, 0.0, 0.0]
+                rot[i] = math.copysign(a, ax[i])
+                return self.g.mapping(v, [0.0] * 3, rot, [1.0] * 3)
+        raise Untranslatable("a rotation about an axis other than x, y or z")
 
     def _nd_normalize(self, s, out, t):
         return self.g.vmath("NORMALIZE", self.input(s, "in", [0.0, 0.0, 1.0]))

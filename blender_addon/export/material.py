@@ -61,10 +61,16 @@ _PLAIN = {
 }
 
 
+def _image_at_uv(node) -> bool:
+    """Whether an Image Texture node reads the mesh's UV as it is (what a plain material's
+    texture does): its Vector unlinked and a flat projection."""
+    return not node.inputs["Vector"].is_linked and node.projection == "FLAT"
+
+
 def _needs_graph(mat) -> bool:
     """Whether ``mat``'s surface needs a shading graph: a shader the plain materials do not
-    have, an input fed by a node other than an Image Texture (where they take one), RGB or
-    Value, or a Principled Alpha below 1."""
+    have, an input fed by a node other than an Image Texture read at the UV (where they take
+    one), RGB or Value, or a Principled Alpha below 1."""
     tree = mat.node_tree if getattr(mat, "use_nodes", True) else None
     out = _output_node(tree) if tree is not None else None
     if out is None:
@@ -79,7 +85,7 @@ def _needs_graph(mat) -> bool:
         src, _ = _source(s)
         if src is None or src.bl_idname in {"ShaderNodeRGB", "ShaderNodeValue"}:
             continue
-        if src.bl_idname == "ShaderNodeTexImage" and s.name in images:
+        if src.bl_idname == "ShaderNodeTexImage" and s.name in images and _image_at_uv(src):
             continue
         if s.name in {"Subsurface Radius", "Subsurface IOR", "Coat Normal"}:
             continue  # warned by the plain export, which keeps the subsurface walk

@@ -263,7 +263,10 @@ class GraphBuilder:
             if node.interpolation not in ("Linear", "Smart"):
                 self.warn(f"material '{self.mat}': node '{node.name}': {node.interpolation} "
                           f"interpolation renders as Linear")
-            if node.projection != "FLAT":
+            if node.projection == "BOX":
+                p["projection"] = "BOX"
+                p["projection_blend"] = float(node.projection_blend)
+            elif node.projection != "FLAT":
                 self.warn(f"material '{self.mat}': node '{node.name}': {node.projection} "
                           f"projection renders as Flat")
         elif kind == "color_ramp":

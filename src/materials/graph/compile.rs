@@ -297,8 +297,16 @@ impl<'a> Builder<'a> {
                         format!("must name one of the scene's {} textures", self.n_textures),
                     ));
                 }
+                let op = match p.str_or("projection", "FLAT")? {
+                    "BOX" => Op::ImageBox {
+                        texture: t,
+                        blend: p.f32_or("projection_blend", 0.0)?.clamp(0.0, 1.0),
+                    },
+                    _ => Op::Image { texture: t },
+                };
+                let box_ = matches!(op, Op::ImageBox { .. });
                 (
-                    value(Op::Image { texture: t }, false, false),
+                    value(op, box_, false),
                     spec(
                         &[("vector", Vector, Uv)],
                         &[("color", Color), ("alpha", Float)],

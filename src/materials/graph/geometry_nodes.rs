@@ -2,8 +2,9 @@
 //! UV Map, Object Info, Layer Weight, Fresnel, Mapping, Normal Map and Bump.
 
 use super::point::ShadingPoint;
+use crate::materials::texture::Texture;
 use crate::math::Frame;
-use glam::{EulerRot, Mat3, Vec3};
+use glam::{EulerRot, Mat3, Vec2, Vec3};
 
 /// Cycles' Fresnel reflectance of a dielectric for |cos| `cosi` and relative IOR `eta`.
 pub fn fresnel_dielectric_cos(cosi: f32, eta: f32) -> f32 {
@@ -366,4 +367,69 @@ mod tests {
         assert!(facing.abs() < 1e-6);
         assert!((fresnel(&sp, 1.5, None) - 0.04).abs() < 1e-5);
     }
+}
+
+/// Cycles' Box projection of texture `t` at coordinates `co`, for the object-space normal
+/// `n`: the three axis projections weighted over a triangle of zones by the normal's
+/// components (one texture near each axis, two or three blended within `blend` of the
+/// diagonals), each oriented so that no face is mirrored. Returns (colour, alpha).
+pub fn image_box(t: &Texture, co: Vec3, n: Vec3, blend: f32) -> (Vec3, f32) {
+    let signed = n;
+    let mut a = n.abs();
+    let s = a.x + a.y + a.z;
+    if s > 0.0 {
+        a /= s;
+    }
+    let limit = 0.5 * (1.0 + blend);
+    let mut w = Vec3::ZERO;
+    if a.x > limit * (a.x + a.y) && a.x > limit * (a.x + a.z) {
+        w.x = 1.0;
+    } else if a.y > limit * (a.x + a.y) && a.y > limit * (a.y + a.z) {
+        w.y = 1.0;
+    } else if a.z > limit * (a.x + a.z) && a.z > limit * (a.y + a.z) {
+        w.z = 1.0;
+    } else if blend > 0.0 {
+        let ramp = |v: f32| ((v - 0.5 * (1.0 - blend)) / blend).clamp(0.0, 1.0);
+        if a.z < (1.0 - limit) * (a.y + a.x) {
+            w.x = ramp(a.x / (a.x + a.y));
+            w.y = 1.0 - w.x;
+        } else if a.x < (1.0 - limit) * (a.y + a.z) {
+            w.y = ramp(a.y / (a.y + a.z));
+            w.z = 1.0 - w.y;
+        } else if a.y < (1.0 - limit) * (a.x + a.z) {
+            w.x = ramp(a.x / (a.x + a.z));
+            w.z = 1.0 - w.x;
+        } else {
+            let d = 2.0 * limit - 1.0;
+            w = ((2.0 - limit) * a + Vec3::splat(limit - 1.0)) / d;
+        }
+    } else {
+        w.x = 1.0;
+    }
+    let mut rgb = Vec3::ZERO;
+    let mut alpha = 0.0;
+    let mut fetch = |weight: f32, uv: Vec2| {
+        if weight > 0.0 {
+            rgb += weight * t.eval_rgb(uv);
+            alpha += weight
+                * if t.channels() == 4 {
+                    t.eval_channel(uv, 3)
+                } else {
+                    1.0
+                };
+        }
+    };
+    fetch(
+        w.x,
+        Vec2::new(if signed.x < 0.0 { 1.0 - co.y } else { co.y }, co.z),
+    );
+    fetch(
+        w.y,
+        Vec2::new(if signed.y > 0.0 { 1.0 - co.x } else { co.x }, co.z),
+    );
+    fetch(
+        w.z,
+        Vec2::new(if signed.z > 0.0 { 1.0 - co.y } else { co.y }, co.x),
+    );
+    (rgb, alpha)
 }

@@ -51,6 +51,10 @@ pub enum Op {
     Bump { invert: bool },
     /// Input: vector (its x, y are the UV). Outputs: color, alpha.
     Image { texture: u32 },
+    /// Box projection: the image projected along the object's three axes from the vector,
+    /// blended by the object-space normal over `blend` (Cycles' Image Texture, Box).
+    /// Input: vector. Outputs: color, alpha.
+    ImageBox { texture: u32, blend: f32 },
     /// A colour read as a float (luminance).
     Gray,
     /// A vector read as a float (the mean of its components).
@@ -187,6 +191,15 @@ impl Instr {
                     } else {
                         1.0
                     });
+                }
+                None => out[1] = f(1.0),
+            },
+            Op::ImageBox { texture, blend } => match ctx.textures.get(*texture as usize) {
+                Some(t) => {
+                    let n = sp.object.to_object.transform_vector3(sp.n);
+                    let (rgb, a) = geo::image_box(t, inp[0], n, *blend);
+                    out[0] = rgb;
+                    out[1] = f(a);
                 }
                 None => out[1] = f(1.0),
             },

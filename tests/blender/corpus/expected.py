@@ -65,6 +65,11 @@ USD: dict[str, str] = {
         prim="Painted/bnode__Principled_BSDF and PaintedCube/bnode__Principled_BSDF",
         what="the sphere and the cube are plain light grey where Cycles paints them: block "
              "(5,9) +515.5% (+201.9 sigma), pooled +16.1%"),
+    "nodes_box_image": ("exporter: the Image Texture's Box projection is not written: the image "
+                        "reads the mapped object position's x and y, 'uniform token info:id = "
+                        "\"ND_convert_vector3_vector2\"' (BoxMapped/NodeGraphs/node_004), a flat "
+                        "projection along z that streaks the cube's and the sphere's sides: block "
+                        "(7,11) -67.1% (-137.2 sigma), pooled -3.1%"),
     "nodes_emission_screen": FLAT.format(
         nodes="Gradient Texture and ColorRamp", socket="the Emission's Color",
         line="color3f inputs:color = (5, 5, 5)", prim="Screen/NodeGraphs/bnode__Emission_EDF",

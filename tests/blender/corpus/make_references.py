@@ -8,7 +8,8 @@
 Needs the `bpy` module (5.0.1) and OpenImageIO. Steps:
 
 1. ``textures/``: the small generated inputs, written when missing: ``checker.png`` (64x64
-   sRGB checker) and ``sky.exr`` (128x64 half-float equirectangular sky with a sun).
+   sRGB checker), ``uv_ramp.png`` (64x64, no symmetry: red along u, green along v, a grid
+   and one marked corner tile), ``tiles_normal.png`` and ``sky.exr`` (128x64 half-float equirectangular sky with a sun).
 2. ``refs/<scene>_s1.exr`` and ``_s2.exr``: Cycles on the CPU with seeds 1 and 2, no
    denoising, no clamping, no adaptive sampling, bounces 128 (every kind), caustics on, no
    glossy blur, a Box pixel filter of width 1 px (PhotonMap's ``filter="box"``: uniform over
@@ -89,6 +90,21 @@ def make_textures(force: bool = False) -> None:
         px = np.round((nrm * 0.5 + 0.5) * 255).astype(np.uint8)
         out = oiio.ImageOutput.create(tiles)
         out.open(tiles, oiio.ImageSpec(n, n, 3, oiio.UINT8))
+        out.write_image(px)
+        out.close()
+    ramp = os.path.join(scenes.TEXTURES, "uv_ramp.png")
+    if force or not os.path.exists(ramp):
+        # An image no flip or rotation maps onto itself: red rises along u, green along v, and
+        # a dark 4 x 4 grid with one white tile near the (0, 0) corner (rows top to bottom).
+        n = 64
+        yy, xx = np.mgrid[0:n, 0:n]
+        u, v = (xx + 0.5) / n, 1.0 - (yy + 0.5) / n
+        px = np.stack([0.15 + 0.8 * u, 0.15 + 0.8 * v, np.full_like(u, 0.3)], -1)
+        px[(xx % 16 == 0) | (yy % 16 == 0)] *= 0.3
+        px[(u > 0.0625) & (u < 0.1875) & (v > 0.0625) & (v < 0.1875)] = 1.0
+        px = np.round(px * 255).astype(np.uint8)
+        out = oiio.ImageOutput.create(ramp)
+        out.open(ramp, oiio.ImageSpec(n, n, 3, oiio.UINT8))
         out.write_image(px)
         out.close()
     sky = scenes.hdri_path()

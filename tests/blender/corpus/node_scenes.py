@@ -384,6 +384,33 @@ def nodes_vertex_colors():
     return sc
 
 
+@node_scene("nodes_box_image", "Box projection: an Image Texture (textures/uv_ramp.png, an "
+            "image with no symmetry) projected along the object's axes (Box, blend 0.3) from "
+            "Object coordinates (Mapping scale 2) into the Base Color of the rotated cube and "
+            "the sphere.")
+def nodes_box_image():
+    sc = reset()
+    room()
+    from corpus import make_references as mr
+    mr.make_textures()
+    m = principled("BoxMapped")
+    nt, b = _tree(m)
+    tc = nt.nodes.new("ShaderNodeTexCoord")
+    mp = nt.nodes.new("ShaderNodeMapping")
+    mp.inputs["Scale"].default_value = (2.0, 2.0, 2.0)
+    tex = nt.nodes.new("ShaderNodeTexImage")
+    tex.image = bpy.data.images.load(os.path.join(TEXTURES, "uv_ramp.png"))
+    tex.projection = "BOX"
+    tex.projection_blend = 0.3
+    nt.links.new(tc.outputs["Object"], mp.inputs["Vector"])
+    nt.links.new(mp.outputs["Vector"], tex.inputs["Vector"])
+    nt.links.new(tex.outputs["Color"], b.inputs["Base Color"])
+    props(mat_sphere=m, mat_cube=m)
+    ceiling_area()
+    camera()
+    return sc
+
+
 @node_scene("nodes_emission_screen", "No lights: a screen (plane 1.0 x 0.6 on the back wall) "
             "whose Emission colour is a Gradient Texture (linear, generated) through a "
             "ColorRamp (blue to orange), strength 5.")
