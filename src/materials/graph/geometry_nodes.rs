@@ -433,3 +433,47 @@ pub fn image_box(t: &Texture, co: Vec3, n: Vec3, blend: f32) -> (Vec3, f32) {
     );
     (rgb, alpha)
 }
+
+#[cfg(test)]
+mod box_tests {
+    use super::*;
+    use crate::scene::desc::{TextureDesc, TextureEncoding, WrapMode};
+
+    /// A 2 x 2 linear texture whose texels are red, green, blue and white (rows top to
+    /// bottom), read as constant by nearest sampling at the texel centres.
+    fn quad_texture() -> Texture {
+        Texture::from_desc(&TextureDesc {
+            name: String::new(),
+            width: 2,
+            height: 2,
+            channels: 3,
+            data: vec![1., 0., 0., 0., 1., 0., 0., 0., 1., 1., 1., 1.],
+            wrap: WrapMode::Repeat,
+            encoding: TextureEncoding::Linear,
+        })
+    }
+
+    #[test]
+    fn each_axis_reads_its_own_projection_and_the_diagonal_blends() {
+        let t = quad_texture();
+        let co = Vec3::new(0.25, 0.25, 0.75);
+        // Along +x: (y, z) = (0.25, 0.75); along -x mirrored in u: (0.75, 0.75).
+        let (px, _) = image_box(&t, co, Vec3::X, 0.0);
+        let (mx, _) = image_box(&t, co, -Vec3::X, 0.0);
+        assert_eq!(px, t.eval_rgb(Vec2::new(0.25, 0.75)));
+        assert_eq!(mx, t.eval_rgb(Vec2::new(0.75, 0.75)));
+        assert_ne!(px, mx);
+        // Along +z: (1 - y, x); along -z: (y, x).
+        let (pz, _) = image_box(&t, co, Vec3::Z, 0.0);
+        assert_eq!(pz, t.eval_rgb(Vec2::new(0.75, 0.25)));
+        // Without blend the diagonal takes one face; with blend 1 the three share equally.
+        let d = Vec3::ONE.normalize();
+        let (all, a) = image_box(&t, co, d, 1.0);
+        let want = (t.eval_rgb(Vec2::new(0.25, 0.75))
+            + t.eval_rgb(Vec2::new(0.75, 0.75))
+            + t.eval_rgb(Vec2::new(0.75, 0.25)))
+            / 3.0;
+        assert!((all - want).abs().max_element() < 1e-5, "{all} vs {want}");
+        assert!((a - 1.0).abs() < 1e-6);
+    }
+}
