@@ -258,6 +258,9 @@ impl Bsdf {
     /// Lobe `l`'s albedo estimate towards `wo` (local).
     #[inline]
     fn lobe_albedo(&self, l: &Lobe, wo: Vec3, mask: u8) -> Spectrum {
+        if self.spec.is_none() {
+            return l.albedo(wo, mask);
+        }
         self.view_lobe(l, wo).albedo(self.in_lobe(l, wo), mask)
     }
 
@@ -528,7 +531,12 @@ impl Bsdf {
             if l.flags() & LobeFlags::DIFFUSE == 0 {
                 continue;
             }
-            if let Some(r) = self.view_lobe(l, wo).irradiance_response(wo) {
+            let r = if self.spec.is_none() {
+                l.irradiance_response(wo)
+            } else {
+                self.view_lobe(l, wo).irradiance_response(wo)
+            };
+            if let Some(r) = r {
                 *out.get_or_insert(Vec3::ZERO) += w * r;
             }
         }
@@ -598,7 +606,9 @@ impl Bsdf {
         let mut b = *self;
         for i in 0..b.count {
             let v = self.in_lobe(&self.lobes[i], wo_l);
-            b.lobes[i] = self.view_lobe(&self.lobes[i], wo_l);
+            if self.spec.is_some() {
+                b.lobes[i] = self.view_lobe(&self.lobes[i], wo_l);
+            }
             b.lobes[i].fix_view(v);
         }
         b
