@@ -229,7 +229,7 @@ impl Bsdf {
     /// Gives the non-diffuse lobes the normal `n` (world space) in place of the frame's, as
     /// Cycles gives its glossy, glass and Principled specular closures a normal bent towards
     /// the geometric one where the bumped normal would reflect the view below the surface
-    /// ([`super::specular_normal::valid_specular_normal`]); diffuse lobes keep the frame's.
+    /// ([`super::graph::geometry_nodes::ensure_valid_reflection`]); diffuse lobes keep the frame's.
     pub fn set_specular_normal(&mut self, n: Vec3, dpdu: Vec3) {
         if !n.is_finite() || n == self.frame.n {
             self.spec = None;

@@ -22,7 +22,6 @@ pub mod lobe;
 pub mod microfacet;
 pub mod principled;
 pub mod rough_dielectric;
-pub mod specular_normal;
 pub mod subsurface;
 pub mod texture;
 pub mod translucent;

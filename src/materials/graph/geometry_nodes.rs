@@ -477,3 +477,41 @@ mod box_tests {
         assert!((a - 1.0).abs() < 1e-6);
     }
 }
+
+#[cfg(test)]
+mod valid_reflection_tests {
+    use super::*;
+
+    fn reflect(n: Vec3, wo: Vec3) -> Vec3 {
+        2.0 * n.dot(wo) * n - wo
+    }
+
+    #[test]
+    fn a_valid_reflection_keeps_the_normal() {
+        let ng = Vec3::Z;
+        let n = Vec3::new(0.2, 0.0, 1.0).normalize();
+        let wo = Vec3::new(0.0, 0.3, 1.0).normalize();
+        assert_eq!(ensure_valid_reflection(ng, wo, n), n);
+    }
+
+    #[test]
+    fn an_invalid_reflection_is_lifted_to_the_threshold() {
+        let ng = Vec3::Z;
+        // A normal tilted 60 degrees away from a grazing view reflects it below the surface.
+        for (tilt, view) in [(1.0f32, 1.2f32), (0.8, 1.4), (1.3, 0.9), (0.6, 1.5)] {
+            let n = Vec3::new(tilt.sin(), 0.0, tilt.cos());
+            let wo = Vec3::new(-view.sin(), 0.0, view.cos());
+            assert!(ng.dot(reflect(n, wo)) < 0.0);
+            let m = ensure_valid_reflection(ng, wo, n);
+            let t = (0.9 * wo.dot(ng)).min(0.01);
+            assert!((m.length() - 1.0).abs() < 1e-5, "{m}");
+            let rz = ng.dot(reflect(m, wo));
+            assert!(
+                (rz - t).abs() < 2e-4,
+                "tilt {tilt} view {view}: R.z {rz}, wanted {t}"
+            );
+            // Bent towards ng, in the plane of n and ng.
+            assert!(m.z > n.z && m.y.abs() < 1e-6 && m.x > 0.0);
+        }
+    }
+}

@@ -23,7 +23,6 @@ pub mod tex;
 
 use crate::error::Result;
 use crate::materials::bsdf::Bsdf;
-use crate::materials::specular_normal::valid_specular_normal;
 use crate::materials::texture::Texture;
 use crate::math::{Frame, Spectrum};
 use crate::scene::graph_desc::GraphDesc;
@@ -173,7 +172,7 @@ impl ShaderGraph {
             }
             if normal != sp.n {
                 out.bsdf.set_bump_shadowing(sp.n);
-                let spec = valid_specular_normal(sp.ng, sp.wo, normal);
+                let spec = geometry_nodes::ensure_valid_reflection(sp.ng, sp.wo, normal);
                 if spec != normal {
                     out.bsdf.set_specular_normal(spec, sp.dpdu);
                 }

@@ -454,3 +454,18 @@ fn the_attribute_node_reads_the_mesh_attribute_of_its_name() {
     let want = Vec3::new(0.2, 0.4, 0.9) * 0.5 + Vec3::splat(0.5);
     assert!((e - want).abs().max_element() < 1e-6, "{e} vs {want}");
 }
+
+#[test]
+fn a_bad_attribute_fallback_names_the_field() {
+    let g = graph(serde_json::json!({
+        "name": "painted",
+        "nodes": [
+            {"type": "attribute", "params": {"name": "Paint", "fallback": [1.0, 0.0]}},
+            {"type": "emission", "inputs": {"color": {"node": 0, "output": "color"}}}
+        ],
+        "surface": {"node": 1}
+    }));
+    let (pointer, message) = err_of(&g);
+    assert!(pointer.contains("fallback"), "{pointer}");
+    assert!(message.contains("4 numbers"), "{message}");
+}

@@ -274,21 +274,15 @@ def nodes_leaf_alpha():
 def nodes_translucent():
     sc = reset()
     room()
-    m = bpy.data.materials.new("PaperScreen")
-    m.use_nodes = True
+    m = shader_material("PaperScreen", "ShaderNodeMixShader", Fac=0.5)
     nt = m.node_tree
-    out = nt.nodes["Material Output"]
-    for n in [n for n in nt.nodes if n.type != "OUTPUT_MATERIAL"]:
-        nt.nodes.remove(n)
+    mix = nt.nodes["Mix Shader"]
     tr = nt.nodes.new("ShaderNodeBsdfTranslucent")
     tr.inputs["Color"].default_value = (0.9, 0.75, 0.5, 1.0)
     df = nt.nodes.new("ShaderNodeBsdfDiffuse")
     df.inputs["Color"].default_value = (0.8, 0.8, 0.8, 1.0)
-    mix = nt.nodes.new("ShaderNodeMixShader")
-    mix.inputs["Fac"].default_value = 0.5
     nt.links.new(tr.outputs["BSDF"], mix.inputs[1])
     nt.links.new(df.outputs["BSDF"], mix.inputs[2])
-    nt.links.new(mix.outputs["Shader"], out.inputs["Surface"])
     plane("Screen", (0.0, 0.1, 0.7), (90, 0, 0), 0.9, m)
     light("AREA", (0.0, 0.55, 0.7), (90, 0, 0), energy=40.0, shape="DISK", size=0.3)
     camera()
@@ -316,17 +310,8 @@ def point_shadow_penumbra():
 def nodes_refraction():
     sc = reset()
     room()
-    m = bpy.data.materials.new("RefractOnly")
-    m.use_nodes = True
-    nt = m.node_tree
-    out = nt.nodes["Material Output"]
-    for n in [n for n in nt.nodes if n.type != "OUTPUT_MATERIAL"]:
-        nt.nodes.remove(n)
-    rf = nt.nodes.new("ShaderNodeBsdfRefraction")
-    rf.distribution = "GGX"
-    rf.inputs["IOR"].default_value = 1.45
-    rf.inputs["Roughness"].default_value = 0.2
-    nt.links.new(rf.outputs["BSDF"], out.inputs["Surface"])
+    m = shader_material("RefractOnly", "ShaderNodeBsdfRefraction", IOR=1.45, Roughness=0.2)
+    m.node_tree.nodes["Refraction BSDF"].distribution = "GGX"
     props(mat_sphere=m)
     ceiling_area()
     camera()

@@ -55,6 +55,10 @@ pub fn estimate(
             n
         }
     };
+    // Irradiance from the hemisphere around `n`, by final gathering.
+    let gather = |n, sp: Option<&mut Split>, rng: &mut Rng, scratch: &mut KnnScratch| {
+        gather_hemisphere(ctx.scene, ctx.maps, si, n, rays, stack, rng, scratch, sp).irradiance
+    };
     if let Some(response) = response {
         let n = front;
         let mut sp = scaled(&mut split, response);
@@ -64,40 +68,14 @@ pub fn estimate(
         };
         let e = match cached {
             Some(e) => e,
-            None => {
-                gather_hemisphere(
-                    ctx.scene,
-                    ctx.maps,
-                    si,
-                    n,
-                    rays,
-                    stack,
-                    rng,
-                    scratch,
-                    sp.as_mut(),
-                )
-                .irradiance
-            }
+            None => gather(n, sp.as_mut(), rng, scratch),
         };
         l += response * e;
     }
     if let Some(response) = bsdf.transmission_response(si.wo) {
         // Light through a translucent surface: a hemisphere gather behind it (no cache).
-        let n = -front;
         let mut sp = scaled(&mut split, response);
-        let e = gather_hemisphere(
-            ctx.scene,
-            ctx.maps,
-            si,
-            n,
-            rays,
-            stack,
-            rng,
-            scratch,
-            sp.as_mut(),
-        )
-        .irradiance;
-        l += response * e;
+        l += response * gather(-front, sp.as_mut(), rng, scratch);
     }
     if bsdf.has_glossy() {
         // Gather rays in proportion to the glossy lobes' share of the reflection the gather
