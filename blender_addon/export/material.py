@@ -70,7 +70,7 @@ def _image_at_uv(node) -> bool:
 def _needs_graph(mat) -> bool:
     """Whether ``mat``'s surface needs a shading graph: a shader the plain materials do not
     have, an input fed by a node other than an Image Texture read at the UV (where they take
-    one), RGB or Value, or a Principled Alpha below 1."""
+    one), RGB or Value, a Principled Alpha below 1, or a linked Displacement."""
     tree = mat.node_tree if getattr(mat, "use_nodes", True) else None
     out = _output_node(tree) if tree is not None else None
     if out is None:
@@ -78,6 +78,9 @@ def _needs_graph(mat) -> bool:
     surf, _ = _source(out.inputs["Surface"])
     if surf is None:
         return False
+    disp = out.inputs.get("Displacement")
+    if disp is not None and disp.is_linked:
+        return True
     images = _PLAIN.get(surf.bl_idname)
     if images is None:
         return True

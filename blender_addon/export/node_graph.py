@@ -49,6 +49,7 @@ TYPES = {
     "ShaderNodeCombineXYZ": "combine_xyz",
     "ShaderNodeNormalMap": "normal_map",
     "ShaderNodeBump": "bump",
+    "ShaderNodeDisplacement": "displacement",
     "ShaderNodeTexImage": "image_texture",
     "ShaderNodeValue": "value",
     "ShaderNodeRGB": "rgb",
@@ -307,6 +308,19 @@ class GraphBuilder:
             self.stats.setdefault("attributes", set()).add(name)
         return p
 
+    def displacement(self, mat, out_node):
+        """The Material Output's Displacement as a link, applied as a bump (Cycles' Bump Only);
+        None when unlinked or constant."""
+        socket = out_node.inputs.get("Displacement")
+        if socket is None or not socket.is_linked:
+            return None
+        method = getattr(mat, "displacement_method", "BUMP")
+        if method != "BUMP":
+            self.warn(f"material '{self.mat}': displacement method {method}: the surface is "
+                      f"not moved; the displacement renders as a bump (Bump Only)")
+        v = self.input_value(socket, ())
+        return {"node": v["node"], "output": v["output"]} if isinstance(v, dict) else None
+
     def surface(self, socket):
         v = self.input_value(socket, ())
         if not isinstance(v, dict):
@@ -321,4 +335,8 @@ def translate(mat, out_node, images, warn, stats) -> dict | None:
     surf = b.surface(out_node.inputs["Surface"])
     if surf is None:
         return None
-    return {"type": "graph", "name": mat.name, "nodes": b.nodes, "surface": surf}
+    g = {"type": "graph", "name": mat.name, "nodes": b.nodes, "surface": surf}
+    disp = b.displacement(mat, out_node)
+    if disp is not None:
+        g["displacement"] = disp
+    return g

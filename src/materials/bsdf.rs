@@ -178,8 +178,8 @@ pub struct Bsdf {
     /// The subsurface material's lobe, which camera paths walk below, if any.
     subsurface: Option<u8>,
     /// With a bumped or normal-mapped frame: the surface's own (smooth) normal in the local
-    /// frame and the bump's GGX alpha^2, for [`bump_shadowing`].
-    bump: Option<(Vec3, f32)>,
+    /// frame, the bump's GGX alpha^2, and whether light is shadowed ([`bump_shadowing`]).
+    bump: Option<(Vec3, f32, bool)>,
     /// With a specular normal of its own ([`Bsdf::set_specular_normal`]): the rotation from
     /// the frame's local space to the local space of the non-diffuse lobes.
     spec: Option<Mat3>,
@@ -288,7 +288,7 @@ impl Bsdf {
         match cosine {
             CosineOf::Wi if wi_l != wi => f * (wi_l.z.abs() / wi.z.abs()),
             CosineOf::Flux => match self.bump {
-                Some((ns, _)) => {
+                Some((ns, _, _)) => {
                     let c = ns.dot(wi).abs();
                     if c > 0.0 {
                         f * (wi_l.z.abs() / c)
@@ -303,8 +303,9 @@ impl Bsdf {
     }
 
     /// Marks the frame as bumped away from the surface's smooth normal `smooth` (world space):
-    /// light is then shadowed as Cycles shadows bump-mapped closures ([`bump_shadowing`]).
-    pub fn set_bump_shadowing(&mut self, smooth: Vec3) {
+    /// photons' flux is read against it, and with `shadow` light is shadowed as Cycles shadows
+    /// bump-mapped closures ([`bump_shadowing`]; Cycles does not shadow a displacement's bump).
+    pub fn set_bump_shadowing(&mut self, smooth: Vec3, shadow: bool) {
         let ns = self.frame.to_local(smooth);
         let cos_d = ns.z.abs();
         if !(cos_d < 1.0) || !ns.is_finite() {
@@ -312,7 +313,7 @@ impl Bsdf {
             return;
         }
         let tan2_d = 1.0 / (cos_d * cos_d) - 1.0;
-        self.bump = Some((ns, (0.125 * tan2_d).clamp(0.0, 1.0)));
+        self.bump = Some((ns, (0.125 * tan2_d).clamp(0.0, 1.0), shadow));
     }
 
     /// Puts `coat` over every lobe added so far (the coat's own reflection is added after, as
@@ -737,7 +738,7 @@ impl Bsdf {
             // shading normals): f(wi, wo) cos_lobe(wo) / cos_s(wo) cos_s(wi) / pdf.
             let f = self.eval_mode(s.wi, wo_l, sel, CosineOf::Flux);
             let cos_out = match self.bump {
-                Some((ns, _)) => ns.dot(s.wi).abs(),
+                Some((ns, _, _)) => ns.dot(s.wi).abs(),
                 None => s.wi.z.abs(),
             };
             s.weight = f * (cos_out / s.pdf);
@@ -774,9 +775,10 @@ impl Bsdf {
             if sel.keeps(l) {
                 let g = match self.bump {
                     None => 1.0,
-                    Some((ns, a2)) => {
+                    Some((ns, a2, true)) => {
                         bump_shadowing(ns, a2, wi, l.flags() & LobeFlags::DIFFUSE != 0)
                     }
+                    Some((_, _, false)) => 1.0,
                 };
                 if g > 0.0 {
                     f += w * g * self.lobe_eval(l, wo, wi, sel.mask, cosine);

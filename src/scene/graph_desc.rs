@@ -11,6 +11,7 @@ use std::collections::BTreeMap;
 /// | `name` | the material's name |
 /// | `nodes` | the nodes; links refer to them by index |
 /// | `surface` | the closure output that shades the surface (a Material Output's Surface) |
+/// | `displacement` | a world-space offset vector (a Material Output's Displacement), applied as a bump of the shading normal that every closure and node then reads (Cycles' Bump Only displacement) |
 ///
 /// Nodes nothing reads are not compiled.
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
@@ -22,6 +23,8 @@ pub struct GraphDesc {
     pub nodes: Vec<NodeDesc>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub surface: Option<LinkDesc>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub displacement: Option<LinkDesc>,
 }
 
 /// One node.

@@ -35,6 +35,10 @@ pub struct Compiled {
     pub leaves: Vec<Leaf>,
     /// The shading normal of the closures (`NO_REG`: the surface's).
     pub normal: Reg,
+    /// With a displacement: the instructions that compute it come first, up to the first
+    /// field, and give the displaced normal in the register of the second; the rest of the
+    /// program runs at the point with that normal.
+    pub displaced: Option<(usize, Reg)>,
     /// What renders other than the graph says, naming the node.
     pub warnings: Vec<String>,
 }
@@ -287,6 +291,28 @@ impl<'a> Builder<'a> {
                         ("filter_width", Float, F(0.1)),
                     ],
                     &[("normal", Vector)],
+                ),
+            ),
+            "displacement" => (
+                value(
+                    Op::Displacement {
+                        object: p.enum_or("space", "OBJECT", |s| match s {
+                            "OBJECT" => Some(true),
+                            "WORLD" => Some(false),
+                            _ => None,
+                        })?,
+                    },
+                    true,
+                    false,
+                ),
+                spec(
+                    &[
+                        ("height", Float, F(0.0)),
+                        ("midlevel", Float, F(0.5)),
+                        ("scale", Float, F(1.0)),
+                        normal,
+                    ],
+                    &[("displacement", Vector)],
                 ),
             ),
             "image_texture" => {
@@ -657,6 +683,28 @@ impl<'a> Builder<'a> {
         Ok(())
     }
 
+    /// Compiles the displacement `link` as a bump of the shading normal: the offset at the
+    /// point and at the two tangent offsets, then the bumped normal. None when the offset
+    /// does not change over the surface (no bump). What follows is compiled afresh, so that
+    /// the nodes the surface reads see the displaced normal.
+    fn displacement(&mut self, link: &LinkDesc) -> Result<Option<(usize, Reg)>> {
+        let mut d = [NO_REG; 3];
+        for (v, r) in d.iter_mut().enumerate() {
+            *r = self.link(link, Ty::Vector, v as u8, "/displacement")?;
+        }
+        if d[1] == d[0] && d[2] == d[0] {
+            return Ok(None);
+        }
+        let out = self.reg(Vec3::ZERO, false)?;
+        self.code.push(Instr {
+            op: Op::DisplacementBump,
+            ins: d.into(),
+            outs: Box::new([out]),
+        });
+        self.memo.clear();
+        Ok(Some((self.code.len(), out)))
+    }
+
     /// Whether a product of factors is the constant zero.
     fn is_zero(&self, w: &[(Reg, bool)]) -> bool {
         w.iter().any(|&(r, c)| {
@@ -684,6 +732,7 @@ pub(crate) const BUILTIN: &[&str] = &[
     "combine_xyz",
     "normal_map",
     "bump",
+    "displacement",
     "image_texture",
     "mix_shader",
     "add_shader",
@@ -729,6 +778,7 @@ pub fn node_specs() -> serde_json::Value {
                 ..Default::default()
             }],
             surface: None,
+            displacement: None,
         };
         let mut b = builder(&desc, "", usize::MAX);
         if let Ok((_, spec)) = b.kind(0) {
@@ -764,6 +814,10 @@ fn builder<'a>(desc: &'a GraphDesc, pointer: &'a str, n_textures: usize) -> Buil
 /// scene with `n_textures` textures.
 pub fn compile(desc: &GraphDesc, pointer: &str, n_textures: usize) -> Result<Compiled> {
     let mut b = builder(desc, pointer, n_textures);
+    let displaced = match &desc.displacement {
+        Some(l) => b.displacement(l)?,
+        None => None,
+    };
     if let Some(s) = &desc.surface {
         b.closure(s, &[], "/surface")?;
     }
@@ -790,6 +844,7 @@ pub fn compile(desc: &GraphDesc, pointer: &str, n_textures: usize) -> Result<Com
         },
         leaves: b.leaves,
         normal,
+        displaced,
         warnings: b.warnings,
     })
 }

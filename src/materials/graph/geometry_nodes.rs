@@ -1,7 +1,7 @@
 //! The input and vector nodes that read the shading point: Texture Coordinate, Geometry,
 //! UV Map, Object Info, Layer Weight, Fresnel, Mapping, Normal Map and Bump.
 
-use super::point::ShadingPoint;
+use super::point::{ObjectCoords, ShadingPoint};
 use crate::materials::texture::Texture;
 use crate::math::Frame;
 use glam::{EulerRot, Mat3, Vec2, Vec3};
@@ -190,6 +190,20 @@ pub fn normal_map(sp: &ShadingPoint, space: NormalSpace, strength: f32, color: V
         }
     }
     n
+}
+
+/// A Displacement node's offset in object space, back in world space: height `h` along the
+/// object-space normal of `n` (Cycles' object_inverse_normal_transform, normalised), carried
+/// by the object's transform, so that the offset grows with the object's scale.
+pub fn object_displacement(obj: &ObjectCoords, n: Vec3, h: f32) -> Vec3 {
+    let to_world = obj.to_object.inverse();
+    let n_obj = safe_normalize(to_world.transpose().transform_vector3(n));
+    let d = to_world.transform_vector3(n_obj * h);
+    if d.is_finite() {
+        d
+    } else {
+        n * h
+    }
 }
 
 /// The two tangent offsets at which a Bump node evaluates its height, `eps` long.

@@ -89,8 +89,10 @@ impl ShaderGraph {
             compiled.leaves.iter().any(|l| f(l, &konst, init))
         };
         let needs_object = compiled.program.code.iter().any(|i| {
-            matches!(i.op, Op::TexCoord { .. } | Op::ObjectInfo)
-                || matches!(i.op, Op::NormalMap(geometry_nodes::NormalSpace::Object))
+            matches!(
+                i.op,
+                Op::TexCoord { .. } | Op::ObjectInfo | Op::Displacement { object: true }
+            ) || matches!(i.op, Op::NormalMap(geometry_nodes::NormalSpace::Object))
         });
         Ok(ShaderGraph {
             name: desc.name.clone(),
@@ -136,8 +138,31 @@ impl ShaderGraph {
             if regs.len() < n {
                 regs.resize(n, Vec3::ZERO);
             }
+            let program = &self.compiled.program;
             let ctx = EvalCtx::new(sp, textures);
-            self.compiled.program.run(&mut regs, &ctx);
+            let displaced;
+            let (sp, smooth) = match self.compiled.displaced {
+                None => {
+                    program.run(&mut regs, &ctx);
+                    (sp, sp.n)
+                }
+                Some((split, r)) => {
+                    regs[..n].copy_from_slice(&program.init);
+                    program.run_range(&mut regs, &ctx, 0..split);
+                    let v = regs[r as usize];
+                    displaced = ShadingPoint {
+                        n: if v.is_finite() && v.length_squared() > 0.0 {
+                            v.normalize()
+                        } else {
+                            sp.n
+                        },
+                        ..*sp
+                    };
+                    let ctx = EvalCtx::new(&displaced, textures);
+                    program.run_range(&mut regs, &ctx, split..program.code.len());
+                    (&displaced, sp.n)
+                }
+            };
             let normal = match self.compiled.normal {
                 NO_REG => sp.n,
                 r => {
@@ -170,8 +195,10 @@ impl ShaderGraph {
                     );
                 }
             }
-            if normal != sp.n {
-                out.bsdf.set_bump_shadowing(sp.n);
+            if normal != smooth {
+                // Cycles shadows closures whose normal differs from the displaced one; the
+                // photons' adjoint reads the surface's own normal.
+                out.bsdf.set_bump_shadowing(smooth, normal != sp.n);
                 let spec = geometry_nodes::ensure_valid_reflection(sp.ng, sp.wo, normal);
                 if spec != normal {
                     out.bsdf.set_specular_normal(spec, sp.dpdu);

@@ -49,6 +49,14 @@ pub enum Op {
     /// Inputs: strength, distance, height (at the point, then at the two offsets), normal.
     /// Output: normal.
     Bump { invert: bool },
+    /// Displacement: the offset (height - midlevel) x scale along the normal, in object space
+    /// (`object`: the object's normal, the offset taken back to world space) or world space.
+    /// Inputs: height, midlevel, scale, normal. Output: displacement.
+    Displacement { object: bool },
+    /// The shading normal bumped by a displacement (Cycles' Bump Only displacement): the
+    /// height is the displacement along the normal, at the point and at the two offsets.
+    /// Inputs: displacement x 3. Output: normal.
+    DisplacementBump,
     /// Input: vector (its x, y are the UV). Outputs: color, alpha.
     Image { texture: u32 },
     /// Box projection: the image projected along the object's three axes from the vector,
@@ -182,6 +190,28 @@ impl Instr {
                     *invert,
                 );
             }
+            Op::Displacement { object } => {
+                let n = if linked(3) { inp[3] } else { sp.n };
+                let h = (inp[0].x - inp[1].x) * inp[2].x;
+                out[0] = if *object {
+                    geo::object_displacement(&sp.object, n, h)
+                } else {
+                    n * h
+                };
+            }
+            Op::DisplacementBump => {
+                let h = |k: usize| inp[k].dot(sp.n);
+                out[0] = geo::bump(
+                    sp.n,
+                    [ctx.offsets[1], ctx.offsets[2]],
+                    h(0),
+                    h(1),
+                    h(2),
+                    1.0,
+                    1.0,
+                    false,
+                );
+            }
             Op::Image { texture } => match ctx.textures.get(*texture as usize) {
                 Some(t) => {
                     let uv = Vec2::new(inp[0].x, inp[0].y);
@@ -226,7 +256,12 @@ impl Program {
     /// Runs the program at a shading point, into `regs` (at least `init.len()` long).
     pub fn run(&self, regs: &mut [Vec3], ctx: &EvalCtx) {
         regs[..self.init.len()].copy_from_slice(&self.init);
-        for i in &self.code {
+        self.run_range(regs, ctx, 0..self.code.len());
+    }
+
+    /// Runs instructions `range` on `regs` (already initialised).
+    pub fn run_range(&self, regs: &mut [Vec3], ctx: &EvalCtx, range: std::ops::Range<usize>) {
+        for i in &self.code[range] {
             i.run(regs, ctx);
         }
     }

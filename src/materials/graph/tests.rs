@@ -141,6 +141,61 @@ fn bump_uses_the_height_at_offset_points() {
     assert!((n - want).length() < 1e-3, "{n}");
 }
 
+/// A diffuse surface displaced by `height` = 0.2 x (world or object space) and `layer`: a
+/// Layer Weight read by the closure's colour, which must see the displaced normal.
+fn displaced(space: &str) -> GraphDesc {
+    graph(serde_json::json!({
+        "name": "displaced",
+        "nodes": [
+            {"type": "geometry"},
+            {"type": "separate_xyz", "inputs": {"vector": {"node": 0, "output": "position"}}},
+            {"type": "displacement", "params": {"space": space},
+             "inputs": {"height": {"node": 1, "output": "x"}, "midlevel": 0.3, "scale": 0.2}},
+            {"type": "layer_weight", "inputs": {"blend": 0.5}},
+            {"type": "diffuse", "inputs": {"color": {"node": 3, "output": "facing"}}}
+        ],
+        "surface": {"node": 4},
+        "displacement": {"node": 2, "output": "displacement"}
+    }))
+}
+
+#[test]
+fn displacement_bumps_the_normal_every_node_reads() {
+    // Height 0.2 x along the normal: the normal tilts as a Bump of distance 0.2 tilts it (the
+    // midlevel is a constant shift), and the Layer Weight reads that normal, not the mesh's.
+    let sg = ShaderGraph::new(&displaced("WORLD"), "/materials/0", 0).unwrap();
+    let sp = point();
+    let sh = sg.shade(&sp, &[], Want::All);
+    let n = sh.bsdf.frame().n;
+    let want = Vec3::new(-0.2, 0.0, 1.0).normalize();
+    assert!((n - want).length() < 1e-3, "{n}");
+    let moved = ShadingPoint { n: want, ..sp };
+    let (_, facing) = super::geometry_nodes::layer_weight(&moved, 0.5, None);
+    let (_, flat) = super::geometry_nodes::layer_weight(&sp, 0.5, None);
+    let albedo = match sh.bsdf.lobes().next().unwrap().1 {
+        crate::materials::lobe::Lobe::Lambert(l) => l.albedo.x,
+        other => panic!("{other:?}"),
+    };
+    assert!((albedo - facing).abs() < 2e-3 && (albedo - flat).abs() > 0.05, "{albedo} {facing} {flat}");
+    // Object space: an object scaled by 2 displaces twice as far; world space does not.
+    let mut big = sp;
+    big.object.to_object = glam::Mat4::from_scale(Vec3::splat(0.5));
+    let n_obj = ShaderGraph::new(&displaced("OBJECT"), "/materials/0", 0)
+        .unwrap()
+        .shade(&big, &[], Want::All)
+        .bsdf
+        .frame()
+        .n;
+    let want = Vec3::new(-0.4, 0.0, 1.0).normalize();
+    assert!((n_obj - want).length() < 1e-3, "{n_obj}");
+    assert!((sg.shade(&big, &[], Want::All).bsdf.frame().n - n).length() < 1e-6);
+    // A displacement that does not change over the surface compiles to nothing.
+    let mut flat_g = displaced("WORLD");
+    flat_g.nodes[2].inputs.remove("height");
+    let sg = ShaderGraph::new(&flat_g, "/materials/0", 0).unwrap();
+    assert_eq!(sg.shade(&sp, &[], Want::All).bsdf.frame().n, sp.n);
+}
+
 #[test]
 fn errors_name_the_node_and_the_field() {
     let bad_type = graph(

@@ -202,6 +202,29 @@ def nodes_bump_strong():
     return _bump_room(0.8)
 
 
+@node_scene("nodes_displacement", "A Noise Texture (scale 4) as the Height of a Displacement "
+            "node (Scale 0.15, object space) into the Material Output's Displacement, with the "
+            "material's default Bump Only method, on the floor, the back wall and the sphere: "
+            "every closure and node reads the displaced normal; lit as nodes_bump.")
+def nodes_displacement():
+    sc = reset()
+    m = principled("Hammered", Roughness=0.4)
+    nt, _ = _tree(m)
+    nz = nt.nodes.new("ShaderNodeTexNoise")
+    nz.inputs["Scale"].default_value = 4.0
+    d = nt.nodes.new("ShaderNodeDisplacement")
+    d.inputs["Scale"].default_value = 0.15
+    nt.links.new(nz.outputs["Fac"], d.inputs["Height"])
+    nt.links.new(d.outputs["Displacement"], nt.nodes["Material Output"].inputs["Displacement"])
+    room(walls={"floor": m})
+    bpy.data.objects["Back"].data.materials[0] = m
+    props(mat_sphere=m)
+    ceiling_area(energy=10.0)
+    light("AREA", (-0.95, 0.85, 1.0), (0, -90, 0), energy=10.0, size=0.3)
+    camera()
+    return sc
+
+
 @node_scene("nodes_tiles_normal", "Tiles: a Brick Texture (scale 4) on the floor's Base Color "
             "and a tangent-space normal map (textures/tiles_normal.png, Non-Color, bevelled "
             "4 x 4 tiles) through a Normal Map node into its Normal: the specular lobes take "
