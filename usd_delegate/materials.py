@@ -31,8 +31,10 @@ UsdPrimvarReader_float2, UsdTransform2d, the MaterialX standard library Blender 
 and added BSDFs, the layered BSDFs Blender writes for a Principled BSDF in a Mix Shader), and in
 a graph subsurface scattering is read as its weight only (warned).
 
+A connected ``displacement`` bumps the shading normal (the surface is not moved).
+
 Warned: useSpecularWorkflow = 1 (approximated, specularColor ignored), clearcoat,
-displacement, occlusion, fuzz/sheen and thin-film; int and string UsdPrimvarReaders (their
+occlusion, fuzz/sheen and thin-film; int and string UsdPrimvarReaders (their
 fallback); a UV primvar other than ``st`` (read as the mesh's UV set); wrapT differing from wrapS; missing texture files (the
 UsdUVTexture's fallback, else magenta); every node that cannot be translated (named by prim
 path and ``info:id``; its consumer keeps its input's value). UsdPreviewSurface has no
@@ -327,6 +329,7 @@ class MaterialTable:
 
     def _preview_or_graph(self, material, s) -> dict:
         graph = (self._below_one(s, "opacity") or self._source(s, "normal") is not None
+                 or self._source(s, "displacement") is not None
                  or not all(self._flat_source_ok(s, n) for n in
                             ("diffuseColor", "metallic", "roughness", "emissiveColor", "ior")))
         if graph:
@@ -378,9 +381,8 @@ class MaterialTable:
         for name in ("clearcoat",):
             if float(self._value(s, name, d) or 0) > 0:
                 self.diag.warn(prim, f"`{name}` is not supported; ignored")
-        for name in ("displacement", "occlusion"):
-            if self._source(s, name) is not None:
-                self.diag.warn(prim, f"`{name}` input is not supported; ignored")
+        if self._source(s, "occlusion") is not None:
+            self.diag.warn(prim, "`occlusion` input is not supported; ignored")
         m = {
             "type": "principled",
             "name": str(material.GetPath()),

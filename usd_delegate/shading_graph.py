@@ -354,6 +354,8 @@ class Translator:
         self.g = Graph(name, available)
         self._memo: dict = {}
         self._images: dict = {}
+        #: The material's displacement (a world-space offset), applied as a bump.
+        self.displacement = None
 
     # -- inputs ------------------------------------------------------------------------
 
@@ -1003,9 +1005,13 @@ class Translator:
                                  "(specularColor ignored)")
         if _scalar(self.constant(s, "clearcoat", 0.0)) > 0:
             self.diag.warn(prim, "`clearcoat` is not supported; ignored")
-        for name in ("displacement", "occlusion"):
-            if self.connected(s, name):
-                self.diag.warn(prim, f"`{name}` input is not supported; ignored")
+        if self.connected(s, "occlusion"):
+            self.diag.warn(prim, "`occlusion` input is not supported; ignored")
+        if self.connected(s, "displacement"):
+            # Along the normal, as Blender's importer reads it (a Displacement node of scale 1
+            # in object space); the surface is not moved: it bumps the shading normal.
+            self.displacement = self.g.out("displacement", "displacement", {
+                "height": self.input(s, "displacement", 0.0), "scale": 1.0})
         opacity = self.input(s, "opacity", d["opacity"])
         threshold = _scalar(self.constant(s, "opacityThreshold", 0.0))
         if threshold > 0:  # a cut-out: opaque where opacity >= threshold
@@ -1119,4 +1125,7 @@ def translate(table, material, surface) -> dict:
         table.diag.warn(surface.GetPrim(), f"surface `{shader_id(surface)}` cannot be "
                                            f"translated; grey diffuse used")
         return {"type": "diffuse", "name": name, "color": list(GREY)}
-    return t.g.material(closure)
+    m = t.g.material(closure)
+    if is_link(t.displacement):
+        m["displacement"] = t.displacement
+    return m

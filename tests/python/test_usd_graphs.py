@@ -356,6 +356,32 @@ def test_tilted_normal_map_changes_the_shading(stage_factory, tmp_path):
     assert np.abs(img - ref).max() > 0.1 * ref.max()
 
 
+def test_displacement_bumps_the_normal_as_the_equal_normal_map(stage_factory, tmp_path):
+    # A displacement ramp h = 0.8 u over the plane (u spans x in [-1, 1]) tilts the normal to
+    # (-0.4, 0, 1) normalised: the render equals that of a constant normal map of this tilt,
+    # and differs from the flat plane.
+    stage, path = new(stage_factory, sun=True, name="disp")
+    mat, sh = preview(stage, "/Mat/D", diffuseColor=(0.8, 0.8, 0.8), roughness=0.4)
+    ramp = np.repeat(np.linspace(0.0, 0.8, 65, dtype=np.float32)[None, :, None], 4, axis=0)
+    file = write_texture(tmp_path / "ramp.exr", np.repeat(ramp, 3, axis=2))
+    t = uv_texture(stage, "/Mat/D/Height", file, wrap="clamp")
+    connect(sh, "displacement", t, "r", T.Float)
+    bind(plane(stage), mat)
+    r, img = render(stage, path, spp=8)
+    m = r.ir["materials"][0]
+    (d,) = nodes_of(m, "displacement")
+    assert m["displacement"] == {"node": m["nodes"].index(d), "output": "displacement"}
+    n = np.array([-0.4, 0.0, 1.0]) / np.hypot(0.4, 1.0)
+    stage2, path2 = _normal_scene(stage_factory, tmp_path, tuple((n + 1) / 2), name="tilt")
+    _, ref = render(stage2, path2, spp=8)
+    stage3, path3 = _normal_scene(stage_factory, tmp_path, None, with_map=False, name="flat")
+    _, flat = render(stage3, path3, spp=8)
+    inner = (slice(W // 8, -W // 8), slice(W // 8, -W // 8))
+    assert np.abs(ref - flat)[inner].max() > 0.1 * ref.max()
+    assert np.allclose(img[inner], ref[inner], atol=0.03 * ref.max()), \
+        np.abs(img - ref)[inner].max() / ref.max()
+
+
 def test_display_color_reader_reads_the_primvar_with_its_fallback(stage_factory):
     stage, path = new(stage_factory, sun=True)
     mat, sh = preview(stage, "/Mat/D", opacity=0.5)

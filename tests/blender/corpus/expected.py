@@ -48,6 +48,13 @@ USD: dict[str, str] = {
     "area_spread60": SPREAD,
     "area_square": CAMERA_VISIBLE.format('RectLight "Area"', "block (9,1) -99.2% (-439 sigma), "
                                                             "pooled -29.0%"),
+    "nodes_displacement": (
+        "exporter: nothing of the Noise Texture and Displacement node into the Material "
+        "Output's Displacement is written: the material's displacement connects to a "
+        "UsdPreviewSurface without a displacement input, 'token outputs:displacement' "
+        "(Hammered/Principled_BSDF), and its MaterialX network has no displacement, so the "
+        "surfaces render smooth: block (13,12) -30.0% (-42.4 sigma), pixels 6.9x the noise "
+        "floor"),
     "nodes_bump": NOISE.format(
         id="ND_fractal3d_float", prim="Bumpy/NodeGraphs/bnode__Noise_Texture_Fac",
         what="the Bump's height is lost (the Bump itself is written as "
