@@ -40,6 +40,7 @@ TYPES = {
     "ShaderNodeNewGeometry": "geometry",
     "ShaderNodeUVMap": "uv_map",
     "ShaderNodeObjectInfo": "object_info",
+    "ShaderNodeLightPath": "light_path",
     "ShaderNodeAttribute": "attribute",
     "ShaderNodeVertexColor": "attribute",
     "ShaderNodeLayerWeight": "layer_weight",

@@ -8,7 +8,7 @@ use super::bvh_simd::prefetch;
 use super::bvh_wide::WideBvh;
 use super::float::gamma;
 use super::huge_pages;
-use super::interaction::{transform_point_error, SurfaceInteraction};
+use super::interaction::{transform_point_error, RayPath, SurfaceInteraction};
 use super::mesh::{AttributeValues, Instance, MeshGeom, MAX_ATTRIBUTES};
 use super::ray::Ray;
 use super::triangle::{
@@ -482,6 +482,8 @@ impl Accel {
             prim: hit.prim,
             t: hit.t,
             bary: Vec2::new(b1, b2),
+            ray_length: hit.t * ray.d.length(),
+            path: RayPath::default(),
         }
     }
 

@@ -21,6 +21,8 @@ pub const SHADOW_EPSILON: f32 = 0.0001;
 /// | `wo` | unit direction back along the incoming ray, `−d/|d|` |
 /// | `material`, `instance`, `prim`, `t` | material index of the triangle, and the hit record |
 /// | `bary` | the hit's barycentrics `(b1, b2)` in its triangle |
+/// | `ray_length` | the length of the ray segment that reached the hit, `t |d|` |
+/// | `path` | the kind of ray that reached it (set by the pass that traced it; none by default) |
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfaceInteraction {
     pub p: Vec3,
@@ -35,6 +37,107 @@ pub struct SurfaceInteraction {
     pub prim: u32,
     pub t: f32,
     pub bary: Vec2,
+    pub ray_length: f32,
+    pub path: RayPath,
+}
+
+/// The kind of ray that reached a surface and the bounces behind it, as Cycles' Light Path
+/// node reads them: `flags` of [`RayPath::CAMERA`] ... [`RayPath::VOLUME_SCATTER`], and the
+/// depths (bounces of each kind so far). All zero for light sampled on an emitter, as Cycles
+/// evaluates emission for its lights.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RayPath {
+    pub flags: u8,
+    pub depth: u8,
+    pub diffuse_depth: u8,
+    pub glossy_depth: u8,
+    pub transmission_depth: u8,
+    pub transparent_depth: u8,
+}
+
+/// How a ray left a surface, for [`RayPath::scattered`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Scatter {
+    Diffuse,
+    Glossy,
+    /// A delta lobe (a mirror, smooth glass): Cycles' singular rays, which are also glossy.
+    Singular,
+}
+
+impl RayPath {
+    pub const CAMERA: u8 = 1;
+    pub const SHADOW: u8 = 2;
+    pub const DIFFUSE: u8 = 4;
+    pub const GLOSSY: u8 = 8;
+    pub const SINGULAR: u8 = 16;
+    pub const REFLECT: u8 = 32;
+    pub const TRANSMIT: u8 = 64;
+    pub const VOLUME_SCATTER: u8 = 128;
+
+    /// A ray from the camera.
+    pub const CAMERA_RAY: RayPath = RayPath {
+        flags: RayPath::CAMERA,
+        depth: 0,
+        diffuse_depth: 0,
+        glossy_depth: 0,
+        transmission_depth: 0,
+        transparent_depth: 0,
+    };
+
+    /// A shadow ray (Cycles shades the surfaces a shadow ray crosses with this flag alone).
+    pub const SHADOW_RAY: RayPath = RayPath {
+        flags: RayPath::SHADOW,
+        ..RayPath::CAMERA_RAY
+    };
+
+    /// The ray that leaves a surface reached by `self`, scattered as `how`, reflected or
+    /// transmitted.
+    pub fn scattered(self, how: Scatter, transmit: bool) -> RayPath {
+        let up = |d: u8| d.saturating_add(1);
+        let mut p = RayPath {
+            flags: if transmit {
+                RayPath::TRANSMIT
+            } else {
+                RayPath::REFLECT
+            },
+            depth: up(self.depth),
+            ..self
+        };
+        match how {
+            Scatter::Diffuse => {
+                p.flags |= RayPath::DIFFUSE;
+                p.diffuse_depth = up(p.diffuse_depth);
+            }
+            Scatter::Glossy | Scatter::Singular => {
+                p.flags |= RayPath::GLOSSY;
+                if how == Scatter::Singular {
+                    p.flags |= RayPath::SINGULAR;
+                }
+                p.glossy_depth = up(p.glossy_depth);
+            }
+        }
+        if transmit {
+            p.transmission_depth = up(p.transmission_depth);
+        }
+        p
+    }
+
+    /// The same ray after passing straight through a transparent surface.
+    pub fn crossed(self) -> RayPath {
+        self.crossed_n(1)
+    }
+
+    /// The same ray after passing `n` transparent surfaces.
+    pub fn crossed_n(self, n: u32) -> RayPath {
+        RayPath {
+            transparent_depth: self.transparent_depth.saturating_add(n.min(255) as u8),
+            ..self
+        }
+    }
+
+    pub fn is(&self, flag: u8) -> bool {
+        self.flags & flag != 0
+    }
 }
 
 /// Offsets a point off a surface so that a ray leaving it in direction `w` cannot

@@ -13,6 +13,7 @@
 use super::layer::CoatLayer;
 use super::lobe::Lobe;
 use crate::math::{Frame, Spectrum};
+use crate::geometry::{RayPath, Scatter};
 use glam::{Mat3, Vec2, Vec3};
 
 /// Bit flags describing lobes and sampled events (a closed set of `u8` constants).
@@ -58,6 +59,18 @@ impl BsdfSample {
     #[inline]
     pub fn is_delta(&self) -> bool {
         self.flags & LobeFlags::SPECULAR != 0
+    }
+
+    /// The kind of ray this sample starts, after a surface that `path` reached.
+    pub fn next_path(&self, path: RayPath) -> RayPath {
+        let how = if self.flags & LobeFlags::DIFFUSE != 0 {
+            Scatter::Diffuse
+        } else if self.is_delta() {
+            Scatter::Singular
+        } else {
+            Scatter::Glossy
+        };
+        path.scattered(how, self.flags & LobeFlags::TRANSMISSION != 0)
     }
     /// The weight for flux or importance transport (photon tracing), the adjoint of `weight`:
     /// refraction into a medium of relative IOR eta scales it by 1/eta^2 (a photon entering

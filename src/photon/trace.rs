@@ -13,7 +13,7 @@ use super::map::{
     FLAG_SUBSURFACE_EXIT, GROUP_SHIFT,
 };
 use super::{encode_direction, Photon, PhotonF32, PhotonKdTree, PhotonRecord};
-use crate::geometry::{Ray, SurfaceInteraction};
+use crate::geometry::{Ray, RayPath, Scatter, SurfaceInteraction};
 use crate::lights::{LeSample, Light, Target};
 use crate::materials::bsdf::{Bsdf, Component, LobeFlags};
 use crate::materials::subsurface::Subsurface;
@@ -185,6 +185,11 @@ fn trace_path(
         }
         let Some(hit) = hit else { break };
         let mut si = scene.accel.interaction(&ray, &hit);
+        // Photons shade a surface as the diffuse bounce of a camera hit sees it (the photon
+        // maps answer for such bounces), whatever their own bounces were.
+        si.path = RayPath::CAMERA_RAY
+            .scattered(Scatter::Diffuse, false)
+            .crossed_n(transparent_hits);
         let Some(mat) = scene.materials.get(si.material as usize) else {
             break;
         };

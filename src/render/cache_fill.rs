@@ -11,7 +11,7 @@ use super::settings::RenderSettings;
 use super::terms::indirect::gather_hemisphere;
 use super::terms::specular::{self, Follow};
 use crate::error::{Error, Result};
-use crate::geometry::{Ray, SurfaceInteraction};
+use crate::geometry::{Ray, RayPath, SurfaceInteraction};
 use crate::math::Spectrum;
 use crate::photon::KnnScratch;
 use crate::sampling::Rng;
@@ -46,10 +46,13 @@ fn first_diffuse(
     };
     let mut length = 0.0;
     let (mut bounces, mut crossings) = (0, 0);
+    // As the camera pass walks it (the Light Path node reads the same kinds of ray).
+    let mut path = RayPath::CAMERA_RAY;
     while bounces <= ctx.settings.max_specular_depth {
         let SceneHit::Surface(mut si) = scene.intersect(&ray) else {
             return None;
         };
+        si.path = path;
         length += si.t * ray.d.length();
         let mat = scene.materials.get(si.material as usize)?;
         if let Crossing::Pass(_) = scene.crossing(mat, &si, || rng.f32()) {
@@ -58,6 +61,9 @@ fn first_diffuse(
             crossings += 1;
             if crossings > MAX_CROSSINGS {
                 return None;
+            }
+            if !mat.is_null() {
+                path = path.crossed();
             }
             ray = si.spawn_ray(ray.d);
             continue;
@@ -71,6 +77,7 @@ fn first_diffuse(
             return Some((si, n, length));
         }
         let bs = specular::next_bounce(&bsdf, si.wo, Follow::Specular, rng)?;
+        path = bs.next_path(path);
         ray = si.spawn_ray(bs.wi);
     }
     None

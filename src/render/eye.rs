@@ -11,7 +11,7 @@ use super::photons::PhotonMaps;
 use super::terms::specular::Follow;
 use super::terms::volume::{self, MarchSettings};
 use super::terms::{caustic, direct, emission, indirect, specular, subsurface};
-use crate::geometry::Ray;
+use crate::geometry::{Ray, RayPath};
 use crate::materials::bsdf::{Bsdf, LobeFlags};
 use crate::math::{is_finite3, Spectrum};
 use crate::photon::KnnScratch;
@@ -133,6 +133,8 @@ pub fn trace_split(
     // The tint of the specular bounces so far, for the denoising guides; `None` once they
     // are recorded (or not asked for).
     let mut guide_tint = aovs.want_guides.then_some(Spectrum::ONE);
+    // The kind of ray the path is (the Light Path node's).
+    let mut path = RayPath::CAMERA_RAY;
     let want_first_hit = aovs.want_first_hit;
     let (rec_guides, first_hit) = (&mut aovs.guides, &mut aovs.first_hit);
     // With light groups, each group's share of what the path adds.
@@ -231,6 +233,7 @@ pub fn trace_split(
                 break;
             }
             SceneHit::Surface(mut si) => {
+                si.path = path;
                 let Some(mat) = scene.materials.get(si.material as usize) else {
                     break;
                 };
@@ -241,6 +244,7 @@ pub fn trace_split(
                         crossings += 1;
                         if !mat.is_null() {
                             transparent_hits += 1;
+                            path = path.crossed();
                         }
                         if crossings > 64 || transparent_hits > MAX_TRANSPARENT {
                             break;
@@ -337,6 +341,7 @@ pub fn trace_split(
                 // After a rough-glass bounce the emitter it reaches was counted by that
                 // vertex's direct estimate (light and BSDF samples, MIS).
                 skip_emission = !bs.is_delta();
+                path = bs.next_path(path);
                 beta *= bs.weight;
                 if let Some(tint) = guide_tint.as_mut() {
                     *tint *= bs.weight;

@@ -44,6 +44,8 @@ impl Scene {
             } else {
                 Default::default()
             },
+            path: si.path,
+            ray_length: si.ray_length,
         }
     }
 

@@ -55,7 +55,8 @@ impl Scene {
                 t *= self.media[m as usize].transmittance_along(ray.o, ray.d.normalize(), seg);
             }
             let Some(h) = hit else { return t };
-            let si = self.accel.interaction(&ray, &h);
+            let mut si = self.accel.interaction(&ray, &h);
+            si.path = shadow_path(transparent_hits);
             if !self.is_null(&si) {
                 // A transparent surface lets its transparency through (Cycles' transparent
                 // shadows), up to the transparent bounce limit.
@@ -131,11 +132,12 @@ impl Scene {
                     self.update_stack(stack, &si, ray.d);
                     ray = si.spawn_ray(ray.d);
                 }
-                SceneHit::Surface(si)
+                SceneHit::Surface(mut si)
                     if transparent
                         && self.transparent
                         && !self.emissive.contains_key(&(si.instance, si.prim)) =>
                 {
+                    si.path = shadow_path(transparent_hits);
                     let pass = self
                         .materials
                         .get(si.material as usize)
@@ -195,5 +197,14 @@ impl Scene {
             stack.cross(m, true);
         }
         stack
+    }
+}
+
+/// A shadow ray that has passed `crossed` transparent surfaces (a BSDF sample of a direct
+/// estimate sees the surfaces it passes as its light samples' shadow rays do).
+fn shadow_path(crossed: u32) -> crate::geometry::RayPath {
+    crate::geometry::RayPath {
+        transparent_depth: crossed.min(255) as u8,
+        ..crate::geometry::RayPath::SHADOW_RAY
     }
 }

@@ -213,6 +213,29 @@ impl<'a> Builder<'a> {
                     ],
                 ),
             ),
+            "light_path" => (
+                value(Op::LightPath, true, false),
+                spec(
+                    &[],
+                    &[
+                        ("is_camera_ray", Float),
+                        ("is_shadow_ray", Float),
+                        ("is_diffuse_ray", Float),
+                        ("is_glossy_ray", Float),
+                        ("is_singular_ray", Float),
+                        ("is_reflection_ray", Float),
+                        ("is_transmission_ray", Float),
+                        ("is_volume_scatter_ray", Float),
+                        ("ray_length", Float),
+                        ("ray_depth", Float),
+                        ("diffuse_depth", Float),
+                        ("glossy_depth", Float),
+                        ("transparent_depth", Float),
+                        ("transmission_depth", Float),
+                        ("portal_depth", Float),
+                    ],
+                ),
+            ),
             "layer_weight" => (
                 value(Op::LayerWeight, true, false),
                 spec(
@@ -725,6 +748,7 @@ pub(crate) const BUILTIN: &[&str] = &[
     "uv_map",
     "attribute",
     "object_info",
+    "light_path",
     "layer_weight",
     "fresnel",
     "mapping",

@@ -1,6 +1,6 @@
 //! What the nodes read at a shading point.
 
-use crate::geometry::AttributeValues;
+use crate::geometry::{AttributeValues, RayPath};
 use glam::{Mat4, Vec2, Vec3};
 
 /// The object a shading point lies on, as the coordinate nodes see it.
@@ -84,6 +84,7 @@ impl ObjectCoords {
 /// | `wo` | unit direction towards the ray's origin (Cycles' I) |
 /// | `object` | the object's coordinate systems |
 /// | `attributes` | the mesh's named attributes at the point |
+/// | `path`, `ray_length` | the kind of ray that reached the point and its segment's length (the Light Path node) |
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShadingPoint {
     pub p: Vec3,
@@ -96,6 +97,8 @@ pub struct ShadingPoint {
     pub backfacing: bool,
     pub object: ObjectCoords,
     pub attributes: AttributeValues,
+    pub path: RayPath,
+    pub ray_length: f32,
 }
 
 impl ShadingPoint {
@@ -112,6 +115,8 @@ impl ShadingPoint {
             backfacing: false,
             object: ObjectCoords::default(),
             attributes: AttributeValues::default(),
+            path: RayPath::default(),
+            ray_length: 0.0,
         }
     }
 

@@ -34,6 +34,11 @@ pub enum Op {
     /// vector, fac (the mean of the colour, as Cycles reads a colour as a float here), alpha;
     /// `fallback` where the mesh has no such attribute (zero by default, as in Cycles).
     Attribute { key: u64, fallback: glam::Vec4 },
+    /// Light Path: the kind of ray that reached the point (Cycles' flags and depths, see
+    /// [`crate::geometry::RayPath`]). Outputs: is_camera_ray ... is_volume_scatter_ray,
+    /// ray_length, ray_depth, diffuse_depth, glossy_depth, transparent_depth,
+    /// transmission_depth, portal_depth.
+    LightPath,
     /// Inputs: blend, normal. Outputs: fresnel, facing.
     LayerWeight,
     /// Inputs: ior, normal. Output: fac.
@@ -158,6 +163,22 @@ impl Instr {
                 out[0] = sp.object.location;
                 out[1] = f(sp.object.random);
                 out[2] = f(sp.object.index);
+            }
+            Op::LightPath => {
+                let path = &sp.path;
+                for (k, o) in out.iter_mut().enumerate() {
+                    *o = f(if path.is(1 << k) { 1.0 } else { 0.0 });
+                }
+                let mut more = [Vec3::ZERO; 7];
+                more[0] = f(sp.ray_length);
+                more[1] = f(path.depth as f32);
+                more[2] = f(path.diffuse_depth as f32);
+                more[3] = f(path.glossy_depth as f32);
+                more[4] = f(path.transparent_depth as f32);
+                more[5] = f(path.transmission_depth as f32);
+                for (o, m) in self.outs.iter().skip(8).zip(more) {
+                    regs[*o as usize] = m;
+                }
             }
             Op::LayerWeight => {
                 let n = linked(1).then_some(inp[1]);

@@ -197,6 +197,68 @@ fn displacement_bumps_the_normal_every_node_reads() {
 }
 
 #[test]
+fn light_path_reads_the_kind_of_ray() {
+    // Emission for the camera only, a Transparent BSDF for every other ray.
+    let g = graph(serde_json::json!({
+        "name": "card",
+        "nodes": [
+            {"type": "light_path"},
+            {"type": "transparent"},
+            {"type": "emission", "inputs": {"strength": 5.0}},
+            {"type": "mix_shader", "inputs": {
+                "fac": {"node": 0, "output": "is_camera_ray"},
+                "shader1": {"node": 1}, "shader2": {"node": 2}}}
+        ],
+        "surface": {"node": 3}
+    }));
+    let sg = ShaderGraph::new(&g, "/materials/0", 0).unwrap();
+    let mut sp = point();
+    use crate::geometry::{RayPath, Scatter};
+    let kinds = [
+        (RayPath::CAMERA_RAY, 5.0, 0.0),
+        (RayPath::SHADOW_RAY, 0.0, 1.0),
+        (RayPath::CAMERA_RAY.scattered(Scatter::Diffuse, false), 0.0, 1.0),
+        (RayPath::default(), 0.0, 1.0),
+    ];
+    for (path, emission, transparency) in kinds {
+        sp.path = path;
+        let sh = sg.shade(&sp, &[], Want::All);
+        assert_eq!((sh.emission.x, sh.transparency.x), (emission, transparency), "{path:?}");
+    }
+    // Every output, against the path it reads.
+    let outs = [
+        ("is_glossy_ray", 1.0),
+        ("is_singular_ray", 1.0),
+        ("is_transmission_ray", 1.0),
+        ("is_reflection_ray", 0.0),
+        ("is_diffuse_ray", 0.0),
+        ("ray_length", 2.5),
+        ("ray_depth", 2.0),
+        ("diffuse_depth", 1.0),
+        ("glossy_depth", 1.0),
+        ("transmission_depth", 1.0),
+        ("transparent_depth", 1.0),
+    ];
+    sp.path = RayPath::CAMERA_RAY
+        .scattered(Scatter::Diffuse, false)
+        .crossed()
+        .scattered(Scatter::Singular, true);
+    sp.ray_length = 2.5;
+    for (name, want) in outs {
+        let g = graph(serde_json::json!({
+            "name": "probe",
+            "nodes": [
+                {"type": "light_path"},
+                {"type": "emission", "inputs": {"strength": {"node": 0, "output": name}}}
+            ],
+            "surface": {"node": 1}
+        }));
+        let sh = ShaderGraph::new(&g, "/materials/0", 0).unwrap().shade(&sp, &[], Want::Light);
+        assert_eq!(sh.emission.x, want, "{name}");
+    }
+}
+
+#[test]
 fn errors_name_the_node_and_the_field() {
     let bad_type = graph(
         serde_json::json!({"name": "m", "nodes": [{"type": "warp_drive"}],

@@ -55,6 +55,12 @@ USD: dict[str, str] = {
         "(Hammered/Principled_BSDF), and its MaterialX network has no displacement, so the "
         "surfaces render smooth: block (13,12) -30.0% (-42.4 sigma), pixels 6.9x the noise "
         "floor"),
+    "nodes_light_path": (
+        "exporter: the Light Path node is written as a camera ray's constant: the light card's "
+        "emission is weighted 0, 'float inputs:in2 = 0' (LightCard/NodeGraphs/"
+        "bnode__Mix_Shader_EDF), and the sphere is the white Diffuse for every ray, 'float "
+        "inputs:mix = 1' (CameraWhite/NodeGraphs/bnode__Mix_Shader_BSDF): the card does not "
+        "light the room, block (2,8) -27.9% (-64.6 sigma), pooled -10.2%"),
     "nodes_bump": NOISE.format(
         id="ND_fractal3d_float", prim="Bumpy/NodeGraphs/bnode__Noise_Texture_Fac",
         what="the Bump's height is lost (the Bump itself is written as "

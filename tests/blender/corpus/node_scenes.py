@@ -225,6 +225,41 @@ def nodes_displacement():
     return sc
 
 
+@node_scene("nodes_light_path", "Light Path tricks: the sphere is white to the camera and red "
+            "to every other ray (a Mix Shader of two Diffuse BSDFs by Is Camera Ray), so it "
+            "bleeds red; a light card above the cube (a Mix Shader of Transparent and Emission, "
+            "strength 4, by Is Camera Ray) lights the room and is invisible to the camera.")
+def nodes_light_path():
+    sc = reset()
+    room()
+    sph = shader_material("CameraWhite", "ShaderNodeMixShader")
+    nt = sph.node_tree
+    lp = nt.nodes.new("ShaderNodeLightPath")
+    red = nt.nodes.new("ShaderNodeBsdfDiffuse")
+    red.inputs["Color"].default_value = (0.8, 0.1, 0.1, 1.0)
+    white = nt.nodes.new("ShaderNodeBsdfDiffuse")
+    white.inputs["Color"].default_value = (0.8, 0.8, 0.8, 1.0)
+    mix = nt.nodes["Mix Shader"]
+    nt.links.new(lp.outputs["Is Camera Ray"], mix.inputs["Fac"])
+    nt.links.new(red.outputs[0], mix.inputs[1])
+    nt.links.new(white.outputs[0], mix.inputs[2])
+    props(mat_sphere=sph)
+    card = shader_material("LightCard", "ShaderNodeMixShader")
+    nt = card.node_tree
+    lp = nt.nodes.new("ShaderNodeLightPath")
+    em = nt.nodes.new("ShaderNodeEmission")
+    em.inputs["Strength"].default_value = 4.0
+    tr = nt.nodes.new("ShaderNodeBsdfTransparent")
+    mix = nt.nodes["Mix Shader"]
+    nt.links.new(lp.outputs["Is Camera Ray"], mix.inputs["Fac"])
+    nt.links.new(em.outputs[0], mix.inputs[1])
+    nt.links.new(tr.outputs[0], mix.inputs[2])
+    plane("Card", (-0.45, 0.35, 0.9), (180, 0, 0), 0.4, card)
+    ceiling_area(energy=20.0)
+    camera()
+    return sc
+
+
 @node_scene("nodes_tiles_normal", "Tiles: a Brick Texture (scale 4) on the floor's Base Color "
             "and a tangent-space normal map (textures/tiles_normal.png, Non-Color, bevelled "
             "4 x 4 tiles) through a Normal Map node into its Normal: the specular lobes take "

@@ -2,7 +2,7 @@
 //! irradiance cache's records and uncached points), a gather of the glossy lobes, and what a
 //! gather ray takes where it lands.
 
-use crate::geometry::{Ray, SurfaceInteraction};
+use crate::geometry::{Ray, RayPath, Scatter, SurfaceInteraction};
 use crate::materials::bsdf::{Bsdf, LobeFlags};
 use crate::math::{Frame, Spectrum, PI};
 use crate::media::MediumStack;
@@ -41,14 +41,15 @@ pub enum GlossyAtHit {
     Roulette,
 }
 
-/// Radiance arriving at the gather point along `ray` from the global map, and the distance to
-/// the first surface (infinite when the ray escapes); each light group's share goes to
-/// `split`.
+/// Radiance arriving at the gather point along `ray`, a ray of kind `path`, from the global
+/// map, and the distance to the first surface (infinite when the ray escapes); each light
+/// group's share goes to `split`.
 #[allow(clippy::too_many_arguments)]
 pub fn gather_radiance(
     scene: &Scene,
     maps: &PhotonMaps,
     mut ray: Ray,
+    mut path: RayPath,
     glossy: GlossyAtHit,
     stack: &MediumStack,
     rng: &mut Rng,
@@ -74,6 +75,7 @@ pub fn gather_radiance(
         let SceneHit::Surface(mut si) = hit else {
             break;
         };
+        si.path = path;
         if depth == 0 {
             first_t = si.t * ray.d.length();
         }
@@ -83,6 +85,7 @@ pub fn gather_radiance(
         match scene.crossing(mat, &si, || rng.f32()) {
             Crossing::Pass(w) => {
                 // A transparent surface (each counts as one of the chain's vertices).
+                path = path.crossed();
                 beta *= w;
                 scene.update_stack(&mut stack, &si, ray.d);
                 ray = si.spawn_ray(ray.d);
@@ -137,6 +140,7 @@ pub fn gather_radiance(
         if beta.max_element() < 1e-4 {
             break;
         }
+        path = bs.next_path(path);
         ray = si.spawn_ray(bs.wi);
     }
     (acc, first_t)
@@ -329,6 +333,7 @@ pub fn gather_glossy(
             scene,
             maps,
             si.spawn_ray(bs.wi),
+            bs.next_path(si.path),
             GlossyAtHit::Roulette,
             stack,
             rng,
@@ -377,6 +382,7 @@ pub fn gather_hemisphere(
     let norm = PI / (m * nn) as f32;
     let mut split = scaled(&mut split, Spectrum::splat(norm));
     let frame = Frame::from_normal(n);
+    let path = si.path.scattered(Scatter::Diffuse, n.dot(si.wo) < 0.0);
     let mut l = vec![Spectrum::ZERO; m * nn];
     let mut r = vec![f32::INFINITY; m * nn];
     let mut theta = vec![0.0f32; m * nn];
@@ -392,6 +398,7 @@ pub fn gather_hemisphere(
                 scene,
                 maps,
                 si.spawn_ray(frame.to_world(local)),
+                path,
                 GlossyAtHit::Estimate,
                 stack,
                 rng,
@@ -513,6 +520,7 @@ mod tests {
             &sc,
             &maps,
             ray,
+            RayPath::default(),
             GlossyAtHit::Estimate,
             &stack,
             &mut rng,
@@ -523,6 +531,7 @@ mod tests {
             &sc,
             &maps,
             ray,
+            RayPath::default(),
             GlossyAtHit::Estimate,
             &stack,
             &mut rng,
@@ -536,6 +545,7 @@ mod tests {
                 &sc,
                 &maps,
                 ray,
+                RayPath::default(),
                 GlossyAtHit::Roulette,
                 &stack,
                 &mut rng,
