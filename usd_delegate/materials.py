@@ -310,6 +310,9 @@ class MaterialTable:
             return (_shader_id(st[0]) == "UsdPrimvarReader_float2" and var is not None
                     and str(var.Get(self.time)) == "st")
         if sid.startswith("ND_image_"):
+            filt = s.GetInput("filtertype")
+            if filt and str(filt.Get(self.time) or "linear") != "linear":
+                return False  # read between texels otherwise than bilinearly: a graph
             tc = self._source(s, "texcoord")
             return tc is None or (_shader_id(tc[0]).startswith("ND_texcoord_")
                                   and not tc[0].GetInput("index"))

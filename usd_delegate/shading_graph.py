@@ -344,6 +344,10 @@ def _data_type(suffix: str) -> str:
     return "VECTOR"
 
 
+#: MaterialX image filtertype -> the graph's interpolation (Cycles' names).
+_FILTERS = {"closest": "Closest", "linear": "Linear", "cubic": "Cubic"}
+
+
 class Translator:
     """Translates one UsdShade material's surface network into a Graph."""
 
@@ -530,7 +534,14 @@ class Translator:
                     vec = self.g.mapping(vec if vec is not None else self.g.uv(),
                                          [-offset[0], -offset[1], 0.0], [0.0] * 3,
                                          [tiling[0], tiling[1], 1.0])
-                node = self.g.add("image_texture", {"vector": vec}, {"texture": idx},
+                filt = str(self.authored(s, "filtertype") or "linear")
+                interp = _FILTERS.get(filt)
+                if interp is None:
+                    self.diag.warn(prim, f"filtertype `{filt}` is not a MaterialX filter; "
+                                         f"read as linear")
+                    interp = "Linear"
+                node = self.g.add("image_texture", {"vector": vec},
+                                  {"texture": idx, "interpolation": interp},
                                   name=prim.GetName())
             self._images[key] = node
         node = self._images[key]

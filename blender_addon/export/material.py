@@ -63,8 +63,9 @@ _PLAIN = {
 
 def _image_at_uv(node) -> bool:
     """Whether an Image Texture node reads the mesh's UV as it is (what a plain material's
-    texture does): its Vector unlinked and a flat projection."""
-    return not node.inputs["Vector"].is_linked and node.projection == "FLAT"
+    texture does): its Vector unlinked, a flat projection and linear interpolation."""
+    return (not node.inputs["Vector"].is_linked and node.projection == "FLAT"
+            and node.interpolation == "Linear")
 
 
 def _needs_graph(mat) -> bool:

@@ -261,16 +261,10 @@ class GraphBuilder:
                                     alpha=linked_alpha)
             if t is None:
                 return None
-            p = {"texture": t}
-            if node.interpolation not in ("Linear", "Smart"):
-                self.warn(f"material '{self.mat}': node '{node.name}': {node.interpolation} "
-                          f"interpolation renders as Linear")
+            p = {"texture": t, "interpolation": node.interpolation,
+                 "projection": node.projection}
             if node.projection == "BOX":
-                p["projection"] = "BOX"
                 p["projection_blend"] = float(node.projection_blend)
-            elif node.projection != "FLAT":
-                self.warn(f"material '{self.mat}': node '{node.name}': {node.projection} "
-                          f"projection renders as Flat")
         elif kind == "color_ramp":
             r = node.color_ramp
             p = {"interpolation": r.interpolation, "color_mode": r.color_mode,

@@ -3,7 +3,44 @@
 use crate::scene::desc::{ColorInput, FloatInput, TextureDesc, TextureEncoding, WrapMode};
 use glam::{Vec2, Vec3};
 
-/// A float image looked up bilinearly by UV.
+/// How an image is read between its texels (Cycles' image interpolation; Blender's Smart is
+/// Cubic, as Cycles reads it on the CPU).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Interp {
+    #[default]
+    Linear,
+    /// The texel the point lies in.
+    Closest,
+    /// A uniform cubic B-spline over 4 x 4 texels.
+    Cubic,
+}
+
+impl Interp {
+    /// From Blender's name (`Linear`, `Closest`, `Cubic`, `Smart`).
+    pub fn from_blender(s: &str) -> Option<Self> {
+        Some(match s {
+            "Linear" => Interp::Linear,
+            "Closest" => Interp::Closest,
+            "Cubic" | "Smart" => Interp::Cubic,
+            _ => return None,
+        })
+    }
+}
+
+/// The cubic B-spline's weights of the four texels around a point at fraction `t`.
+#[inline]
+fn cubic_weights(t: f32) -> [f32; 4] {
+    let t2 = t * t;
+    let t3 = t2 * t;
+    [
+        (1.0 - 3.0 * t + 3.0 * t2 - t3) / 6.0,
+        (4.0 - 6.0 * t2 + 3.0 * t3) / 6.0,
+        (1.0 + 3.0 * t + 3.0 * t2 - 3.0 * t3) / 6.0,
+        t3 / 6.0,
+    ]
+}
+
+/// A float image looked up by UV, bilinearly unless told otherwise ([`Interp`]).
 ///
 /// | parameter | meaning |
 /// |---|---|
@@ -128,14 +165,65 @@ impl Texture {
         a * (1.0 - ty) + b * ty
     }
 
+    fn bicubic(&self, fp: (i64, i64, f32, f32), c: usize) -> f32 {
+        let (i, j, tx, ty) = fp;
+        let (wx, wy) = (cubic_weights(tx), cubic_weights(ty));
+        let mut v = 0.0;
+        for (b, wy) in wy.iter().enumerate() {
+            let row: f32 = wx
+                .iter()
+                .enumerate()
+                .map(|(a, wx)| wx * self.texel(i - 1 + a as i64, j - 1 + b as i64, c))
+                .sum();
+            v += wy * row;
+        }
+        v
+    }
+
+    /// The texel `uv` lies in.
+    fn closest(&self, uv: Vec2, c: usize) -> f32 {
+        let i = (uv.x as f64 * self.width as f64).floor() as i64;
+        let j = (uv.y as f64 * self.height as f64).floor() as i64;
+        self.texel(i, j, c)
+    }
+
+    /// Channel `c` at `uv` read by `interp`, before decoding.
+    fn lookup(&self, uv: Vec2, c: usize, interp: Interp) -> Option<f32> {
+        let fp = self.footprint(uv)?;
+        Some(match interp {
+            Interp::Linear => self.bilinear(fp, c),
+            Interp::Cubic => self.bicubic(fp, c),
+            Interp::Closest => self.closest(uv, c),
+        })
+    }
+
     /// Channel `c` at `uv`; zero for a channel the texture does not have.
     pub fn eval_channel(&self, uv: Vec2, c: usize) -> f32 {
+        self.eval_channel_with(uv, c, Interp::Linear)
+    }
+
+    /// As [`Texture::eval_channel`], read by `interp`.
+    pub fn eval_channel_with(&self, uv: Vec2, c: usize, interp: Interp) -> f32 {
         if c >= self.channels {
             return 0.0;
         }
-        match self.footprint(uv) {
-            Some(fp) => self.decoded(self.bilinear(fp, c), c),
-            None => 0.0,
+        self.lookup(uv, c, interp)
+            .map_or(0.0, |v| self.decoded(v, c))
+    }
+
+    /// As [`Texture::eval_rgb`], read by `interp`.
+    pub fn eval_rgb_with(&self, uv: Vec2, interp: Interp) -> Vec3 {
+        if interp == Interp::Linear {
+            return self.eval_rgb(uv);
+        }
+        if self.channels == 1 {
+            Vec3::splat(self.eval_channel_with(uv, 0, interp))
+        } else {
+            Vec3::new(
+                self.eval_channel_with(uv, 0, interp),
+                self.eval_channel_with(uv, 1, interp),
+                self.eval_channel_with(uv, 2, interp),
+            )
         }
     }
 
@@ -291,6 +379,29 @@ mod tests {
             wrap,
             encoding: TextureEncoding::Linear,
         })
+    }
+
+    #[test]
+    fn closest_and_cubic_read_as_cycles_reads() {
+        // A ramp 0, 1, ..., 7 along u (one row, repeating).
+        let t = tex(8, 1, 1, (0..8).map(|i| i as f32).collect(), WrapMode::Clamp);
+        let at = |u: f32, i| t.eval_channel_with(Vec2::new(u, 0.5), 0, i);
+        // Closest: the texel the point lies in, even at its edge.
+        assert_eq!(at(0.374, Interp::Closest), 2.0);
+        assert_eq!(at(0.376, Interp::Closest), 3.0);
+        // Cubic: the B-spline reproduces a linear ramp away from the edges (as linear
+        // interpolation does), ...
+        for u in [0.3, 0.41, 0.5, 0.62] {
+            let lin = at(u, Interp::Linear);
+            assert!((at(u, Interp::Cubic) - lin).abs() < 1e-5, "{u}");
+        }
+        // ... and at a texel's centre weighs it 4/6 and its neighbours 1/6 each.
+        let spike = tex(5, 1, 1, vec![0.0, 0.0, 6.0, 0.0, 0.0], WrapMode::Clamp);
+        let v = |u: f32| spike.eval_channel_with(Vec2::new(u, 0.5), 0, Interp::Cubic);
+        assert!((v(0.5) - 4.0).abs() < 1e-5 && (v(0.3) - 1.0).abs() < 1e-5);
+        assert!(v(0.1).abs() < 1e-5);
+        assert_eq!(Interp::from_blender("Smart"), Some(Interp::Cubic));
+        assert_eq!(Interp::from_blender("Nearest"), None);
     }
 
     #[test]

@@ -53,12 +53,12 @@ def test_an_unsupported_node_is_warned_and_the_rest_of_the_graph_kept(addon):
     node_scenes.nodes_checker()
     m = bpy.data.materials["CheckerFloor"]
     nt = m.node_tree
-    lp = nt.nodes.new("ShaderNodeLightPath")
-    lp.name = "Trick"
-    nt.links.new(lp.outputs["Is Camera Ray"], nt.nodes["Principled BSDF"].inputs["Roughness"])
+    ao = nt.nodes.new("ShaderNodeAmbientOcclusion")
+    ao.name = "Trick"
+    nt.links.new(ao.outputs["AO"], nt.nodes["Principled BSDF"].inputs["Roughness"])
     ex = _export(addon)
     g = _graph(ex, "CheckerFloor")
-    assert any("'CheckerFloor'" in w and "'Trick'" in w and "ShaderNodeLightPath" in w
+    assert any("'CheckerFloor'" in w and "'Trick'" in w and "ShaderNodeAmbientOcclusion" in w
                for w in ex.warnings), ex.warnings
     assert ex.counts["unsupported_nodes"] == 1
     (p,) = [n for n in g["nodes"] if n["type"] == "principled"]

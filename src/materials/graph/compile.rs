@@ -3,7 +3,8 @@
 //! height is compiled once per tangent offset.
 
 use super::closure::{Leaf, LeafKind};
-use super::geometry_nodes::{MappingKind, NormalSpace};
+use super::geometry_nodes::{ImageProjection, MappingKind, NormalSpace};
+use crate::materials::texture::Interp;
 use super::nodes::NodeOp;
 use super::point::ShadingPoint;
 use super::program::{EvalCtx, Instr, Op, Program, Reg, MAX_REGS, NO_REG};
@@ -346,12 +347,24 @@ impl<'a> Builder<'a> {
                         format!("must name one of the scene's {} textures", self.n_textures),
                     ));
                 }
+                let interp = p.enum_or("interpolation", "Linear", Interp::from_blender)?;
+                let image = |projection| Op::Image {
+                    texture: t,
+                    interp,
+                    projection,
+                };
                 let op = match p.str_or("projection", "FLAT")? {
                     "BOX" => Op::ImageBox {
                         texture: t,
                         blend: p.f32_or("projection_blend", 0.0)?.clamp(0.0, 1.0),
+                        interp,
                     },
-                    _ => Op::Image { texture: t },
+                    "FLAT" => image(ImageProjection::Flat),
+                    "SPHERE" => image(ImageProjection::Sphere),
+                    "TUBE" => image(ImageProjection::Tube),
+                    other => {
+                        return Err(p.err("projection", format!("unknown value '{other}'")))
+                    }
                 };
                 let box_ = matches!(op, Op::ImageBox { .. });
                 (

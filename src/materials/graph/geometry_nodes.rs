@@ -2,7 +2,7 @@
 //! UV Map, Object Info, Layer Weight, Fresnel, Mapping, Normal Map and Bump.
 
 use super::point::{ObjectCoords, ShadingPoint};
-use crate::materials::texture::Texture;
+use crate::materials::texture::{Interp, Texture};
 use crate::math::Frame;
 use glam::{EulerRot, Mat3, Vec2, Vec3};
 
@@ -256,6 +256,50 @@ pub fn bump(
     }
 }
 
+/// How an Image Texture maps its vector to the image (Cycles' projections; Box is
+/// [`image_box`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImageProjection {
+    Flat,
+    /// The vector, remapped from [0, 1]^3 to [-1, 1]^3, as longitude and latitude.
+    Sphere,
+    /// The vector, remapped likewise, as angle around z and height.
+    Tube,
+}
+
+impl ImageProjection {
+    /// The image coordinates of vector `co`.
+    pub fn uv(self, co: Vec3) -> Vec2 {
+        let c = (co - Vec3::splat(0.5)) * 2.0;
+        let pi = std::f32::consts::PI;
+        match self {
+            ImageProjection::Flat => Vec2::new(co.x, co.y),
+            ImageProjection::Sphere => {
+                let l = c.length();
+                if !(l > 0.0) {
+                    return Vec2::ZERO;
+                }
+                let u = if c.x == 0.0 && c.y == 0.0 {
+                    0.0
+                } else {
+                    (1.0 - c.x.atan2(c.y) / pi) / 2.0
+                };
+                Vec2::new(u, 1.0 - (c.z / l).clamp(-1.0, 1.0).acos() / pi)
+            }
+            ImageProjection::Tube => {
+                let l = (c.x * c.x + c.y * c.y).sqrt();
+                if !(l > 0.0) {
+                    return Vec2::ZERO;
+                }
+                Vec2::new(
+                    (1.0 - (c.x / l).atan2(c.y / l) / pi) * 0.5,
+                    (c.z + 1.0) * 0.5,
+                )
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -267,6 +311,20 @@ mod tests {
         sp.dpdu = Vec3::X;
         sp.dpdv = Vec3::Y;
         sp
+    }
+
+    #[test]
+    fn sphere_and_tube_projections_map_as_cycles() {
+        use ImageProjection::*;
+        let close = |a: Vec2, b: Vec2| (a - b).length() < 1e-6;
+        // The vector is remapped from [0, 1]^3 to [-1, 1]^3: its centre along +y (Cycles'
+        // atan2(x, y) = 0) is the middle of the image; +x a quarter turn further.
+        assert!(close(Sphere.uv(Vec3::new(0.5, 1.0, 0.5)), Vec2::new(0.5, 0.5)));
+        assert!(close(Sphere.uv(Vec3::new(1.0, 0.5, 0.5)), Vec2::new(0.25, 0.5)));
+        assert!(close(Sphere.uv(Vec3::new(0.5, 0.5, 1.0)), Vec2::new(0.0, 1.0)));
+        assert!(close(Tube.uv(Vec3::new(0.0, 0.5, 0.75)), Vec2::new(0.75, 0.75)));
+        assert!(close(Tube.uv(Vec3::splat(0.5)), Vec2::ZERO));
+        assert!(close(Flat.uv(Vec3::new(0.2, 0.7, 0.9)), Vec2::new(0.2, 0.7)));
     }
 
     #[test]
@@ -387,7 +445,7 @@ mod tests {
 /// `n`: the three axis projections weighted over a triangle of zones by the normal's
 /// components (one texture near each axis, two or three blended within `blend` of the
 /// diagonals), each oriented so that no face is mirrored. Returns (colour, alpha).
-pub fn image_box(t: &Texture, co: Vec3, n: Vec3, blend: f32) -> (Vec3, f32) {
+pub fn image_box(t: &Texture, co: Vec3, n: Vec3, blend: f32, interp: Interp) -> (Vec3, f32) {
     let signed = n;
     let mut a = n.abs();
     let s = a.x + a.y + a.z;
@@ -424,10 +482,10 @@ pub fn image_box(t: &Texture, co: Vec3, n: Vec3, blend: f32) -> (Vec3, f32) {
     let mut alpha = 0.0;
     let mut fetch = |weight: f32, uv: Vec2| {
         if weight > 0.0 {
-            rgb += weight * t.eval_rgb(uv);
+            rgb += weight * t.eval_rgb_with(uv, interp);
             alpha += weight
                 * if t.channels() == 4 {
-                    t.eval_channel(uv, 3)
+                    t.eval_channel_with(uv, 3, interp)
                 } else {
                     1.0
                 };
@@ -472,17 +530,17 @@ mod box_tests {
         let t = quad_texture();
         let co = Vec3::new(0.25, 0.25, 0.75);
         // Along +x: (y, z) = (0.25, 0.75); along -x mirrored in u: (0.75, 0.75).
-        let (px, _) = image_box(&t, co, Vec3::X, 0.0);
-        let (mx, _) = image_box(&t, co, -Vec3::X, 0.0);
+        let (px, _) = image_box(&t, co, Vec3::X, 0.0, Interp::Linear);
+        let (mx, _) = image_box(&t, co, -Vec3::X, 0.0, Interp::Linear);
         assert_eq!(px, t.eval_rgb(Vec2::new(0.25, 0.75)));
         assert_eq!(mx, t.eval_rgb(Vec2::new(0.75, 0.75)));
         assert_ne!(px, mx);
         // Along +z: (1 - y, x); along -z: (y, x).
-        let (pz, _) = image_box(&t, co, Vec3::Z, 0.0);
+        let (pz, _) = image_box(&t, co, Vec3::Z, 0.0, Interp::Linear);
         assert_eq!(pz, t.eval_rgb(Vec2::new(0.75, 0.25)));
         // Without blend the diagonal takes one face; with blend 1 the three share equally.
         let d = Vec3::ONE.normalize();
-        let (all, a) = image_box(&t, co, d, 1.0);
+        let (all, a) = image_box(&t, co, d, 1.0, Interp::Linear);
         let want = (t.eval_rgb(Vec2::new(0.25, 0.75))
             + t.eval_rgb(Vec2::new(0.75, 0.75))
             + t.eval_rgb(Vec2::new(0.75, 0.25)))

@@ -3,7 +3,7 @@
 
 use super::geometry_nodes as geo;
 use super::point::ShadingPoint;
-use crate::materials::texture::Texture;
+use crate::materials::texture::{Interp, Texture};
 use glam::{Vec2, Vec3};
 
 /// A register index.
@@ -62,12 +62,21 @@ pub enum Op {
     /// height is the displacement along the normal, at the point and at the two offsets.
     /// Inputs: displacement x 3. Output: normal.
     DisplacementBump,
-    /// Input: vector (its x, y are the UV). Outputs: color, alpha.
-    Image { texture: u32 },
+    /// Input: vector (mapped to the image by `projection`: Flat reads its x, y as the UV).
+    /// Outputs: color, alpha.
+    Image {
+        texture: u32,
+        interp: Interp,
+        projection: geo::ImageProjection,
+    },
     /// Box projection: the image projected along the object's three axes from the vector,
     /// blended by the object-space normal over `blend` (Cycles' Image Texture, Box).
     /// Input: vector. Outputs: color, alpha.
-    ImageBox { texture: u32, blend: f32 },
+    ImageBox {
+        texture: u32,
+        blend: f32,
+        interp: Interp,
+    },
     /// A colour read as a float (luminance).
     Gray,
     /// A vector read as a float (the mean of its components).
@@ -233,22 +242,30 @@ impl Instr {
                     false,
                 );
             }
-            Op::Image { texture } => match ctx.textures.get(*texture as usize) {
+            Op::Image {
+                texture,
+                interp,
+                projection,
+            } => match ctx.textures.get(*texture as usize) {
                 Some(t) => {
-                    let uv = Vec2::new(inp[0].x, inp[0].y);
-                    out[0] = t.eval_rgb(uv);
+                    let uv = projection.uv(inp[0]);
+                    out[0] = t.eval_rgb_with(uv, *interp);
                     out[1] = f(if t.channels() == 4 {
-                        t.eval_channel(uv, 3)
+                        t.eval_channel_with(uv, 3, *interp)
                     } else {
                         1.0
                     });
                 }
                 None => out[1] = f(1.0),
             },
-            Op::ImageBox { texture, blend } => match ctx.textures.get(*texture as usize) {
+            Op::ImageBox {
+                texture,
+                blend,
+                interp,
+            } => match ctx.textures.get(*texture as usize) {
                 Some(t) => {
                     let n = sp.object.to_object.transform_vector3(sp.n);
-                    let (rgb, a) = geo::image_box(t, inp[0], n, *blend);
+                    let (rgb, a) = geo::image_box(t, inp[0], n, *blend, *interp);
                     out[0] = rgb;
                     out[1] = f(a);
                 }

@@ -8,7 +8,7 @@
 Needs the `bpy` module (5.0.1) and OpenImageIO. Steps:
 
 1. ``textures/``: the small generated inputs, written when missing: ``checker.png`` (64x64
-   sRGB checker), ``uv_ramp.png`` (64x64, no symmetry: red along u, green along v, a grid
+   sRGB checker), ``texels.png`` (12x12 random colours), ``uv_ramp.png`` (64x64, no symmetry: red along u, green along v, a grid
    and one marked corner tile), ``tiles_normal.png`` and ``sky.exr`` (128x64 half-float equirectangular sky with a sun).
 2. ``refs/<scene>_s1.exr`` and ``_s2.exr``: Cycles on the CPU with seeds 1 and 2, no
    denoising, no clamping, no adaptive sampling, bounces 128 (every kind), caustics on, no
@@ -105,6 +105,15 @@ def make_textures(force: bool = False) -> None:
         px = np.round(px * 255).astype(np.uint8)
         out = oiio.ImageOutput.create(ramp)
         out.open(ramp, oiio.ImageSpec(n, n, 3, oiio.UINT8))
+        out.write_image(px)
+        out.close()
+    texels = os.path.join(scenes.TEXTURES, "texels.png")
+    if force or not os.path.exists(texels):
+        # 12 x 12 random colours (8-bit sRGB), large on screen: how an image is read between
+        # its texels (Closest, Linear, Cubic) shows directly.
+        px = np.random.default_rng(12).integers(20, 236, (12, 12, 3)).astype(np.uint8)
+        out = oiio.ImageOutput.create(texels)
+        out.open(texels, oiio.ImageSpec(12, 12, 3, oiio.UINT8))
         out.write_image(px)
         out.close()
     sky = scenes.hdri_path()

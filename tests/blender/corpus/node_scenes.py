@@ -587,3 +587,57 @@ def nodes_voronoi_values():
         nt.links.new(v.outputs["Distance"], r.inputs["Fac"])
         return r.outputs["Color"]
     return _emission_plane("VoronoiValues", color)
+
+
+@node_scene("nodes_image_filters", "How an image is read between its texels, value for value: a "
+            "plane filling the view with an Emission whose colour is textures/texels.png (12 x "
+            "12 random colours, 8-bit sRGB) read Closest on the left third, Linear in the "
+            "middle and Cubic on the right (Mix nodes by the Generated x).")
+def nodes_image_filters():
+    def color(nt):
+        tc = nt.nodes.new("ShaderNodeTexCoord")
+        sep = nt.nodes.new("ShaderNodeSeparateXYZ")
+        nt.links.new(tc.outputs["Generated"], sep.inputs["Vector"])
+        img = bpy.data.images.load(os.path.join(TEXTURES, "texels.png"))
+        out = None
+        for interp, edge in (("Closest", None), ("Linear", 1 / 3), ("Cubic", 2 / 3)):
+            tex = nt.nodes.new("ShaderNodeTexImage")
+            tex.image = img
+            tex.interpolation = interp
+            if out is None:
+                out = tex.outputs["Color"]
+                continue
+            gt = nt.nodes.new("ShaderNodeMath")
+            gt.operation = "GREATER_THAN"
+            gt.inputs[1].default_value = edge
+            nt.links.new(sep.outputs["X"], gt.inputs[0])
+            mix = nt.nodes.new("ShaderNodeMix")
+            mix.data_type = "RGBA"
+            nt.links.new(gt.outputs[0], mix.inputs["Factor"])
+            nt.links.new(out, mix.inputs["A"])
+            nt.links.new(tex.outputs["Color"], mix.inputs["B"])
+            out = mix.outputs["Result"]
+        return out
+    return _emission_plane("ImageFilters", color)
+
+
+@node_scene("nodes_image_projections", "Sphere and Tube projections, value for value: two "
+            "spheres (no lights) with an Emission whose colour is textures/uv_ramp.png read at "
+            "the Generated coordinates by the Image Texture's Sphere projection (left) and Tube "
+            "projection (right).")
+def nodes_image_projections():
+    sc = reset()
+    img = bpy.data.images.load(os.path.join(TEXTURES, "uv_ramp.png"))
+    for x, proj in ((-0.55, "SPHERE"), (0.55, "TUBE")):
+        m = shader_material(f"Projected{proj.title()}", "ShaderNodeEmission", Strength=1.0)
+        nt = m.node_tree
+        tc = nt.nodes.new("ShaderNodeTexCoord")
+        tex = nt.nodes.new("ShaderNodeTexImage")
+        tex.image = img
+        tex.projection = proj
+        nt.links.new(tc.outputs["Generated"], tex.inputs["Vector"])
+        nt.links.new(tex.outputs["Color"], nt.nodes["Emission"].inputs["Color"])
+        ob = sphere(f"Ball{proj.title()}", (x, 0, 0), 0.5, m)
+        ob.rotation_euler = (math.radians(20), 0, math.radians(30 if x < 0 else -30))
+    camera(location=(0, -2.6, 0), rotation_deg=(90, 0, 0), lens=35.0)
+    return sc
