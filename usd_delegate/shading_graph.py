@@ -448,6 +448,8 @@ class Translator:
             return self._image(s, out)
         if sid.startswith(_NOISES):
             raise Untranslatable("MaterialX noise differs from Cycles' noise")
+        if sid in ("ND_hsvadjust_color3", "ND_hsvadjust_color4"):
+            return self._hsvadjust(s)
         op, suffix = _op_of(sid)
         if op is None:
             raise Untranslatable("unsupported node")
@@ -552,6 +554,19 @@ class Translator:
         if sid.endswith("_float"):
             return self.g.separate(color, 0)
         return color
+
+    def _hsvadjust(self, s):
+        """MaterialX hsvadjust (hue + amount.x in turns, saturation and value times amount.y
+        and amount.z), which is the Hue/Saturation/Value node at hue 0.5 + amount.x."""
+        amount = self.input(s, "amount", [0.0, 1.0, 1.0])
+        color = self.input(s, "in", [0.0, 0.0, 0.0])
+        return self.g.out("hue_saturation", "color", {
+            "hue": self.g.math("ADD", self.g.separate(amount, 0), 0.5),
+            "saturation": self.g.separate(amount, 1),
+            "value": self.g.separate(amount, 2),
+            "fac": 1.0,
+            "color": color,
+        })
 
     def image_alpha(self, s):
         """The alpha of an image node's colour4 output, or None."""

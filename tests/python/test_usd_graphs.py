@@ -832,3 +832,22 @@ def test_black_edfs_emit_nothing(stage_factory):
     m = import_stage(stage, path).ir["materials"][0]
     assert m["type"] == "graph" and not nodes_of(m, "emission")
     assert not shading_graph.emits(m)
+
+
+def test_hsvadjust_is_the_hue_saturation_value_node(stage_factory):
+    """MaterialX hsvadjust (Blender writes it for a Hue/Saturation/Value node): the hue turned by
+    amount.x, saturation and value scaled by amount.y and amount.z."""
+    import colorsys
+
+    stage, path = new(stage_factory, name="hsv")
+    ng = "/Mat/H/NodeGraphs"
+    base, amount = (0.6, 0.3, 0.2), (0.1, 0.5, 0.8)
+    hsv = _fnode(stage, f"{ng}/hsv", "ND_hsvadjust_color3", T.Color3f,
+                 amount=(T.Float3, Gf.Vec3f(*amount)), **{"in": (T.Color3f, base)})
+    bind(plane(stage), _emissive_mtlx(stage, "/Mat/H", hsv))
+    r, img = render(stage, path)
+    assert not [w for w in r.diagnostics.messages() if "/Mat/" in w]
+    h, s, v = colorsys.rgb_to_hsv(*base)
+    expect = colorsys.hsv_to_rgb((h + amount[0]) % 1.0, s * amount[1], v * amount[2])
+    assert np.abs(np.array(expect) - base).max() > 0.1
+    assert np.allclose(img, expect, atol=0.01), (img.mean(axis=(0, 1)), expect)

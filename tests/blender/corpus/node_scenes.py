@@ -641,3 +641,81 @@ def nodes_image_projections():
         ob.rotation_euler = (math.radians(20), 0, math.radians(30 if x < 0 else -30))
     camera(location=(0, -2.6, 0), rotation_deg=(90, 0, 0), lens=35.0)
     return sc
+
+
+def _quadrants(nt, outputs):
+    """The four colour ``outputs`` on the quadrants of the Generated (x, y) square: bottom-left,
+    bottom-right, top-left, top-right."""
+    tc = nt.nodes.new("ShaderNodeTexCoord")
+    sep = nt.nodes.new("ShaderNodeSeparateXYZ")
+    nt.links.new(tc.outputs["Generated"], sep.inputs["Vector"])
+
+    def pick(axis, a, b):
+        gt = nt.nodes.new("ShaderNodeMath")
+        gt.operation = "GREATER_THAN"
+        gt.inputs[1].default_value = 0.5
+        nt.links.new(sep.outputs[axis], gt.inputs[0])
+        mix = nt.nodes.new("ShaderNodeMix")
+        mix.data_type = "RGBA"
+        nt.links.new(gt.outputs[0], mix.inputs["Factor"])
+        nt.links.new(a, mix.inputs["A"])
+        nt.links.new(b, mix.inputs["B"])
+        return mix.outputs["Result"]
+    bottom = pick("X", outputs[0], outputs[1])
+    top = pick("X", outputs[2], outputs[3])
+    return pick("Y", bottom, top)
+
+
+@node_scene("nodes_texture_values", "Procedural textures value for value: a plane filling the "
+            "view with an Emission whose colour is, by quadrant, a Wave Texture (rings, saw "
+            "profile, distortion 2), a Magic Texture (depth 3), a Gradient Texture (spherical) "
+            "and a Brick Texture (scale 6), each at the Generated coordinates.")
+def nodes_texture_values():
+    def color(nt):
+        wave = nt.nodes.new("ShaderNodeTexWave")
+        wave.wave_type = "RINGS"
+        wave.wave_profile = "SAW"
+        wave.inputs["Scale"].default_value = 4.0
+        wave.inputs["Distortion"].default_value = 2.0
+        magic = nt.nodes.new("ShaderNodeTexMagic")
+        magic.turbulence_depth = 3
+        magic.inputs["Scale"].default_value = 3.0
+        grad = nt.nodes.new("ShaderNodeTexGradient")
+        grad.gradient_type = "SPHERICAL"
+        brick = nt.nodes.new("ShaderNodeTexBrick")
+        brick.inputs["Scale"].default_value = 6.0
+        return _quadrants(nt, [wave.outputs["Color"], magic.outputs["Color"],
+                               grad.outputs["Color"], brick.outputs["Color"]])
+    return _emission_plane("TextureValues", color)
+
+
+@node_scene("nodes_color_converters", "Colour converters value for value: a plane filling the "
+            "view with an Emission whose colour is textures/uv_ramp.png through, by quadrant, "
+            "Hue/Saturation/Value (hue 0.3, saturation 1.4, value 0.9), RGB Curves (an S curve "
+            "on the combined curve), Brightness/Contrast (0.1, 0.4) and Gamma (2.2).")
+def nodes_color_converters():
+    def color(nt):
+        tex = nt.nodes.new("ShaderNodeTexImage")
+        tex.image = bpy.data.images.load(os.path.join(TEXTURES, "uv_ramp.png"))
+        src = tex.outputs["Color"]
+        hsv = nt.nodes.new("ShaderNodeHueSaturation")
+        hsv.inputs["Hue"].default_value = 0.3
+        hsv.inputs["Saturation"].default_value = 1.4
+        hsv.inputs["Value"].default_value = 0.9
+        nt.links.new(src, hsv.inputs["Color"])
+        curves = nt.nodes.new("ShaderNodeRGBCurve")
+        c = curves.mapping.curves[3]
+        c.points.new(0.25, 0.12)
+        c.points.new(0.75, 0.88)
+        curves.mapping.update()
+        nt.links.new(src, curves.inputs["Color"])
+        bc = nt.nodes.new("ShaderNodeBrightContrast")
+        bc.inputs["Bright"].default_value = 0.1
+        bc.inputs["Contrast"].default_value = 0.4
+        nt.links.new(src, bc.inputs["Color"])
+        gam = nt.nodes.new("ShaderNodeGamma")
+        gam.inputs["Gamma"].default_value = 2.2
+        nt.links.new(src, gam.inputs["Color"])
+        return _quadrants(nt, [hsv.outputs["Color"], curves.outputs["Color"],
+                               bc.outputs["Color"], gam.outputs["Color"]])
+    return _emission_plane("ColorConverters", color)
