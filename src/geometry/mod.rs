@@ -22,8 +22,7 @@ pub use bvh::{BoxRay, Bvh, BvhNode, NodePair};
 pub use bvh_wide::{WideBvh, WideNode};
 pub use float::{gamma, next_float_down, next_float_up, MACHINE_EPSILON};
 pub use interaction::{
-    offset_ray_origin, transform_point_error, RayPath, Scatter, SurfaceInteraction,
-    SHADOW_EPSILON,
+    offset_ray_origin, transform_point_error, RayPath, Scatter, SurfaceInteraction, SHADOW_EPSILON,
 };
 pub use mesh::{attribute_key, AttributeValues, Instance, MeshGeom, MAX_ATTRIBUTES};
 pub use ray::Ray;

@@ -12,8 +12,8 @@
 
 use super::layer::CoatLayer;
 use super::lobe::Lobe;
-use crate::math::{Frame, Spectrum};
 use crate::geometry::{RayPath, Scatter};
+use crate::math::{Frame, Spectrum};
 use glam::{Mat3, Vec2, Vec3};
 
 /// Bit flags describing lobes and sampled events (a closed set of `u8` constants).

@@ -4,12 +4,12 @@
 
 use super::closure::{Leaf, LeafKind};
 use super::geometry_nodes::{ImageProjection, MappingKind, NormalSpace};
-use crate::materials::texture::Interp;
 use super::nodes::NodeOp;
 use super::point::ShadingPoint;
 use super::program::{EvalCtx, Instr, Op, Program, Reg, MAX_REGS, NO_REG};
 use super::spec::{Dflt, NodeSpec, ParamReader, Ty};
 use crate::error::{Error, Result};
+use crate::materials::texture::Interp;
 use crate::scene::graph_desc::{GraphDesc, InputDesc, LinkDesc, NodeDesc};
 use glam::Vec3;
 use std::collections::HashMap;
@@ -362,9 +362,7 @@ impl<'a> Builder<'a> {
                     "FLAT" => image(ImageProjection::Flat),
                     "SPHERE" => image(ImageProjection::Sphere),
                     "TUBE" => image(ImageProjection::Tube),
-                    other => {
-                        return Err(p.err("projection", format!("unknown value '{other}'")))
-                    }
+                    other => return Err(p.err("projection", format!("unknown value '{other}'"))),
                 };
                 let box_ = matches!(op, Op::ImageBox { .. });
                 (

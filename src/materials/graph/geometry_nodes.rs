@@ -319,12 +319,27 @@ mod tests {
         let close = |a: Vec2, b: Vec2| (a - b).length() < 1e-6;
         // The vector is remapped from [0, 1]^3 to [-1, 1]^3: its centre along +y (Cycles'
         // atan2(x, y) = 0) is the middle of the image; +x a quarter turn further.
-        assert!(close(Sphere.uv(Vec3::new(0.5, 1.0, 0.5)), Vec2::new(0.5, 0.5)));
-        assert!(close(Sphere.uv(Vec3::new(1.0, 0.5, 0.5)), Vec2::new(0.25, 0.5)));
-        assert!(close(Sphere.uv(Vec3::new(0.5, 0.5, 1.0)), Vec2::new(0.0, 1.0)));
-        assert!(close(Tube.uv(Vec3::new(0.0, 0.5, 0.75)), Vec2::new(0.75, 0.75)));
+        assert!(close(
+            Sphere.uv(Vec3::new(0.5, 1.0, 0.5)),
+            Vec2::new(0.5, 0.5)
+        ));
+        assert!(close(
+            Sphere.uv(Vec3::new(1.0, 0.5, 0.5)),
+            Vec2::new(0.25, 0.5)
+        ));
+        assert!(close(
+            Sphere.uv(Vec3::new(0.5, 0.5, 1.0)),
+            Vec2::new(0.0, 1.0)
+        ));
+        assert!(close(
+            Tube.uv(Vec3::new(0.0, 0.5, 0.75)),
+            Vec2::new(0.75, 0.75)
+        ));
         assert!(close(Tube.uv(Vec3::splat(0.5)), Vec2::ZERO));
-        assert!(close(Flat.uv(Vec3::new(0.2, 0.7, 0.9)), Vec2::new(0.2, 0.7)));
+        assert!(close(
+            Flat.uv(Vec3::new(0.2, 0.7, 0.9)),
+            Vec2::new(0.2, 0.7)
+        ));
     }
 
     #[test]

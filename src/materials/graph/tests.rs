@@ -176,7 +176,10 @@ fn displacement_bumps_the_normal_every_node_reads() {
         crate::materials::lobe::Lobe::Lambert(l) => l.albedo.x,
         other => panic!("{other:?}"),
     };
-    assert!((albedo - facing).abs() < 2e-3 && (albedo - flat).abs() > 0.05, "{albedo} {facing} {flat}");
+    assert!(
+        (albedo - facing).abs() < 2e-3 && (albedo - flat).abs() > 0.05,
+        "{albedo} {facing} {flat}"
+    );
     // Object space: an object scaled by 2 displaces twice as far; world space does not.
     let mut big = sp;
     big.object.to_object = glam::Mat4::from_scale(Vec3::splat(0.5));
@@ -217,13 +220,21 @@ fn light_path_reads_the_kind_of_ray() {
     let kinds = [
         (RayPath::CAMERA_RAY, 5.0, 0.0),
         (RayPath::SHADOW_RAY, 0.0, 1.0),
-        (RayPath::CAMERA_RAY.scattered(Scatter::Diffuse, false), 0.0, 1.0),
+        (
+            RayPath::CAMERA_RAY.scattered(Scatter::Diffuse, false),
+            0.0,
+            1.0,
+        ),
         (RayPath::default(), 0.0, 1.0),
     ];
     for (path, emission, transparency) in kinds {
         sp.path = path;
         let sh = sg.shade(&sp, &[], Want::All);
-        assert_eq!((sh.emission.x, sh.transparency.x), (emission, transparency), "{path:?}");
+        assert_eq!(
+            (sh.emission.x, sh.transparency.x),
+            (emission, transparency),
+            "{path:?}"
+        );
     }
     // Every output, against the path it reads.
     let outs = [
@@ -253,7 +264,9 @@ fn light_path_reads_the_kind_of_ray() {
             ],
             "surface": {"node": 1}
         }));
-        let sh = ShaderGraph::new(&g, "/materials/0", 0).unwrap().shade(&sp, &[], Want::Light);
+        let sh = ShaderGraph::new(&g, "/materials/0", 0)
+            .unwrap()
+            .shade(&sp, &[], Want::Light);
         assert_eq!(sh.emission.x, want, "{name}");
     }
 }
