@@ -318,6 +318,22 @@ fn errors_name_the_node_and_the_field() {
         {"type": "diffuse", "inputs": {"color": {"node": 0, "output": "color"}}}],
         "surface": {"node": 1}}));
     assert_eq!(err_of(&bad_image).0, "/materials/0/nodes/0/params/texture");
+
+    // Unknown modes of the image's interpolation and projection, and of a Displacement's
+    // space, name the field and the value.
+    for (kind, field, value) in [
+        ("image_texture", "interpolation", "Nearest"),
+        ("image_texture", "projection", "CYLINDER"),
+        ("displacement", "space", "TANGENT"),
+    ] {
+        let g = graph(serde_json::json!({"name": "m", "nodes": [
+            {"type": kind, "params": {"texture": 0, field: value}},
+            {"type": "diffuse", "inputs": {"normal": {"node": 0, "output": if kind == "displacement" { "displacement" } else { "color" }}}}],
+            "surface": {"node": 1}}));
+        let (ptr, msg) = err_of(&g);
+        assert_eq!(ptr, format!("/materials/0/nodes/0/params/{field}"));
+        assert!(msg.contains(value), "{msg}");
+    }
 }
 
 #[test]
