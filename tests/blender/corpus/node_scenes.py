@@ -179,10 +179,16 @@ def _bump_room(distance):
     nt.links.new(bu.outputs["Normal"], b.inputs["Normal"])
     room(walls={"white": m})
     props()
+    _grazing_lights()
+    return sc
+
+
+def _grazing_lights():
+    """The ceiling light at 10 W and an area light by the left wall (0.3, 10 W) that lights the
+    back wall at a grazing angle; the camera."""
     ceiling_area(energy=10.0)
     light("AREA", (-0.95, 0.85, 1.0), (0, -90, 0), energy=10.0, size=0.3)
     camera()
-    return sc
 
 
 @node_scene("nodes_bump", "A Noise Texture (scale 2) as the height of a Bump node (distance "
@@ -225,9 +231,7 @@ def nodes_displacement():
     room(walls={"floor": m})
     bpy.data.objects["Back"].data.materials[0] = m
     props(mat_sphere=m)
-    ceiling_area(energy=10.0)
-    light("AREA", (-0.95, 0.85, 1.0), (0, -90, 0), energy=10.0, size=0.3)
-    camera()
+    _grazing_lights()
     return sc
 
 
