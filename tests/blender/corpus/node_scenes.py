@@ -585,6 +585,25 @@ def nodes_noise_values():
     return _emission_plane("NoiseValues", color)
 
 
+@node_scene("nodes_bump_values", "The Bump node value for value: a plane filling the view with "
+            "an Emission whose colour is the bumped normal (a Noise Texture of scale 3 as the "
+            "Height, distance 0.3), mapped to 0.5 n + 0.5 by a Vector Math Multiply Add.")
+def nodes_bump_values():
+    def color(nt):
+        nz = nt.nodes.new("ShaderNodeTexNoise")
+        nz.inputs["Scale"].default_value = 3.0
+        bu = nt.nodes.new("ShaderNodeBump")
+        bu.inputs["Distance"].default_value = 0.3
+        nt.links.new(nz.outputs["Fac"], bu.inputs["Height"])
+        ma = nt.nodes.new("ShaderNodeVectorMath")
+        ma.operation = "MULTIPLY_ADD"
+        ma.inputs[1].default_value = (0.5, 0.5, 0.5)
+        ma.inputs[2].default_value = (0.5, 0.5, 0.5)
+        nt.links.new(bu.outputs["Normal"], ma.inputs[0])
+        return ma.outputs["Vector"]
+    return _emission_plane("BumpValues", color)
+
+
 @node_scene("nodes_voronoi_values", "Voronoi value for value: a plane filling the view with an "
             "Emission whose colour is a Voronoi Texture's Distance (smooth F1, scale 5) "
             "through a ColorRamp.")

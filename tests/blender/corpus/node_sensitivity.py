@@ -2,17 +2,18 @@
 which the comparison must see (no bpy here; tests/blender/test_node_sensitivity.py runs them).
 
 Each case changes one node input of a graph material in the IR: a ColorRamp stop moved by
-0.05, a Noise Texture's scale 5% off, and a cut-out's alpha flipped; both signs where an error
-has a sign.
+0.05, a Noise Texture's scale 5% off, a Bump's strength 10% off and a cut-out's alpha flipped;
+both signs where an error has a sign.
 
-A Bump's strength 10% off is not among them: on nodes_bump (distance 0.2) the comparison at
-"ci" does not see it (+10%: largest statistic 1.01 of its tolerance; -10%: 0.80), and with a
-stronger bump (distance 0.8), where it would show, our render of the scene itself differs
-from Cycles. Nor is a Displacement's scale 10% off, on nodes_displacement: both signs pass
-(+10%: no block beyond tolerance, pixels relMSE 2.95e-2 against 4.24e-2; -10%: 3.94e-2
-against 5.51e-2); the pixels' noise floor there is set by a rare bright blotch of the
-irradiance cache on the floor by the sphere (one seed of four: a record's gather reads photons
-that arrive almost tangent to the floor, each weighed by its lobe's cosine over the floor's).
+The Bump's strength is checked on nodes_bump_values, where the pixels show the bumped normal.
+In a lit room it is not seen: on nodes_bump (distance 0.2) the comparison at "ci" passes it
+(+10%: largest statistic 1.01 of its tolerance; -10%: 0.80), since the diffuse shading of a
+small tilt changes by a fraction of the tilt's change. Nor is a Displacement's scale 10% off,
+on nodes_displacement: both signs pass (+10%: no block beyond tolerance, pixels relMSE 2.95e-2
+against 4.24e-2; -10%: 3.94e-2 against 5.51e-2); the pixels' noise floor there is set by a rare
+bright blotch of the irradiance cache on the floor by the sphere (one seed of four: a record's
+gather reads photons that arrive almost tangent to the floor, each weighed by its lobe's cosine
+over the floor's).
 """
 
 from __future__ import annotations
@@ -60,5 +61,9 @@ CASES = {
         "NoiseValues", "noise_texture", "scale", 1.05, 5.0)),
     "noise_scale_5pct_smaller": ("nodes_noise_values", _input_scaled(
         "NoiseValues", "noise_texture", "scale", 0.95, 5.0)),
+    "bump_strength_10pct_larger": ("nodes_bump_values", _input_scaled(
+        "BumpValues", "bump", "strength", 1.1, 1.0)),
+    "bump_strength_10pct_smaller": ("nodes_bump_values", _input_scaled(
+        "BumpValues", "bump", "strength", 0.9, 1.0)),
     "alpha_flipped": ("nodes_leaf_alpha", _alpha_flipped("Leaf")),
 }
