@@ -26,15 +26,22 @@ pub struct MeshGeom {
     pub attributes: Vec<(u64, Vec<Vec4>)>,
 }
 
-/// Most named attributes one mesh carries.
-pub const MAX_ATTRIBUTES: usize = 4;
+/// Most named attributes a scene gives one mesh.
+pub const MAX_NAMED_ATTRIBUTES: usize = 4;
+
+/// Most attributes one mesh carries: the named ones, and its tangents and their normals.
+pub const MAX_ATTRIBUTES: usize = MAX_NAMED_ATTRIBUTES + 2;
 
 /// The key of an attribute name (64-bit FNV-1a of its UTF-8 bytes): the Attribute node
 /// and the mesh meet on it.
-pub fn attribute_key(name: &str) -> u64 {
-    name.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
-        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
-    })
+pub const fn attribute_key(name: &str) -> u64 {
+    let b = name.as_bytes();
+    let (mut h, mut i) = (0xcbf2_9ce4_8422_2325u64, 0);
+    while i < b.len() {
+        h = (h ^ b[i] as u64).wrapping_mul(0x0100_0000_01b3);
+        i += 1;
+    }
+    h
 }
 
 /// The named attributes at a surface point, interpolated (at most [`MAX_ATTRIBUTES`]).

@@ -15,6 +15,7 @@ mod interaction;
 mod mesh;
 mod ray;
 pub mod shapes;
+mod tangents;
 mod triangle;
 
 pub use accel::{Accel, Hit};
@@ -24,6 +25,11 @@ pub use float::{gamma, next_float_down, next_float_up, MACHINE_EPSILON};
 pub use interaction::{
     offset_ray_origin, transform_point_error, RayPath, Scatter, SurfaceInteraction, SHADOW_EPSILON,
 };
-pub use mesh::{attribute_key, AttributeValues, Instance, MeshGeom, MAX_ATTRIBUTES};
+pub use mesh::{
+    attribute_key, AttributeValues, Instance, MeshGeom, MAX_ATTRIBUTES, MAX_NAMED_ATTRIBUTES,
+};
 pub use ray::Ray;
+pub use tangents::{
+    vertex_tangents, TANGENT_ATTRIBUTE, TANGENT_KEY, TANGENT_NORMAL_ATTRIBUTE, TANGENT_NORMAL_KEY,
+};
 pub use triangle::{intersect_triangle, TriHit, TriRay};

@@ -147,8 +147,15 @@ impl Scene {
             None if !name.is_empty() => name.to_string(),
             None => fallback,
         };
+        let tangent_materials: Vec<bool> = materials
+            .iter()
+            .map(|m| matches!(m, Material::Graph(g) if g.needs_tangents))
+            .collect();
+        let mut tangent_meshes = 0;
         for (i, m) in desc.meshes.iter().enumerate() {
-            meshes.push(mesh_geom(m));
+            let mut geom = mesh_geom(m);
+            tangent_meshes += with_tangents(&mut geom, &tangent_materials) as usize;
+            meshes.push(geom);
             let t = Transform::from_rows(&m.transform).unwrap_or_default();
             if !prototypes.contains(&(i as u32)) {
                 instances.push(Instance {
@@ -273,7 +280,10 @@ impl Scene {
                 _ => Vec::new(),
             }))
             .collect();
-        let mut graph_stats = crate::materials::graph::GraphStats::default();
+        let mut graph_stats = crate::materials::graph::GraphStats {
+            tangent_meshes,
+            ..Default::default()
+        };
         for (d, m) in desc.materials.iter().zip(&materials) {
             if let crate::scene::desc::MaterialDesc::Graph(_) = d {
                 graph_stats.graphs += 1;
@@ -457,6 +467,33 @@ fn medium_from_desc(m: &MediumDesc) -> Medium {
                 t,
             ))
         }
+    }
+}
+
+/// Gives `geom` its tangents when one of its materials has a tangent-space Normal Map
+/// (`tangent_materials`, by material index) and it has UVs and no tangents of its own.
+fn with_tangents(geom: &mut MeshGeom, tangent_materials: &[bool]) -> bool {
+    let key = crate::geometry::TANGENT_KEY;
+    let reads = |id: &u32| {
+        tangent_materials
+            .get(*id as usize)
+            .copied()
+            .unwrap_or(false)
+    };
+    if !geom.material_ids.iter().any(reads) || geom.attributes.iter().any(|(k, _)| *k == key) {
+        return false;
+    }
+    match crate::geometry::vertex_tangents(geom) {
+        Some(t) => {
+            geom.attributes.push((key, t));
+            if let Some(n) = &geom.normals {
+                let n = n.iter().map(|n| n.extend(0.0)).collect();
+                geom.attributes
+                    .push((crate::geometry::TANGENT_NORMAL_KEY, n));
+            }
+            true
+        }
+        None => false,
     }
 }
 

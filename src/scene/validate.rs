@@ -514,13 +514,13 @@ fn validate_mesh(i: usize, m: &MeshDesc, scene: &SceneDesc) -> Result<()> {
         }
     }
     if let Some(attrs) = &m.attributes {
-        if attrs.len() > crate::geometry::MAX_ATTRIBUTES {
+        if attrs.len() > crate::geometry::MAX_NAMED_ATTRIBUTES {
             return Err(c.err(
                 "attributes",
                 format!(
                     "has {} attributes; at most {} per mesh are read",
                     attrs.len(),
-                    crate::geometry::MAX_ATTRIBUTES
+                    crate::geometry::MAX_NAMED_ATTRIBUTES
                 ),
             ));
         }

@@ -153,13 +153,37 @@ impl NormalSpace {
 }
 
 /// Normal Map: the colour `color` read as a normal in `space`, blended by `strength`.
-/// The tangent is dp/du made orthogonal to the normal, and the bitangent's sign follows
-/// dp/dv (the per-triangle form of MikkTSpace's tangent frame).
+/// In tangent space the frame is the mesh's tangent attribute when it carries one (object
+/// space, taken to world space as normals are, with the bitangent sign in `w`; see
+/// [`crate::geometry::vertex_tangents`]); otherwise dp/du made orthogonal to the normal,
+/// with the bitangent's sign following dp/dv.
 pub fn normal_map(sp: &ShadingPoint, space: NormalSpace, strength: f32, color: Vec3) -> Vec3 {
     let c = 2.0 * (color - Vec3::splat(0.5));
     // The unflipped normal: tangent frames belong to the surface, not to the ray.
     let n0 = if sp.backfacing { -sp.n } else { sp.n };
+    let tangent = match space {
+        NormalSpace::Tangent => sp.attributes.get(crate::geometry::TANGENT_KEY),
+        _ => None,
+    };
     let mut n = match space {
+        NormalSpace::Tangent if tangent.is_some() => {
+            // As Cycles: in object space, over the tangent and the normal interpolated
+            // and not normalised, then carried to world space as a normal.
+            let t4 = tangent.unwrap_or_default();
+            let m = Mat3::from_mat4(sp.object.to_object).transpose();
+            let sign = if t4.w < 0.0 { -1.0 } else { 1.0 };
+            let t = t4.truncate();
+            match sp.attributes.get(crate::geometry::TANGENT_NORMAL_KEY) {
+                Some(nn) => {
+                    let nn = nn.truncate();
+                    safe_normalize(m * (c.x * t + c.y * sign * nn.cross(t) + c.z * nn))
+                }
+                None => {
+                    let t = safe_normalize(m * t);
+                    safe_normalize(c.x * t + c.y * sign * n0.cross(t) + c.z * n0)
+                }
+            }
+        }
         NormalSpace::Tangent => {
             let t = safe_normalize(sp.dpdu - n0 * n0.dot(sp.dpdu));
             if t == Vec3::ZERO {

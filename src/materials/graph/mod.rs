@@ -41,12 +41,15 @@ use std::cell::RefCell;
 /// | `folded` | of those, graphs that were one constant closure, rendered as plain materials |
 /// | `instructions` | instructions run per shading point, summed over the other graphs |
 /// | `leaves` | closure leaves, summed over the other graphs |
+/// | `tangent_meshes` | meshes given tangents (MikkTSpace's frames) for a tangent-space Normal Map |
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct GraphStats {
     pub graphs: usize,
     pub folded: usize,
     pub instructions: usize,
     pub leaves: usize,
+    /// Meshes given tangents for a tangent-space Normal Map.
+    pub tangent_meshes: usize,
 }
 
 /// A compiled shading graph.
@@ -60,6 +63,8 @@ pub struct ShaderGraph {
     transparent: bool,
     /// Whether a node reads object space, the texture space or Object Info.
     pub needs_object: bool,
+    /// Whether a tangent-space Normal Map reads the mesh's tangents.
+    pub needs_tangents: bool,
 }
 
 thread_local! {
@@ -92,14 +97,25 @@ impl ShaderGraph {
             matches!(
                 i.op,
                 Op::TexCoord { .. } | Op::ObjectInfo | Op::Displacement { object: true }
-            ) || matches!(i.op, Op::NormalMap(geometry_nodes::NormalSpace::Object))
+            ) || matches!(
+                i.op,
+                Op::NormalMap(
+                    geometry_nodes::NormalSpace::Object | geometry_nodes::NormalSpace::Tangent
+                )
+            )
         });
+        let needs_tangents = compiled
+            .program
+            .code
+            .iter()
+            .any(|i| matches!(i.op, Op::NormalMap(geometry_nodes::NormalSpace::Tangent)));
         Ok(ShaderGraph {
             name: desc.name.clone(),
             emissive: any(closure::leaf_emits),
             specular: any(closure::leaf_has_specular),
             transparent: any(closure::leaf_transparent),
             needs_object,
+            needs_tangents,
             tables,
             compiled,
         })

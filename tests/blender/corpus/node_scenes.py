@@ -14,7 +14,8 @@ import os
 import bpy
 
 from corpus.scenes import (TEXTURES, camera, ceiling_area, light, lit_room, plane,
-                           principled, props, reset, room, scene, shader_material, sphere)
+                           active, assign, principled, props, reset, room, scene,
+                           shader_material, sphere)
 
 TAGS = ("nodes",)
 
@@ -602,6 +603,33 @@ def nodes_bump_values():
         nt.links.new(bu.outputs["Normal"], ma.inputs[0])
         return ma.outputs["Vector"]
     return _emission_plane("BumpValues", color)
+
+
+@node_scene("nodes_normal_map_values", "The Normal Map node's tangent frame value for value: "
+            "a smooth-shaded Suzanne filling the view with an Emission whose colour is a "
+            "tangent-space Normal Map of a constant colour (0.75, 0.6, 0.85) mapped to "
+            "0.5 n + 0.5, so the pixels show the tangents Blender computes (MikkTSpace).")
+def nodes_normal_map_values():
+    sc = reset()
+    m = shader_material("NormalValues", "ShaderNodeEmission", Strength=1.0)
+    nt = m.node_tree
+    rgb = nt.nodes.new("ShaderNodeRGB")
+    rgb.outputs["Color"].default_value = (0.75, 0.6, 0.85, 1.0)
+    nm = nt.nodes.new("ShaderNodeNormalMap")
+    nt.links.new(rgb.outputs["Color"], nm.inputs["Color"])
+    ma = nt.nodes.new("ShaderNodeVectorMath")
+    ma.operation = "MULTIPLY_ADD"
+    ma.inputs[1].default_value = (0.5, 0.5, 0.5)
+    ma.inputs[2].default_value = (0.5, 0.5, 0.5)
+    nt.links.new(nm.outputs["Normal"], ma.inputs[0])
+    nt.links.new(ma.outputs["Vector"], nt.nodes["Emission"].inputs["Color"])
+    bpy.ops.mesh.primitive_monkey_add(size=1.2, location=(0, 0, 0))
+    ob = active()
+    ob.name = "Suzanne"
+    bpy.ops.object.shade_smooth()
+    assign(ob, m)
+    camera(location=(0, -2.0, 0), rotation_deg=(90, 0, 0), lens=35.0)
+    return sc
 
 
 @node_scene("nodes_voronoi_values", "Voronoi value for value: a plane filling the view with an "
