@@ -31,8 +31,28 @@ fn project(v: Vec3, n: Vec3) -> Vec3 {
 pub fn vertex_tangents(mesh: &MeshGeom) -> Option<Vec<Vec4>> {
     let uvs = mesh.uvs.as_ref()?;
     let n_v = mesh.positions.len();
-    let mut t_sum = vec![Vec3::ZERO; n_v];
-    let mut b_sum = vec![Vec3::ZERO; n_v];
+    // Vertices with equal position, normal and UV are one (a mesh may repeat them per face).
+    let mut ids = std::collections::HashMap::new();
+    let weld: Vec<usize> = (0..n_v)
+        .map(|i| {
+            let n = mesh.normals.as_ref().and_then(|n| n.get(i)).copied();
+            let key = (
+                mesh.positions[i].to_array().map(|x| (x + 0.0).to_bits()),
+                n.unwrap_or(Vec3::ZERO)
+                    .to_array()
+                    .map(|x| (x + 0.0).to_bits()),
+                uvs.get(i)
+                    .copied()
+                    .unwrap_or_default()
+                    .to_array()
+                    .map(|x| (x + 0.0).to_bits()),
+            );
+            let next = ids.len();
+            *ids.entry(key).or_insert(next)
+        })
+        .collect();
+    let mut t_sum = vec![Vec3::ZERO; ids.len()];
+    let mut b_sum = vec![Vec3::ZERO; ids.len()];
     let normal = |i: usize, face: Vec3| {
         mesh.normals
             .as_ref()
@@ -69,19 +89,20 @@ pub fn vertex_tangents(mesh: &MeshGeom) -> Option<Vec<Vec4>> {
             if !angle.is_finite() {
                 continue;
             }
-            t_sum[i] += project(t, n) * angle;
-            b_sum[i] += project(b, n) * angle;
+            t_sum[weld[i]] += project(t, n) * angle;
+            b_sum[weld[i]] += project(b, n) * angle;
         }
     }
     Some(
         (0..n_v)
             .map(|i| {
                 let n = normal(i, Vec3::Z);
-                let t = project(t_sum[i], n);
+                let (t_sum, b_sum) = (t_sum[weld[i]], b_sum[weld[i]]);
+                let t = project(t_sum, n);
                 if t == Vec3::ZERO {
                     return n.any_orthonormal_vector().extend(1.0);
                 }
-                let sign = if n.cross(t).dot(b_sum[i]) < 0.0 {
+                let sign = if n.cross(t).dot(b_sum) < 0.0 {
                     -1.0
                 } else {
                     1.0

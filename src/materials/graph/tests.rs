@@ -462,10 +462,46 @@ fn scene_counters_show_what_graphs_compiled_to() {
             graphs: 1,
             folded: 1,
             instructions: 0,
-            leaves: 0
+            leaves: 0,
+            tangent_meshes: 0,
         }
     );
     assert!(folded.objects.is_empty());
+}
+
+#[test]
+fn tangents_are_built_only_for_meshes_a_tangent_normal_map_reads() {
+    let mut uv_floor = crate::render::terms::testing::floor(1);
+    uv_floor["uvs"] = serde_json::json!([[0, 0], [1, 0], [1, 1], [0, 1]]);
+    let mapped = |space: &str| {
+        serde_json::json!({"type": "graph", "name": space, "nodes": [
+            {"type": "normal_map", "params": {"space": space},
+             "inputs": {"color": [0.7, 0.5, 0.9]}},
+            {"type": "diffuse", "inputs": {"normal": {"node": 0, "output": "normal"}}}],
+            "surface": {"node": 1}})
+    };
+    let count = |material: serde_json::Value, meshes: serde_json::Value| {
+        crate::render::terms::testing::scene(serde_json::json!({
+            "materials": [{"type": "diffuse"}, material],
+            "meshes": meshes,
+        }))
+        .graph_stats
+        .tangent_meshes
+    };
+    // The floor with UVs under a tangent-space map; not the one with the plain material,
+    // nor an object-space map, nor a floor without UVs.
+    let tangent = mapped("TANGENT");
+    let plain = crate::render::terms::testing::floor(0);
+    let both = serde_json::json!([uv_floor.clone(), plain.clone()]);
+    assert_eq!(count(tangent.clone(), both.clone()), 1);
+    assert_eq!(count(mapped("OBJECT"), both), 0);
+    assert_eq!(
+        count(
+            tangent,
+            serde_json::json!([crate::render::terms::testing::floor(1)])
+        ),
+        0
+    );
 }
 
 #[test]
