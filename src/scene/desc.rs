@@ -253,7 +253,7 @@ pub enum SensorFit {
 /// | `indices` | triangles, three vertex indices each |
 /// | `normals` | optional per-vertex shading normals |
 /// | `uvs` | optional per-vertex texture coordinates |
-/// | `attributes` | optional named per-vertex attributes (colour attributes, Blender's named attributes, USD primvars) as linear RGBA, read by the Attribute node |
+/// | `attributes` | optional named per-vertex attributes (colour attributes, Blender's named attributes, USD primvars) as linear RGBA, read by the Attribute node; `.tangent` (object-space tangent, bitangent sign in `w`) replaces the tangents a tangent-space Normal Map would otherwise get at build |
 /// | `material` | material of every triangle (index into `materials`) |
 /// | `material_indices` | optional per-triangle material, overrides `material` |
 /// | `transform` | object-to-world |
