@@ -27,7 +27,7 @@ A flat material is written when every input read is a constant or an image read 
 UV (UsdUVTexture with its scale and bias baked into the texture, ``ND_image_*``), with opacity
 1 and no normal input; otherwise the surface is translated into a shading graph
 (shading_graph.py, whose table lists the USD and MaterialX nodes read: UsdUVTexture,
-UsdPrimvarReader_float2, UsdTransform2d, the MaterialX standard library Blender writes, mixed
+UsdPrimvarReader_float2 (``st``, or another UV set read per vertex), UsdTransform2d, the MaterialX standard library Blender writes, mixed
 and added BSDFs, the layered BSDFs Blender writes for a Principled BSDF in a Mix Shader), and in
 a graph subsurface scattering is read as its weight only (warned).
 
@@ -35,7 +35,7 @@ A connected ``displacement`` bumps the shading normal (the surface is not moved)
 
 Warned: useSpecularWorkflow = 1 (approximated, specularColor ignored), clearcoat,
 occlusion, fuzz/sheen and thin-film; int and string UsdPrimvarReaders (their
-fallback); a UV primvar other than ``st`` (read as the mesh's UV set); wrapT differing from wrapS; missing texture files (the
+fallback); wrapT differing from wrapS; missing texture files (the
 UsdUVTexture's fallback, else magenta); every node that cannot be translated (named by prim
 path and ``info:id``; its consumer keeps its input's value). UsdPreviewSurface has no
 subsurface.

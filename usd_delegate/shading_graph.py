@@ -10,11 +10,11 @@ one is warned and its consumer's input keeps its value.
 | USD / MaterialX node | graph nodes |
 |---|---|
 | ``UsdUVTexture`` (file, wrapS, scale, bias, sourceColorSpace, fallback; rgb, r, g, b, a) | `image_texture` (scale and bias baked into the texture), `separate_xyz` for r, g, b |
-| ``UsdPrimvarReader_float2`` | the mesh UV (a varname other than ``st`` is warned) |
+| ``UsdPrimvarReader_float2`` | the mesh UV for ``st``; another varname, that primvar per vertex (an `attribute`) |
 | ``UsdPrimvarReader_float/float3/float4/normal/point/vector`` | `attribute` of the varname (the mesh's primvar per vertex; `fac`, the mean, for `_float`); int and string readers warned, their ``fallback`` |
 | ``UsdTransform2d`` | `mapping` (POINT: scale, then rotation in degrees, then translation) |
 | ``ND_image_*``, ``ND_tiledimage_*``, ``ND_gltf_image_*`` | `image_texture` (tiled: `mapping` with uvtiling, -uvoffset) |
-| ``ND_texcoord_*``, ``ND_geompropvalue_vector2`` | the mesh UV |
+| ``ND_texcoord_*``, ``ND_geompropvalue_vector2`` of ``st`` | the mesh UV (another geomprop: that primvar per vertex) |
 | ``ND_geompropvalue_*`` (float, color, vector) | `attribute` of the geomprop (the mesh's primvar per vertex) |
 | ``ND_constant_*``, ``ND_convert_*``, ``ND_dot_*`` | the value itself |
 | ``ND_add/subtract/multiply/divide_*`` | `math` (floats) or `vector_math` |
@@ -287,6 +287,9 @@ class Graph:
 # -- the translator -------------------------------------------------------------------------
 
 PREVIEW_IDS = ("UsdPreviewSurface", "ND_UsdPreviewSurface_surfaceshader")
+#: Names under which a reader means the mesh's UV set (``primvars:st``, which Blender writes
+#: for the active UV map); other names read the primvar of that name.
+UV_SET_NAMES = ("", "st", "UVMap", "uv")
 OPENPBR = "ND_open_pbr_surface_surfaceshader"
 STANDARD = "ND_standard_surface_surfaceshader"
 _IMAGE = ("ND_image_", "ND_tiledimage_", "ND_gltf_image_", "ND_gltf_colorimage")
@@ -421,10 +424,11 @@ class Translator:
             return self._uv_texture(s, out)
         if sid == "UsdPrimvarReader_float2":
             name = str(self.authored(s, "varname") or "")
-            if name != "st":
-                self.diag.warn(s.GetPrim(), f"primvar `{name}` read as the mesh's UV set "
-                                            f"(the renderer reads one, primvars:st)")
-            return self.g.uv()
+            if name in UV_SET_NAMES:
+                return self.g.uv()
+            # Another UV set: the mesh's primvar of that name, per vertex.
+            self.table.attribute_names.add(name)
+            return self.g.attribute(name, "vector", _rgba(self.authored(s, "fallback")))
         if sid.startswith("UsdPrimvarReader_"):
             name = str(self.authored(s, "varname") or "")
             if sid == "UsdPrimvarReader_int" or sid == "UsdPrimvarReader_string":
@@ -820,9 +824,10 @@ class Translator:
                 raise Untranslatable(f"geomprop of type `{t}`")
             self.table.attribute_names.add(name)
             return self.g.attribute(name, "fac" if t.startswith("float") else "color")
-        if name not in ("st", "UVMap", "uv"):
-            self.diag.warn(s.GetPrim(), f"geomprop `{name}` read as the mesh's UV set")
-        return self.g.uv()
+        if name in UV_SET_NAMES:
+            return self.g.uv()
+        self.table.attribute_names.add(name)
+        return self.g.attribute(name, "vector")
 
     # closures
 

@@ -109,7 +109,8 @@ def mesh_arrays(mesh, check_closed: bool = False, attributes=(), warn=None) -> d
         out["closed"] = bool(np.all(counts == 2))
         p = co.reshape(-1, 3).astype(np.float64)[tri_verts]
         out["volume"] = float(np.einsum("ij,ij->", p[:, 0], np.cross(p[:, 1], p[:, 2])) / 6.0)
-    uv = mesh.uv_layers.active
+    # The default UV map is the one active for rendering, as in Cycles.
+    uv = next((u for u in mesh.uv_layers if u.active_render), mesh.uv_layers.active)
     if uv is not None:
         uvs = np.empty(n_loops * 2, dtype=np.float32)
         uv.data.foreach_get("uv", uvs)

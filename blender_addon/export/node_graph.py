@@ -288,7 +288,9 @@ class GraphBuilder:
             self.warn(f"material '{self.mat}': node '{node.name}': coordinates of another "
                       f"object ('{node.object.name}') render as this object's own")
         elif kind == "uv_map" and node.uv_map:
+            # A named UV map is the mesh's corner attribute of that name.
             p["uv_map"] = node.uv_map
+            self.stats.setdefault("attributes", set()).add(node.uv_map)
         elif kind == "attribute":
             if node.bl_idname == "ShaderNodeVertexColor":
                 name = node.layer_name  # empty: the mesh's default colour attribute

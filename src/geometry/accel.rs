@@ -504,8 +504,16 @@ impl Accel {
                 let k = out.len as usize;
                 out.keys[k] = *key;
                 out.values[k] = b0 * v[0] + b1 * v[1] + b2 * v[2];
+                out.d1[k] = v[1] - v[0];
+                out.d2[k] = v[2] - v[0];
                 out.len += 1;
             }
+        }
+        if out.len > 0 {
+            let p = m.triangle(si.prim);
+            let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
+            let inst = &self.instances[si.instance as usize];
+            (out.e1, out.e2) = (inst.transform.vector(e1), inst.transform.vector(e2));
         }
         out
     }

@@ -44,12 +44,18 @@ pub const fn attribute_key(name: &str) -> u64 {
     h
 }
 
-/// The named attributes at a surface point, interpolated (at most [`MAX_ATTRIBUTES`]).
+/// The named attributes at a surface point, interpolated (at most [`MAX_ATTRIBUTES`]), with
+/// their change across the triangle: `d1`, `d2` per unit of the barycentrics b1, b2, along
+/// the triangle's world-space edges `e1`, `e2` (so that a Bump reads them at its offsets).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct AttributeValues {
     pub len: u8,
     pub keys: [u64; MAX_ATTRIBUTES],
     pub values: [Vec4; MAX_ATTRIBUTES],
+    pub d1: [Vec4; MAX_ATTRIBUTES],
+    pub d2: [Vec4; MAX_ATTRIBUTES],
+    pub e1: Vec3,
+    pub e2: Vec3,
 }
 
 impl AttributeValues {
@@ -59,6 +65,21 @@ impl AttributeValues {
         (0..self.len as usize)
             .find(|&i| self.keys[i] == key)
             .map(|i| self.values[i])
+    }
+
+    /// The value of the attribute `key` a small move `dp` away in the triangle's plane (the
+    /// least-squares barycentric change along its edges; the value itself when degenerate).
+    pub fn get_moved(&self, key: u64, dp: Vec3) -> Option<Vec4> {
+        let i = (0..self.len as usize).find(|&i| self.keys[i] == key)?;
+        let (a, b) = (self.e1, self.e2);
+        let (aa, ab, bb) = (a.dot(a), a.dot(b), b.dot(b));
+        let det = aa * bb - ab * ab;
+        if !(det.abs() > 1e-30) || !det.is_finite() {
+            return Some(self.values[i]);
+        }
+        let (pa, pb) = (dp.dot(a), dp.dot(b));
+        let (b1, b2) = ((pa * bb - pb * ab) / det, (pb * aa - pa * ab) / det);
+        Some(self.values[i] + self.d1[i] * b1 + self.d2[i] * b2)
     }
 }
 

@@ -168,7 +168,17 @@ impl<'a> Builder<'a> {
                 ),
             ),
             "uv_map" => (
-                value(Op::UvMap { variant: 0 }, true, true),
+                value(
+                    Op::UvMap {
+                        variant: 0,
+                        key: match p.str_or("uv_map", "")? {
+                            "" => None,
+                            name => Some(crate::geometry::attribute_key(name)),
+                        },
+                    },
+                    true,
+                    true,
+                ),
                 spec(&[], &[("uv", Vector)]),
             ),
             "attribute" => (
@@ -189,9 +199,10 @@ impl<'a> Builder<'a> {
                                 glam::Vec4::from(f)
                             }
                         },
+                        variant: 0,
                     },
                     true,
-                    false,
+                    true,
                 ),
                 spec(
                     &[],
@@ -493,7 +504,12 @@ impl<'a> Builder<'a> {
                 let op = match op {
                     Op::TexCoord { .. } => Op::TexCoord { variant },
                     Op::Geometry { .. } => Op::Geometry { variant },
-                    Op::UvMap { .. } => Op::UvMap { variant },
+                    Op::UvMap { key, .. } => Op::UvMap { variant, key },
+                    Op::Attribute { key, fallback, .. } => Op::Attribute {
+                        key,
+                        fallback,
+                        variant,
+                    },
                     op => op,
                 };
                 let mut outs = Vec::with_capacity(spec.outs.len());
@@ -565,7 +581,7 @@ impl<'a> Builder<'a> {
                 Dflt::V(v) => self.reg(Vec3::from(v), true),
                 Dflt::Normal => Ok(NO_REG),
                 Dflt::Generated => self.implicit(Op::TexCoord { variant }, 5, 0),
-                Dflt::Uv => self.implicit(Op::UvMap { variant }, 1, 0),
+                Dflt::Uv => self.implicit(Op::UvMap { variant, key: None }, 1, 0),
                 Dflt::Empty => Ok(NO_REG),
             },
         }

@@ -26,14 +26,19 @@ pub enum Op {
     TexCoord { variant: u8 },
     /// Outputs: position, normal, tangent, true_normal, incoming, parametric, backfacing.
     Geometry { variant: u8 },
-    /// Output: uv.
-    UvMap { variant: u8 },
+    /// Output: uv; with `key`, the mesh's UV map of that name (an attribute; zero where the
+    /// mesh has none, as in Cycles).
+    UvMap { variant: u8, key: Option<u64> },
     /// Outputs: location, random, object_index.
     ObjectInfo,
     /// A named mesh attribute (by [`crate::geometry::attribute_key`]). Outputs: color,
     /// vector, fac (the mean of the colour, as Cycles reads a colour as a float here), alpha;
     /// `fallback` where the mesh has no such attribute (zero by default, as in Cycles).
-    Attribute { key: u64, fallback: glam::Vec4 },
+    Attribute {
+        key: u64,
+        fallback: glam::Vec4,
+        variant: u8,
+    },
     /// Light Path: the kind of ray that reached the point (Cycles' flags and depths, see
     /// [`crate::geometry::RayPath`]). Outputs: is_camera_ray ... is_volume_scatter_ray,
     /// ray_length, ray_depth, diffuse_depth, glossy_depth, transparent_depth,
@@ -112,6 +117,16 @@ impl<'a> EvalCtx<'a> {
         }
     }
 
+    /// The mesh attribute `key` at the point moved to tangent offset `variant`.
+    fn attribute(&self, key: u64, variant: u8) -> Option<glam::Vec4> {
+        let d = self.offsets[variant as usize % 3];
+        if d == Vec3::ZERO {
+            self.sp.attributes.get(key)
+        } else {
+            self.sp.attributes.get_moved(key, d)
+        }
+    }
+
     fn moved(&self, variant: u8) -> (Vec3, Vec2) {
         let d = self.offsets[variant as usize % 3];
         if d == Vec3::ZERO {
@@ -160,9 +175,20 @@ impl Instr {
                 out[5] = Vec3::ZERO;
                 out[6] = f(if sp.backfacing { 1.0 } else { 0.0 });
             }
-            Op::UvMap { variant } => out[0] = ctx.moved(*variant).1.extend(0.0),
-            Op::Attribute { key, fallback } => {
-                let v = sp.attributes.get(*key).unwrap_or(*fallback);
+            Op::UvMap { variant, key: None } => out[0] = ctx.moved(*variant).1.extend(0.0),
+            Op::UvMap {
+                variant,
+                key: Some(key),
+            } => {
+                let v = ctx.attribute(*key, *variant).unwrap_or_default();
+                out[0] = Vec3::new(v.x, v.y, 0.0);
+            }
+            Op::Attribute {
+                key,
+                fallback,
+                variant,
+            } => {
+                let v = ctx.attribute(*key, *variant).unwrap_or(*fallback);
                 out[0] = v.truncate();
                 out[1] = v.truncate();
                 out[2] = f((v.x + v.y + v.z) / 3.0);

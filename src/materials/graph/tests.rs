@@ -638,6 +638,64 @@ fn the_attribute_node_reads_the_mesh_attribute_of_its_name() {
 }
 
 #[test]
+fn a_named_uv_map_reads_its_attribute_and_moves_with_a_bump() {
+    // Emission = the UV map "Decal" (u, v, 0); a second graph bumps by its u.
+    let uv = graph(serde_json::json!({
+        "name": "decal",
+        "nodes": [
+            {"type": "uv_map", "params": {"uv_map": "Decal"}},
+            {"type": "emission", "inputs": {"color": {"node": 0, "output": "uv"}}}
+        ],
+        "surface": {"node": 1}
+    }));
+    let sg = ShaderGraph::new(&uv, "/materials/0", 0).unwrap();
+    let mut sp = point();
+    // A mesh without the map reads zero, as in Cycles.
+    assert_eq!(sg.shade(&sp, &[], Want::Light).emission, Vec3::ZERO);
+    // The triangle's edges are x and y; the map's u grows by 2 along x, v by 3 along y.
+    let a = &mut sp.attributes;
+    a.len = 1;
+    a.keys[0] = crate::geometry::attribute_key("Decal");
+    a.values[0] = glam::Vec4::new(0.25, 0.5, 0.0, 1.0);
+    a.d1[0] = glam::Vec4::new(2.0, 0.0, 0.0, 0.0);
+    a.d2[0] = glam::Vec4::new(0.0, 3.0, 0.0, 0.0);
+    (a.e1, a.e2) = (Vec3::X, Vec3::Y);
+    let e = sg.shade(&sp, &[], Want::Light).emission;
+    assert!(
+        (e - Vec3::new(0.25, 0.5, 0.0)).abs().max_element() < 1e-6,
+        "{e}"
+    );
+    let moved = sp.attributes.get_moved(
+        crate::geometry::attribute_key("Decal"),
+        Vec3::new(0.1, 0.2, 0.0),
+    );
+    assert!(
+        (moved.unwrap() - glam::Vec4::new(0.45, 1.1, 0.0, 1.0))
+            .abs()
+            .max_element()
+            < 1e-6
+    );
+    // A Bump whose height is the map's u tilts the normal against +x (the height grows
+    // along x), as it would for the same height over the position.
+    let bumped = graph(serde_json::json!({
+        "name": "bumped",
+        "nodes": [
+            {"type": "uv_map", "params": {"uv_map": "Decal"}},
+            {"type": "separate_xyz", "inputs": {"vector": {"node": 0, "output": "uv"}}},
+            {"type": "bump", "inputs": {"height": {"node": 1, "output": "x"}, "distance": 0.1}},
+            {"type": "vector_math", "params": {"operation": "MULTIPLY_ADD"},
+             "inputs": {"vector": {"node": 2, "output": "normal"},
+                        "vector_001": [0.5, 0.5, 0.5], "vector_002": [0.5, 0.5, 0.5]}},
+            {"type": "emission", "inputs": {"color": {"node": 3, "output": "vector"}}}
+        ],
+        "surface": {"node": 4}
+    }));
+    let sg = ShaderGraph::new(&bumped, "/materials/0", 0).unwrap();
+    let n = 2.0 * sg.shade(&sp, &[], Want::Light).emission - Vec3::ONE;
+    assert!(n.x < -0.1 && n.y.abs() < 1e-3, "{n}");
+}
+
+#[test]
 fn a_bad_attribute_fallback_names_the_field() {
     let g = graph(serde_json::json!({
         "name": "painted",

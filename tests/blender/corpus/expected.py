@@ -107,6 +107,13 @@ USD: dict[str, str] = {
              "ND_normalmap_float, a gradient per unit of texture coordinate, which the importer "
              "warns and does not translate either: the normal is lost, block (10,2) +295% "
              "(+1310 sigma), pooled +238%"),
+    "nodes_bump_uv_map": NOISE.format(
+        id="ND_fractal3d_float", prim="BumpUvMap/NodeGraphs/bnode__Noise_Texture_Fac",
+        what="the Bump, too, is written as 'uniform token info:id = "
+             "\"ND_heighttonormal_vector3\"' (BumpUvMap/NodeGraphs/node_002) into "
+             "ND_normalmap_float, which the importer warns and does not translate either: the "
+             "normal is lost, every block about +290% (+1310 sigma); the UV map itself is "
+             "carried (nodes_uv_maps passes)"),
     "nodes_emission_screen": FLAT.format(
         nodes="Gradient Texture and ColorRamp", socket="the Emission's Color",
         line="color3f inputs:color = (5, 5, 5)", prim="Screen/NodeGraphs/bnode__Emission_EDF",

@@ -566,8 +566,8 @@ def _emission_plane(name, color_from):
     sc = reset()
     m = shader_material(name, "ShaderNodeEmission", Strength=1.0)
     nt = m.node_tree
-    nt.links.new(color_from(nt), nt.nodes["Emission"].inputs["Color"])
     plane(name, (0, 0, 0), (90, 0, 0), 2.4, m, scale=(1.0, 0.8, 1))
+    nt.links.new(color_from(nt), nt.nodes["Emission"].inputs["Color"])
     camera(location=(0, -2.0, 0), rotation_deg=(90, 0, 0), lens=35.0)
     return sc
 
@@ -630,6 +630,60 @@ def nodes_normal_map_values():
     assign(ob, m)
     camera(location=(0, -2.0, 0), rotation_deg=(90, 0, 0), lens=35.0)
     return sc
+
+
+def _decal_uv_map(nt, name):
+    """A second UV map 'Decal' on object ``name``, the first turned by 90 degrees, and a UV
+    Map node reading it."""
+    me = bpy.data.objects[name].data
+    decal = me.uv_layers.new(name="Decal")
+    base = me.uv_layers["UVMap"]
+    for d, b in zip(decal.data, base.data):
+        d.uv = (1.0 - b.uv[1], b.uv[0])
+    me.uv_layers.active = base
+    uv = nt.nodes.new("ShaderNodeUVMap")
+    uv.uv_map = "Decal"
+    return uv
+
+
+@node_scene("nodes_uv_maps", "Two UV maps, value for value: a plane filling the view whose "
+            "second UV map 'Decal' is the first turned by 90 degrees; its Emission shows "
+            "(Decal u, Decal v, UVMap u) from two UV Map nodes.")
+def nodes_uv_maps():
+    def color(nt):
+        uv_dec = _decal_uv_map(nt, "UvMaps")
+        uv_base = nt.nodes.new("ShaderNodeUVMap")
+        uv_base.uv_map = "UVMap"
+        sep_d = nt.nodes.new("ShaderNodeSeparateXYZ")
+        sep_b = nt.nodes.new("ShaderNodeSeparateXYZ")
+        nt.links.new(uv_dec.outputs["UV"], sep_d.inputs["Vector"])
+        nt.links.new(uv_base.outputs["UV"], sep_b.inputs["Vector"])
+        comb = nt.nodes.new("ShaderNodeCombineXYZ")
+        nt.links.new(sep_d.outputs["X"], comb.inputs["X"])
+        nt.links.new(sep_d.outputs["Y"], comb.inputs["Y"])
+        nt.links.new(sep_b.outputs["X"], comb.inputs["Z"])
+        return comb.outputs["Vector"]
+    return _emission_plane("UvMaps", color)
+
+
+@node_scene("nodes_bump_uv_map", "A Bump over a second UV map, value for value: the plane "
+            "of nodes_uv_maps with an Emission showing, as 0.5 n + 0.5, the normal of a Bump "
+            "(distance 0.3) whose height is a Noise Texture (scale 4) over the UV map 'Decal'.")
+def nodes_bump_uv_map():
+    def color(nt):
+        nz = nt.nodes.new("ShaderNodeTexNoise")
+        nz.inputs["Scale"].default_value = 4.0
+        nt.links.new(_decal_uv_map(nt, "BumpUvMap").outputs["UV"], nz.inputs["Vector"])
+        bu = nt.nodes.new("ShaderNodeBump")
+        bu.inputs["Distance"].default_value = 0.3
+        nt.links.new(nz.outputs["Fac"], bu.inputs["Height"])
+        ma = nt.nodes.new("ShaderNodeVectorMath")
+        ma.operation = "MULTIPLY_ADD"
+        ma.inputs[1].default_value = (0.5, 0.5, 0.5)
+        ma.inputs[2].default_value = (0.5, 0.5, 0.5)
+        nt.links.new(bu.outputs["Normal"], ma.inputs[0])
+        return ma.outputs["Vector"]
+    return _emission_plane("BumpUvMap", color)
 
 
 @node_scene("nodes_voronoi_values", "Voronoi value for value: a plane filling the view with an "
