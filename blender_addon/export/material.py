@@ -68,6 +68,12 @@ def _image_at_uv(node) -> bool:
             and node.interpolation == "Linear")
 
 
+def _subsurface_on(principled) -> bool:
+    """Whether a Principled BSDF's Subsurface Weight is linked or above zero."""
+    s = principled.inputs.get("Subsurface Weight")
+    return s is not None and (s.is_linked or float(s.default_value) > 0.0)
+
+
 def _needs_graph(mat) -> bool:
     """Whether ``mat``'s surface needs a shading graph: a shader the plain materials do not
     have, an input fed by a node other than an Image Texture read at the UV (where they take
@@ -91,8 +97,10 @@ def _needs_graph(mat) -> bool:
             continue
         if src.bl_idname == "ShaderNodeTexImage" and s.name in images and _image_at_uv(src):
             continue
-        if s.name in {"Subsurface Radius", "Subsurface IOR", "Coat Normal"}:
+        if s.name in {"Subsurface Radius", "Subsurface IOR"}:
             continue  # warned by the plain export, which keeps the subsurface walk
+        if s.name == "Coat Normal" and _subsurface_on(surf):
+            continue  # the same: a graph has no subsurface walk
         return True
     a = surf.inputs.get("Alpha") if surf.bl_idname == "ShaderNodeBsdfPrincipled" else None
     return a is not None and float(a.default_value) < 1.0
@@ -292,7 +300,9 @@ class MaterialExporter:
             )
             s = n.inputs.get("Coat Normal")
             if s is not None and s.is_linked:
-                self.warn(f"material '{name}': a coat normal map is not supported; ignored")
+                self.warn(f"material '{name}': Coat Normal is not read beside subsurface "
+                          f"scattering (a shading graph has no subsurface walk); the coat "
+                          f"uses the surface's normal")
         sub = self._subsurface(n, name, float(ior))
         if sub is not None:
             d["subsurface"] = sub

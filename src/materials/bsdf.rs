@@ -196,6 +196,11 @@ pub struct Bsdf {
     /// With a specular normal of its own ([`Bsdf::set_specular_normal`]): the rotation from
     /// the frame's local space to the local space of the non-diffuse lobes.
     spec: Option<Mat3>,
+    /// With a coat normal of its own ([`Bsdf::set_coat_normal`]): the rotation from the
+    /// frame's local space to the coat's, for the lobes marked in `in_coat_frame` (the coat's
+    /// reflection) and the coat's layering.
+    coat_n: Option<Mat3>,
+    in_coat_frame: [bool; MAX_LOBES],
 }
 
 /// Cycles' bump shadowing (Conty Estevez et al. 2019, "A Microfacet-Based Shadowing Function
@@ -236,6 +241,8 @@ impl Bsdf {
             subsurface: None,
             bump: None,
             spec: None,
+            coat_n: None,
+            in_coat_frame: [false; MAX_LOBES],
         }
     }
 
@@ -248,9 +255,51 @@ impl Bsdf {
             self.spec = None;
             return;
         }
+        self.spec = Some(self.rotation_to(n, dpdu));
+    }
+
+    /// The rotation from the frame's local space to that of a frame with normal `n`.
+    fn rotation_to(&self, n: Vec3, dpdu: Vec3) -> Mat3 {
         let f = Frame::from_normal_tangent(n, dpdu);
         let col = |v: Vec3| f.to_local(self.frame.to_world(v));
-        self.spec = Some(Mat3::from_cols(col(Vec3::X), col(Vec3::Y), col(Vec3::Z)));
+        Mat3::from_cols(col(Vec3::X), col(Vec3::Y), col(Vec3::Z))
+    }
+
+    /// Gives the coat (its reflection lobe, marked by [`Bsdf::add_coat_lobe`], and the
+    /// layering of the lobes under it) the normal `n` (world space), as the Principled
+    /// BSDF's Coat Normal does; the frame's normal when they are equal.
+    pub fn set_coat_normal(&mut self, n: Vec3, dpdu: Vec3) {
+        self.coat_n = (n.is_finite() && n != self.frame.n).then(|| self.rotation_to(n, dpdu));
+    }
+
+    /// Adds the coat's reflection lobe (see [`Bsdf::set_coat_normal`]).
+    pub fn add_coat_lobe(&mut self, weight: f32, lobe: Lobe) -> bool {
+        let added = self.add(weight, lobe);
+        if added {
+            self.in_coat_frame[self.count - 1] = true;
+        }
+        added
+    }
+
+    /// The rotation into lobe `i`'s local space, if it has one.
+    #[inline]
+    fn rot(&self, i: usize) -> Option<&Mat3> {
+        if self.in_coat_frame[i] && self.coat_n.is_some() {
+            return self.coat_n.as_ref();
+        }
+        match &self.spec {
+            Some(r) if self.lobes[i].flags() & LobeFlags::DIFFUSE == 0 => Some(r),
+            _ => None,
+        }
+    }
+
+    /// The cosine of the view `wo` (local) with the coat's normal.
+    #[inline]
+    fn coat_cos(&self, wo: Vec3) -> f32 {
+        match self.coat_n.as_ref().or(self.spec.as_ref()) {
+            Some(r) => (*r * wo).z.abs(),
+            None => wo.z.abs(),
+        }
     }
 
     /// Lobe `l` as it is seen from `wo` (local): a diffuse base layered under a specular
@@ -268,34 +317,36 @@ impl Bsdf {
         }
     }
 
-    /// Lobe `l`'s albedo estimate towards `wo` (local).
+    /// Lobe `i`'s albedo estimate towards `wo` (local).
     #[inline]
-    fn lobe_albedo(&self, l: &Lobe, wo: Vec3, mask: u8) -> Spectrum {
-        if self.spec.is_none() {
+    fn lobe_albedo(&self, i: usize, wo: Vec3, mask: u8) -> Spectrum {
+        let l = &self.lobes[i];
+        if self.spec.is_none() && self.coat_n.is_none() {
             return l.albedo(wo, mask);
         }
-        self.view_lobe(l, wo).albedo(self.in_lobe(l, wo), mask)
+        self.view_lobe(l, wo).albedo(self.in_lobe(i, wo), mask)
     }
 
-    /// `v` (local) in the local space of lobe `l`.
+    /// `v` (local) in the local space of lobe `i`.
     #[inline]
-    fn in_lobe(&self, l: &Lobe, v: Vec3) -> Vec3 {
-        match &self.spec {
-            Some(r) if l.flags() & LobeFlags::DIFFUSE == 0 => *r * v,
-            _ => v,
-        }
+    fn in_lobe(&self, i: usize, v: Vec3) -> Vec3 {
+        self.rot(i).map_or(v, |r| *r * v)
     }
 
     /// Lobe `l`'s f at local `wo`, `wi`, scaled for what the caller multiplies it by
     /// ([`CosineOf`]) so that the product carries the lobe's own cosine.
     #[inline]
-    fn lobe_eval(&self, l: &Lobe, wo: Vec3, wi: Vec3, mask: u8, cosine: CosineOf) -> Spectrum {
-        if self.spec.is_none() && (self.bump.is_none() || cosine != CosineOf::Flux) {
+    fn lobe_eval(&self, i: usize, wo: Vec3, wi: Vec3, mask: u8, cosine: CosineOf) -> Spectrum {
+        let l = &self.lobes[i];
+        if self.spec.is_none()
+            && self.coat_n.is_none()
+            && (self.bump.is_none() || cosine != CosineOf::Flux)
+        {
             return l.eval(wo, wi, mask);
         }
-        let (wo_l, wi_l) = match &self.spec {
-            Some(r) if l.flags() & LobeFlags::DIFFUSE == 0 => (*r * wo, *r * wi),
-            _ => (wo, wi),
+        let (wo_l, wi_l) = match self.rot(i) {
+            Some(r) => (*r * wo, *r * wi),
+            None => (wo, wi),
         };
         let f = self.view_lobe(l, wo).eval(wo_l, wi_l, mask);
         match cosine {
@@ -344,14 +395,14 @@ impl Bsdf {
     fn weight_at(&self, i: usize, wo: Vec3) -> Spectrum {
         let w = Spectrum::splat(self.weights[i]);
         match &self.coat {
-            Some(c) if self.coated[i] => w * c.under(wo.z.abs()),
+            Some(c) if self.coated[i] => w * c.under(self.coat_cos(wo)),
             _ => w,
         }
     }
 
-    /// The (weight for the view `wo`, lobe) pairs, `wo` local.
-    fn lobes_at(&self, wo: Vec3) -> impl Iterator<Item = (Spectrum, &Lobe)> {
-        (0..self.count).map(move |i| (self.weight_at(i, wo), &self.lobes[i]))
+    /// The (index, weight for the view `wo`, lobe) triples, `wo` local.
+    fn lobes_at(&self, wo: Vec3) -> impl Iterator<Item = (usize, Spectrum, &Lobe)> {
+        (0..self.count).map(move |i| (i, self.weight_at(i, wo), &self.lobes[i]))
     }
 
     /// Adds `weight * lobe` as the lobe a subsurface material's camera paths walk below
@@ -379,9 +430,11 @@ impl Bsdf {
         b.coat = self.coat;
         b.bump = self.bump;
         b.spec = self.spec;
+        b.coat_n = self.coat_n;
         for (i, (w, l)) in self.lobes().enumerate() {
             if i != k as usize && b.add(w, *l) {
                 b.coated[b.count - 1] = self.coated[i];
+                b.in_coat_frame[b.count - 1] = self.in_coat_frame[i];
             }
         }
         b
@@ -411,7 +464,7 @@ impl Bsdf {
         };
         let wo = self.frame.to_local(wo);
         let (mut ss, mut all) = (0.0, 0.0);
-        for (i, (w, l)) in self.lobes_at(wo).enumerate() {
+        for (i, w, l) in self.lobes_at(wo) {
             if l.flags() & LobeFlags::DIFFUSE != 0 {
                 let r = mean(w * l.albedo(wo, LobeFlags::REFLECTION).max(Vec3::ZERO));
                 all += r;
@@ -446,6 +499,7 @@ impl Bsdf {
             if other.subsurface == Some(i as u8) {
                 self.subsurface = Some(k as u8);
             }
+            self.in_coat_frame[k] = other.in_coat_frame[i];
         }
     }
 
@@ -541,7 +595,7 @@ impl Bsdf {
     pub fn diffuse_response(&self, wo: Vec3) -> Option<Spectrum> {
         let wo = self.frame.to_local(wo);
         let mut out: Option<Spectrum> = None;
-        for (w, l) in self.lobes_at(wo) {
+        for (_, w, l) in self.lobes_at(wo) {
             if l.flags() & LobeFlags::DIFFUSE == 0 {
                 continue;
             }
@@ -562,7 +616,7 @@ impl Bsdf {
     pub fn transmission_response(&self, wo: Vec3) -> Option<Spectrum> {
         let wo = self.frame.to_local(wo);
         let mut out: Option<Spectrum> = None;
-        for (w, l) in self.lobes_at(wo) {
+        for (_, w, l) in self.lobes_at(wo) {
             if let Lobe::Translucent(t) = l {
                 *out.get_or_insert(Vec3::ZERO) += w * t.albedo * crate::math::INV_PI;
             }
@@ -607,8 +661,8 @@ impl Bsdf {
     pub fn glossy_albedo(&self, wo: Vec3) -> Spectrum {
         let wo = self.frame.to_local(wo);
         self.lobes_at(wo)
-            .filter(|(_, l)| SELECT_GLOSSY.keeps(l))
-            .map(|(w, l)| w * self.lobe_albedo(l, wo, SELECT_GLOSSY.mask).max(Vec3::ZERO))
+            .filter(|(_, _, l)| SELECT_GLOSSY.keeps(l))
+            .map(|(i, w, _)| w * self.lobe_albedo(i, wo, SELECT_GLOSSY.mask).max(Vec3::ZERO))
             .sum()
     }
 
@@ -619,7 +673,7 @@ impl Bsdf {
         let wo_l = self.frame.to_local(wo);
         let mut b = *self;
         for i in 0..b.count {
-            let v = self.in_lobe(&self.lobes[i], wo_l);
+            let v = self.in_lobe(i, wo_l);
             if self.spec.is_some() {
                 b.lobes[i] = self.view_lobe(&self.lobes[i], wo_l);
             }
@@ -645,9 +699,11 @@ impl Bsdf {
         b.coat = self.coat;
         b.bump = self.bump;
         b.spec = self.spec;
+        b.coat_n = self.coat_n;
         for (i, (w, l)) in self.lobes().enumerate() {
             if keep(l) && b.add(w, *l) {
                 b.coated[b.count - 1] = self.coated[i];
+                b.in_coat_frame[b.count - 1] = self.in_coat_frame[i];
                 if self.subsurface == Some(i as u8) {
                     b.subsurface = Some((b.count - 1) as u8);
                 }
@@ -672,8 +728,8 @@ impl Bsdf {
         let sel = Selection::for_component(component);
         let wo = self.frame.to_local(wo);
         self.lobes_at(wo)
-            .filter(|(_, l)| sel.keeps(l))
-            .map(|(w, l)| w * self.lobe_albedo(l, wo, sel.mask).max(Vec3::ZERO))
+            .filter(|(_, _, l)| sel.keeps(l))
+            .map(|(i, w, _)| w * self.lobe_albedo(i, wo, sel.mask).max(Vec3::ZERO))
             .sum()
     }
 
@@ -704,9 +760,9 @@ impl Bsdf {
         if wo.z == 0.0 || !wo.is_finite() {
             return (d, s, t);
         }
-        for (w, l) in self.lobes_at(wo) {
+        for (i, w, l) in self.lobes_at(wo) {
             let r = w * self
-                .lobe_albedo(l, wo, LobeFlags::REFLECTION)
+                .lobe_albedo(i, wo, LobeFlags::REFLECTION)
                 .max(Vec3::ZERO);
             if l.flags() & LobeFlags::DIFFUSE != 0 {
                 d += r;
@@ -714,7 +770,7 @@ impl Bsdf {
                 s += r;
             }
             t += w * self
-                .lobe_albedo(l, wo, LobeFlags::TRANSMISSION)
+                .lobe_albedo(i, wo, LobeFlags::TRANSMISSION)
                 .max(Vec3::ZERO);
         }
         let total = mean(d) + mean(s) + mean(t);
@@ -784,17 +840,20 @@ impl Bsdf {
             return Vec3::ZERO;
         }
         let mut f = Vec3::ZERO;
-        for (w, l) in self.lobes_at(wo) {
+        for (i, w, l) in self.lobes_at(wo) {
             if sel.keeps(l) {
+                // Against the lobe's own normal: none for a lobe on the smooth normal (a
+                // coat left unbumped), as Cycles shadows each closure by its own normal.
                 let g = match self.bump {
                     None => 1.0,
-                    Some((ns, a2, true)) => {
-                        bump_shadowing(ns, a2, wi, l.flags() & LobeFlags::DIFFUSE != 0)
-                    }
+                    Some((ns, a2, true)) => match self.rot(i) {
+                        Some(r) => bump_shadowing(*r * ns, a2, *r * wi, false),
+                        None => bump_shadowing(ns, a2, wi, l.flags() & LobeFlags::DIFFUSE != 0),
+                    },
                     Some((_, _, false)) => 1.0,
                 };
                 if g > 0.0 {
-                    f += w * g * self.lobe_eval(l, wo, wi, sel.mask, cosine);
+                    f += w * g * self.lobe_eval(i, wo, wi, sel.mask, cosine);
                 }
             }
         }
@@ -809,9 +868,9 @@ impl Bsdf {
     fn selection(&self, wo: Vec3, sel: Selection) -> ([f32; MAX_LOBES], f32) {
         let mut p = [0.0f32; MAX_LOBES];
         let mut sum = 0.0;
-        for (i, (w, l)) in self.lobes_at(wo).enumerate() {
+        for (i, w, l) in self.lobes_at(wo) {
             if sel.keeps(l) {
-                let a = mean(w * self.lobe_albedo(l, wo, sel.mask));
+                let a = mean(w * self.lobe_albedo(i, wo, sel.mask));
                 let v = a;
                 if v > 0.0 && v.is_finite() {
                     p[i] = v;
@@ -838,7 +897,7 @@ impl Bsdf {
         let mut pdf = 0.0;
         for (i, (_, l)) in self.lobes().enumerate() {
             if p[i] > 0.0 && l.flags() & LobeFlags::SPECULAR == 0 {
-                pdf += p[i] * l.pdf(self.in_lobe(l, wo), self.in_lobe(l, wi), sel.mask);
+                pdf += p[i] * l.pdf(self.in_lobe(i, wo), self.in_lobe(i, wi), sel.mask);
             }
         }
         if pdf.is_finite() {
@@ -875,8 +934,8 @@ impl Bsdf {
         let pk = p[k];
         let uc = ((u_lobe - cdf) / pk).clamp(0.0, 0.999_999_94);
         let lobe = &self.lobes[k];
-        let mut s = lobe.sample(self.in_lobe(lobe, wo), uc, u, sel.mask)?;
-        if let Some(r) = self.spec.filter(|_| lobe.flags() & LobeFlags::DIFFUSE == 0) {
+        let mut s = lobe.sample(self.in_lobe(k, wo), uc, u, sel.mask)?;
+        if let Some(r) = self.rot(k) {
             s.wi = r.transpose() * s.wi;
         }
         if s.is_delta() {

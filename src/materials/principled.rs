@@ -150,7 +150,7 @@ impl Principled {
         }
         if let Some(c) = self.clearcoat {
             bsdf.coat_over(c);
-            bsdf.add(c.weight, coat_lobe(c.roughness, c.table, c.multiscatter));
+            bsdf.add_coat_lobe(c.weight, coat_lobe(c.roughness, c.table, c.multiscatter));
         }
         bsdf
     }

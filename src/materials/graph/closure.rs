@@ -218,11 +218,6 @@ impl LeafKind {
                 if nonzero(pin::SHEEN) {
                     w.push("Sheen Weight is not supported; ignored".to_string());
                 }
-                if ins[pin::COAT_NORMAL] != NO_REG {
-                    w.push(
-                        "Coat Normal is not supported; the coat uses the Normal input".to_string(),
-                    );
-                }
             }
             LeafKind::Holdout => w.push("Holdout renders black".to_string()),
             LeafKind::Sheen => w.push("the Sheen BSDF is not supported; renders black".to_string()),
@@ -405,12 +400,12 @@ pub fn add_leaf(
     w: f32,
     regs: &[Vec3],
     frame: Frame,
-    backfacing: bool,
+    sp: &super::ShadingPoint,
     want_bsdf: bool,
 ) {
     let x = |k: usize| regs[leaf.ins[k] as usize].x;
     let v = |k: usize| regs[leaf.ins[k] as usize];
-    let eta = |ior: f32| if backfacing { 1.0 / ior } else { ior };
+    let eta = |ior: f32| if sp.backfacing { 1.0 / ior } else { ior };
     match leaf.kind {
         LeafKind::Principled { multiscatter } => {
             let alpha = unit(x(pin::ALPHA));
@@ -462,6 +457,20 @@ pub fn add_leaf(
                 subsurface: None,
             };
             out.bsdf.absorb(&p.bsdf(frame, Vec2::ZERO, &[]), w);
+            if coat_w > 0.0 {
+                // The coat's normal is its own input, the surface's normal when unlinked
+                // (not the Normal input), as in Cycles.
+                let n = match leaf.ins[pin::COAT_NORMAL] {
+                    NO_REG => sp.n,
+                    r => regs[r as usize].try_normalize().unwrap_or(sp.n),
+                };
+                let n = if n == sp.n {
+                    n
+                } else {
+                    super::geometry_nodes::ensure_valid_reflection(sp.ng, sp.wo, n)
+                };
+                out.bsdf.set_coat_normal(n, sp.dpdu);
+            }
         }
         LeafKind::Diffuse => {
             if want_bsdf {

@@ -206,7 +206,7 @@ impl ShaderGraph {
                         w,
                         &regs,
                         frame,
-                        sp.backfacing,
+                        sp,
                         want == Want::All,
                     );
                 }

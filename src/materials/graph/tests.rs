@@ -709,3 +709,43 @@ fn a_bad_attribute_fallback_names_the_field() {
     assert!(pointer.contains("fallback"), "{pointer}");
     assert!(message.contains("4 numbers"), "{message}");
 }
+
+#[test]
+fn the_coat_reflects_about_its_own_normal() {
+    // A black Principled (rough specular layer) under a sharp coat; the Normal or the Coat
+    // Normal tilted by a world-space normal map. The coat's highlight lies at the mirror
+    // direction about the coat's normal: the surface's own when Coat Normal is unlinked.
+    let tilted = Vec3::new(0.3, 0.0, 1.0).normalize();
+    let coated = |socket: &str| {
+        graph(serde_json::json!({
+            "name": socket,
+            "nodes": [
+                {"type": "normal_map", "params": {"space": "WORLD"},
+                 "inputs": {"color": [0.65, 0.5, 1.0]}},
+                {"type": "principled", "inputs": {
+                    "base_color": [0.0, 0.0, 0.0], "roughness": 1.0, "coat_weight": 1.0,
+                    "coat_roughness": 0.05, socket: {"node": 0, "output": "normal"}}}
+            ],
+            "surface": {"node": 1}
+        }))
+    };
+    let sp = point();
+    let mirror = |n: Vec3| 2.0 * n.dot(sp.wo) * n - sp.wo;
+    let peak = |g: &GraphDesc| {
+        let sh = ShaderGraph::new(g, "/materials/0", 0)
+            .unwrap()
+            .shade(&sp, &[], Want::All);
+        let f = |wi: Vec3| sh.bsdf.eval(sp.wo, wi.normalize()).x;
+        (f(mirror(Vec3::Z)), f(mirror(tilted)))
+    };
+    let (smooth, bent) = peak(&coated("normal"));
+    assert!(
+        smooth > 10.0 * bent,
+        "Normal tilted: {smooth} at the smooth mirror, {bent}"
+    );
+    let (smooth, bent) = peak(&coated("coat_normal"));
+    assert!(
+        bent > 10.0 * smooth,
+        "Coat Normal tilted: {smooth}, {bent} at its mirror"
+    );
+}

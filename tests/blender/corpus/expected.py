@@ -114,6 +114,13 @@ USD: dict[str, str] = {
              "ND_normalmap_float, which the importer warns and does not translate either: the "
              "normal is lost, every block about +290% (+1310 sigma); the UV map itself is "
              "carried (nodes_uv_maps passes)"),
+    "nodes_coat_normal": NOISE.format(
+        id="ND_fractal3d_float", prim="Varnish/NodeGraphs/bnode__Noise_Texture_Fac",
+        what="the Bump, too, is written as 'uniform token info:id = "
+             "\"ND_heighttonormal_vector3\"' (Varnish/NodeGraphs/node_002, "
+             "Flakes/NodeGraphs/node_002), which the importer warns and does not translate "
+             "either: the base and the coat are smooth, the sphere's base too bright, block "
+             "(13,11) +24.1% (+33.8 sigma), the floor's reflection too sharp, (7,14) -19.2%"),
     "nodes_emission_screen": FLAT.format(
         nodes="Gradient Texture and ColorRamp", socket="the Emission's Color",
         line="color3f inputs:color = (5, 5, 5)", prim="Screen/NodeGraphs/bnode__Emission_EDF",

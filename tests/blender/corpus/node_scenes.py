@@ -20,8 +20,8 @@ from corpus.scenes import (TEXTURES, camera, ceiling_area, light, lit_room, plan
 TAGS = ("nodes",)
 
 
-def node_scene(name, description, no_usd=None):
-    return scene(name, description, no_usd=no_usd, tags=TAGS)
+def node_scene(name, description, no_usd=None, tags=()):
+    return scene(name, description, no_usd=no_usd, tags=TAGS + tuple(tags))
 
 
 #: Scenes built like the others whose add-on render still differs from Cycles beyond the
@@ -290,6 +290,36 @@ def nodes_tiles_normal():
     nt.links.new(nm.outputs["Normal"], b.inputs["Normal"])
     room(walls={"floor": m})
     props()
+    ceiling_area()
+    camera()
+    return sc
+
+
+def _noise_bump(nt, distance, scale=6.0):
+    """A Bump node of a Noise Texture's height."""
+    nz = nt.nodes.new("ShaderNodeTexNoise")
+    nz.inputs["Scale"].default_value = scale
+    bu = nt.nodes.new("ShaderNodeBump")
+    bu.inputs["Distance"].default_value = distance
+    nt.links.new(nz.outputs["Fac"], bu.inputs["Height"])
+    return bu
+
+
+@node_scene("nodes_coat_normal", "A clear coat over a bumped base, and a bumped coat over a "
+            "smooth base: the floor and the sphere are a dark red Principled BSDF with a noise "
+            "Bump (scale 6, distance 0.1) on its Normal under a Coat (weight 1, roughness 0.05) whose "
+            "Coat Normal is unlinked (smooth, as Cycles reads it); the cube's Coat Normal "
+            "takes the Bump and its Normal does not.", tags=("gather",))
+def nodes_coat_normal():
+    sc = reset()
+    varnish = principled("Varnish", (0.5, 0.06, 0.04), Coat_Weight=1.0, Coat_Roughness=0.05)
+    nt, b = _tree(varnish)
+    nt.links.new(_noise_bump(nt, 0.1).outputs["Normal"], b.inputs["Normal"])
+    flakes = principled("Flakes", (0.5, 0.06, 0.04), Coat_Weight=1.0, Coat_Roughness=0.05)
+    nt, b = _tree(flakes)
+    nt.links.new(_noise_bump(nt, 0.1).outputs["Normal"], b.inputs["Coat Normal"])
+    room(walls={"floor": varnish})
+    props(mat_sphere=varnish, mat_cube=flakes)
     ceiling_area()
     camera()
     return sc
