@@ -842,12 +842,12 @@ impl Bsdf {
         let mut f = Vec3::ZERO;
         for (i, w, l) in self.lobes_at(wo) {
             if sel.keeps(l) {
-                // Against the lobe's own normal: none for a lobe on the smooth normal (a
-                // coat left unbumped), as Cycles shadows each closure by its own normal.
+                // A coat with a normal of its own is shadowed against that normal (not at all
+                // when it is the smooth one, a coat left unbumped).
                 let g = match self.bump {
                     None => 1.0,
-                    Some((ns, a2, true)) => match self.rot(i) {
-                        Some(r) => bump_shadowing(*r * ns, a2, *r * wi, false),
+                    Some((ns, a2, true)) => match self.coat_n.filter(|_| self.in_coat_frame[i]) {
+                        Some(r) => bump_shadowing(r * ns, a2, r * wi, false),
                         None => bump_shadowing(ns, a2, wi, l.flags() & LobeFlags::DIFFUSE != 0),
                     },
                     Some((_, _, false)) => 1.0,
