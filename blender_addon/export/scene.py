@@ -88,6 +88,9 @@ def export_scene(depsgraph, camera: dict | None = None, window: Window | None = 
             seen.add(msg)
             warnings.append(msg)
 
+    if getattr(scene.render, "film_transparent", False):
+        warn(f"scene '{scene.name}': Film > Transparent is not supported: the world renders "
+             f"behind the objects and the image's alpha is 1 (Holdout shaders render black)")
     ir = {"materials": [], "textures": [], "meshes": [], "instances": [], "lights": []}
     groups = _LightGroups(depsgraph.view_layer, warn)
     images = ImageCache(ir["textures"], warn)

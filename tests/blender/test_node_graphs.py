@@ -137,3 +137,12 @@ def test_colour_attributes_reach_the_meshes_that_have_them(addon):
     # Byte colours arrive linear (stored as sRGB bytes): the face painted 0.9 reads 0.896.
     assert np.isclose(paint[:, 0].max(), 0.8963, atol=2e-3), paint[:, 0].max()
     photonmap.Scene.from_dict(ex.ir)
+
+
+def test_film_transparent_is_warned_naming_the_scene(addon):
+    sc = node_scenes.nodes_plastic()
+    assert not _export(addon).warnings
+    sc.render.film_transparent = True
+    ex = _export(addon)
+    assert any(f"scene '{sc.name}'" in w and "Film > Transparent" in w for w in ex.warnings), \
+        ex.warnings
