@@ -228,8 +228,12 @@ def test_transform2d_rotation_and_translation_in_the_ir(stage_factory, tmp_path)
     assert mp["inputs"]["location"] == [0.25, 0.5, 0.0]
     assert mp["inputs"]["rotation"] == pytest.approx([0, 0, math.pi / 2])
     assert mp["inputs"]["scale"] == [3.0, 2.0, 1.0]
+    # A reader of another UV set than st reads that primvar per vertex (an Attribute node).
+    (at,) = nodes_of(m, "attribute")
+    assert at["params"]["name"] == "uvset2"
+    assert mp["inputs"]["vector"] == {"node": m["nodes"].index(at), "output": "vector"}
     msgs = r.diagnostics.messages()
-    assert [w for w in msgs if "/Mat/E/St" in w and "uvset2" in w], msgs
+    assert not [w for w in msgs if "uvset2" in w], msgs
 
 
 def _layers(stage_factory, front_inputs, front_links=None, back=(0.0, 0.0, 1.0)):
