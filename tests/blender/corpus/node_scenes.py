@@ -590,6 +590,17 @@ def nodes_mix_math():
     return sc
 
 
+def _as_color(nt, normal):
+    """A Vector Math Multiply Add node giving 0.5 ``normal`` + 0.5 (a normal shown as a
+    colour)."""
+    ma = nt.nodes.new("ShaderNodeVectorMath")
+    ma.operation = "MULTIPLY_ADD"
+    ma.inputs[1].default_value = (0.5, 0.5, 0.5)
+    ma.inputs[2].default_value = (0.5, 0.5, 0.5)
+    nt.links.new(normal, ma.inputs[0])
+    return ma
+
+
 def _emission_plane(name, color_from):
     """No lights: a plane filling the view, seen straight on, whose Emission colour (strength
     1) comes from ``color_from(node_tree)``: the pixels show the texture's values directly."""
@@ -626,11 +637,7 @@ def nodes_bump_values():
         bu = nt.nodes.new("ShaderNodeBump")
         bu.inputs["Distance"].default_value = 0.3
         nt.links.new(nz.outputs["Fac"], bu.inputs["Height"])
-        ma = nt.nodes.new("ShaderNodeVectorMath")
-        ma.operation = "MULTIPLY_ADD"
-        ma.inputs[1].default_value = (0.5, 0.5, 0.5)
-        ma.inputs[2].default_value = (0.5, 0.5, 0.5)
-        nt.links.new(bu.outputs["Normal"], ma.inputs[0])
+        ma = _as_color(nt, bu.outputs["Normal"])
         return ma.outputs["Vector"]
     return _emission_plane("BumpValues", color)
 
@@ -647,11 +654,7 @@ def nodes_normal_map_values():
     rgb.outputs["Color"].default_value = (0.75, 0.6, 0.85, 1.0)
     nm = nt.nodes.new("ShaderNodeNormalMap")
     nt.links.new(rgb.outputs["Color"], nm.inputs["Color"])
-    ma = nt.nodes.new("ShaderNodeVectorMath")
-    ma.operation = "MULTIPLY_ADD"
-    ma.inputs[1].default_value = (0.5, 0.5, 0.5)
-    ma.inputs[2].default_value = (0.5, 0.5, 0.5)
-    nt.links.new(nm.outputs["Normal"], ma.inputs[0])
+    ma = _as_color(nt, nm.outputs["Normal"])
     nt.links.new(ma.outputs["Vector"], nt.nodes["Emission"].inputs["Color"])
     bpy.ops.mesh.primitive_monkey_add(size=1.2, location=(0, 0, 0))
     ob = active()
@@ -707,11 +710,7 @@ def nodes_bump_uv_map():
         bu = nt.nodes.new("ShaderNodeBump")
         bu.inputs["Distance"].default_value = 0.3
         nt.links.new(nz.outputs["Fac"], bu.inputs["Height"])
-        ma = nt.nodes.new("ShaderNodeVectorMath")
-        ma.operation = "MULTIPLY_ADD"
-        ma.inputs[1].default_value = (0.5, 0.5, 0.5)
-        ma.inputs[2].default_value = (0.5, 0.5, 0.5)
-        nt.links.new(bu.outputs["Normal"], ma.inputs[0])
+        ma = _as_color(nt, bu.outputs["Normal"])
         return ma.outputs["Vector"]
     return _emission_plane("BumpUvMap", color)
 
