@@ -476,8 +476,8 @@ fn render_and_write(
 }
 
 /// `photonmap merge`: the image of the partial sums of every block of a pppm frame.
-pub fn run_merge(args: &MergeArgs) -> Result<crate::render::pppm::Partial> {
-    use crate::render::pppm::Partial;
+pub fn run_merge(args: &MergeArgs) -> Result<crate::render::partial::Partial> {
+    use crate::render::partial::Partial;
     let parts: Vec<Partial> = args
         .partials
         .iter()
@@ -496,7 +496,7 @@ pub fn run_merge(args: &MergeArgs) -> Result<crate::render::pppm::Partial> {
 
 /// Writes the image of a complete partial sum (EXR, optional PNG and stats), atomically.
 pub fn write_merged(
-    merged: &crate::render::pppm::Partial,
+    merged: &crate::render::partial::Partial,
     output: &Path,
     png: Option<&Path>,
     stats: Option<&Path>,
@@ -506,7 +506,7 @@ pub fn write_merged(
 
 /// As [`write_merged`], with the stats JSON `st`.
 pub fn write_merged_with(
-    merged: &crate::render::pppm::Partial,
+    merged: &crate::render::partial::Partial,
     output: &Path,
     png: Option<&Path>,
     stats: Option<&Path>,
@@ -532,7 +532,7 @@ pub fn write_merged_with(
 
 /// The stats JSON of a merged pppm image: what the partial sums hold (the scene's own
 /// figures are in each block's stats).
-pub fn merged_stats(p: &crate::render::pppm::Partial) -> serde_json::Value {
+pub fn merged_stats(p: &crate::render::partial::Partial) -> serde_json::Value {
     let t = &p.tally;
     let last = p.ranges.last().map_or(0, |r| r.1.saturating_sub(1));
     let options: serde_json::Value =

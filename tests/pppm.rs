@@ -7,7 +7,7 @@ mod common;
 use common::*;
 use photonmap::io::exr::read_rgb_layers;
 use photonmap::render::film::{Film, Filter, Image};
-use photonmap::render::pppm::Partial;
+use photonmap::render::partial::Partial;
 use photonmap::render::settings::RenderMode;
 use photonmap::render::{PhotonSettings, RenderSettings, Renderer};
 use photonmap::scene::{Scene, SceneDesc};

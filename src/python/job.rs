@@ -14,7 +14,7 @@ use crate::error::Error;
 use crate::math::Spectrum;
 use crate::render::driver::Rect;
 use crate::render::map_file::{self, MapSet};
-use crate::render::pppm::Partial;
+use crate::render::partial::Partial;
 use crate::render::tile::{self, TileOutput, TileStage};
 use crate::render::{RenderOutput, RenderSettings, Renderer};
 use crate::scene::Scene;

@@ -577,7 +577,7 @@ fn render<'py>(
 /// merged sums.
 #[pyfunction]
 fn merge_partials<'py>(py: Python<'py>, partials: Vec<Vec<u8>>) -> PyResult<Bound<'py, PyDict>> {
-    use crate::render::pppm::Partial;
+    use crate::render::partial::Partial;
     let merged = py
         .detach(|| {
             caught(|| {
@@ -604,7 +604,7 @@ fn merge_partials<'py>(py: Python<'py>, partials: Vec<Vec<u8>>) -> PyResult<Boun
 /// without checking that every pass is there: a step of a tree reduction.
 #[pyfunction]
 fn add_partials<'py>(py: Python<'py>, partials: Vec<Vec<u8>>) -> PyResult<Bound<'py, PyBytes>> {
-    use crate::render::pppm::Partial;
+    use crate::render::partial::Partial;
     let bytes = py
         .detach(|| {
             caught(|| {

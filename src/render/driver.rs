@@ -1,19 +1,20 @@
-//! The camera-pass driver: the pixel loop that Jensen's mode (`jensen`) and progressive photon
-//! mapping (`sppm`) share. It owns what is the same in both: each pixel's random stream and
-//! film positions, the replicates of the `error` AOV, the finite-sample firewall, the
-//! schedule of passes (a count or a deadline), previews, progress and cancellation. An
-//! [`Integrator`] supplies what differs: what a pass prepares, what one camera sample adds,
-//! and how a pixel resolves into the film.
+//! The camera-pass driver: the pixel loop that every render mode (`jensen`, `sppm`, `pppm`)
+//! runs. It owns what is the same in all: each pixel's random stream and film positions, the
+//! replicates of the `error` AOV, the finite-sample firewall, the schedule of passes (a count
+//! or a deadline), previews, progress and cancellation. An [`Integrator`] supplies what
+//! differs: what a pass prepares, what one camera sample adds, how a pixel resolves into the
+//! film, and what a pixel accumulates (`accumulate`: f32 sums, or the fixed-point sums that
+//! pppm merges).
 //!
 //! Deterministic: pixel `i` draws from its own stream `Rng::new(seed, i)`, which continues
 //! across passes, and pixels are independent, so the film is bit-identical for any thread
 //! count, and after `k` passes it is the same however many follow.
 
+use super::accumulate::{Accumulator, Sums};
 use super::adaptive::{self, Adaptive, AdaptiveStats};
-use super::aov::Term;
 use super::budget;
 use super::compositing::{AovLayout, PixelAovs, SampleAovs};
-use super::error_aov::{replicate_of, Replicates, Shifts, REPLICATES};
+use super::error_aov::{replicate_of, Shifts, REPLICATES};
 use super::eye;
 use super::film::{Film, Filter, TermRadiance};
 use super::renderer::{OutputTimeFn, PreviewFn, ProgressFn};
@@ -39,36 +40,24 @@ pub fn preview_due(passes: u32, last: &mut Instant) -> bool {
 }
 
 /// The state the driver keeps per pixel; `extra` is the integrator's own.
-pub struct Pixel<X> {
+pub struct Pixel<X, A = Sums> {
     pub rng: Rng,
-    /// Sum over samples of the terms the integrator estimated at the eye (finite ones only).
-    pub acc: TermRadiance,
-    /// Batch means of each sample's value of the combined image (the `error` AOV).
-    pub batches: Replicates,
+    /// Sums over samples of the terms the integrator estimated at the eye (finite ones only)
+    /// and of the combined image per replicate (the `error` AOV).
+    pub sums: A,
     /// Sums of the compositing AOVs (`render::compositing`), when asked for.
     pub aovs: PixelAovs,
     pub extra: X,
 }
 
-impl<X: Default> Pixel<X> {
-    fn new(rng: Rng) -> Self {
+impl<X: Default, A: Default> Pixel<X, A> {
+    pub fn new(rng: Rng) -> Self {
         Pixel {
             rng,
-            acc: TermRadiance::default(),
-            batches: Replicates::default(),
+            sums: A::default(),
             aovs: PixelAovs::default(),
             extra: X::default(),
         }
-    }
-
-    /// The mean of the eye terms over `samples` samples.
-    pub fn mean(&self, samples: u32) -> TermRadiance {
-        let inv = 1.0 / samples.max(1) as f32;
-        let mut v = self.acc;
-        for c in v.0.iter_mut() {
-            *c *= inv;
-        }
-        v
     }
 }
 
@@ -113,10 +102,10 @@ impl Rect {
 /// adaptive sampling decides the further rounds from (`adaptive::noise_map`).
 pub fn first_round_noise<X>(pixels: &[Pixel<X>]) -> (Vec<Spectrum>, Vec<Spectrum>) {
     (
-        pixels.iter().map(|px| px.batches.mean()).collect(),
+        pixels.iter().map(|px| px.sums.batches.mean()).collect(),
         pixels
             .iter()
-            .map(|px| px.batches.standard_error())
+            .map(|px| px.sums.batches.standard_error())
             .collect(),
     )
 }
@@ -125,6 +114,8 @@ pub fn first_round_noise<X>(pixels: &[Pixel<X>]) -> (Vec<Spectrum>, Vec<Spectrum
 pub trait Integrator: Sync {
     /// Per-pixel state beyond the driver's.
     type Extra: Send + Sync + Default;
+    /// What a pixel sums over its samples.
+    type Acc: Accumulator;
     /// Per-worker scratch space.
     type Scratch: Send;
     /// What the camera samples of one pass read.
@@ -137,6 +128,12 @@ pub trait Integrator: Sync {
 
     /// After pass `k`'s camera samples, which took `camera_seconds`.
     fn end_pass(&mut self, _pass: Self::Pass, _camera_seconds: f64) {}
+
+    /// A random stream of its own for pixel `pixel` in a progressive pass; `None` continues
+    /// the pixel's stream from pass to pass.
+    fn pass_rng(&self, _pass: &Self::Pass, _pixel: usize) -> Option<Rng> {
+        None
+    }
 
     /// Sample `k` of a pixel along `ray`: the terms estimated at the eye, which the driver
     /// adds to the pixel where finite, and this sample's further share of the combined image
@@ -155,13 +152,23 @@ pub trait Integrator: Sync {
     ) -> (TermRadiance, Spectrum);
 
     /// The pixel's terms and `error` after `samples` samples.
-    fn resolve(&self, px: &Pixel<Self::Extra>, samples: u32) -> (TermRadiance, Spectrum) {
-        (px.mean(samples), px.batches.standard_error())
+    fn resolve(
+        &self,
+        px: &Pixel<Self::Extra, Self::Acc>,
+        samples: u32,
+    ) -> (TermRadiance, Spectrum) {
+        px.sums.resolve(samples)
     }
 
     /// Adds to the pixel's light groups (the means of its samples' shares, one entry per
     /// group) what the integrator keeps apart from its samples.
-    fn resolve_groups(&self, _px: &Pixel<Self::Extra>, _samples: u32, _groups: &mut [Spectrum]) {}
+    fn resolve_groups(
+        &self,
+        _px: &Pixel<Self::Extra, Self::Acc>,
+        _samples: u32,
+        _groups: &mut [Spectrum],
+    ) {
+    }
 }
 
 /// When a progressive camera pass stops.
@@ -188,9 +195,9 @@ impl Schedule {
 }
 
 /// The outcome of a progressive camera pass.
-pub struct Passes<X> {
+pub struct Passes<X, A = Sums> {
     pub film: Film,
-    pub pixels: Vec<Pixel<X>>,
+    pub pixels: Vec<Pixel<X, A>>,
     pub passes: u32,
     pub seconds_per_pass: f64,
 }
@@ -281,36 +288,38 @@ impl<'a> CameraPass<'a> {
         (it.scratch(), self.aovs.sample())
     }
 
-    /// One camera sample of pixel (x, y) at film position `u`, through the firewall.
+    /// One camera sample of pixel (x, y) at film position `u`, through the firewall; its
+    /// random numbers from `own` if the integrator gives the pass a stream of its own, else
+    /// from the pixel's.
     #[allow(clippy::too_many_arguments)]
     fn sample<I: Integrator>(
         &self,
         it: &I,
         pass: &I::Pass,
-        px: &mut Pixel<I::Extra>,
-        x: usize,
-        y: usize,
+        px: &mut Pixel<I::Extra, I::Acc>,
+        own: Option<Rng>,
+        (x, y): (usize, usize),
         u: Vec2,
         k: u32,
         (scratch, aovs): &mut (I::Scratch, SampleAovs),
     ) {
-        let ray = eye::camera_ray(self.scene, self.filter, x, y, u, &mut px.rng);
-        let (l, further) = it.sample(pass, ray, &mut px.rng, &mut px.extra, k, scratch, aovs);
+        let mut own = own;
+        let rng = own.as_mut().unwrap_or(&mut px.rng);
+        let ray = eye::camera_ray(self.scene, self.filter, x, y, u, rng);
+        let (l, further) = it.sample(pass, ray, rng, &mut px.extra, k, scratch, aovs);
         self.aovs.add(&mut px.aovs, aovs);
-        let mut total = Spectrum::ZERO;
-        for t in Term::ALL {
-            let v = l.0[t.index()];
-            if v.is_finite() {
-                px.acc.0[t.index()] += v;
-                total += v;
-            } else {
-                self.non_finite.fetch_add(1, Ordering::Relaxed);
-            }
+        let dropped = px.sums.add(k, &l, further);
+        if dropped > 0 {
+            self.non_finite.fetch_add(dropped, Ordering::Relaxed);
         }
-        px.batches.add(k, total + further);
     }
 
-    fn film_of<I: Integrator>(&self, it: &I, pixels: &[Pixel<I::Extra>], samples: u32) -> Film {
+    fn film_of<I: Integrator>(
+        &self,
+        it: &I,
+        pixels: &[Pixel<I::Extra, I::Acc>],
+        samples: u32,
+    ) -> Film {
         let mut film = self.new_film(self.scene.width, self.scene.height);
         for (i, px) in pixels.iter().enumerate() {
             self.resolve(it, &mut film, px, samples, i);
@@ -332,7 +341,7 @@ impl<'a> CameraPass<'a> {
         &self,
         it: &I,
         film: &mut Film,
-        px: &Pixel<I::Extra>,
+        px: &Pixel<I::Extra, I::Acc>,
         samples: u32,
         i: usize,
     ) {
@@ -353,7 +362,7 @@ impl<'a> CameraPass<'a> {
     /// With `adaptive`, pixels in noisy regions then take further rounds of `spp` samples,
     /// each round stratified as the first, as many as their neighbours' noise after the
     /// first round asks for (`adaptive`).
-    pub fn stratified<I: Integrator>(
+    pub fn stratified<I: Integrator<Acc = Sums>>(
         &self,
         it: &mut I,
         spp: u32,
@@ -403,12 +412,12 @@ impl<'a> CameraPass<'a> {
         spp: u32,
         rect: Rect,
         share: (f32, f32),
-    ) -> Result<Vec<Pixel<I::Extra>>> {
+    ) -> Result<Vec<Pixel<I::Extra, I::Acc>>> {
         use rayon::prelude::*;
         let w = self.scene.width;
         let grids = replicate_grids(spp);
         let rows_done = AtomicUsize::new(0);
-        let rows: Vec<Option<Vec<Pixel<I::Extra>>>> = (rect.y..rect.y + rect.height)
+        let rows: Vec<Option<Vec<Pixel<I::Extra, I::Acc>>>> = (rect.y..rect.y + rect.height)
             .into_par_iter()
             .map_init(
                 || self.scratch(it),
@@ -421,7 +430,7 @@ impl<'a> CameraPass<'a> {
                         let mut px = Pixel::new(Rng::new(self.seed, (y * w + x) as u64));
                         for i in 0..spp {
                             let u = stratified_point(&grids, i, px.rng.vec2());
-                            self.sample(it, pass, &mut px, x, y, u, i, scratch);
+                            self.sample(it, pass, &mut px, None, (x, y), u, i, scratch);
                         }
                         row.push(px);
                     }
@@ -452,7 +461,7 @@ impl<'a> CameraPass<'a> {
         pass: &I::Pass,
         spp: u32,
         rect: Rect,
-        pixels: &mut [Pixel<I::Extra>],
+        pixels: &mut [Pixel<I::Extra, I::Acc>],
         rounds: &[u32],
         share: (f32, f32),
     ) -> Result<u64> {
@@ -482,7 +491,7 @@ impl<'a> CameraPass<'a> {
                         let (x, y) = (rect.x + rx, rect.y + ry);
                         for i in spp..r * spp {
                             let u = stratified_point(&grids, i % spp, px.rng.vec2());
-                            self.sample(it, pass, px, x, y, u, i, scratch);
+                            self.sample(it, pass, px, None, (x, y), u, i, scratch);
                         }
                         n += (r.max(1) - 1) as usize * spp as usize;
                     }
@@ -503,7 +512,7 @@ impl<'a> CameraPass<'a> {
         &self,
         it: &I,
         rect: Rect,
-        pixels: &[Pixel<I::Extra>],
+        pixels: &[Pixel<I::Extra, I::Acc>],
         rounds: &[u32],
         spp: u32,
     ) -> Film {
@@ -514,17 +523,19 @@ impl<'a> CameraPass<'a> {
         film
     }
 
-    /// Whole passes over the image, one sample per pixel each: sample `k` of a pixel comes
-    /// from its replicated Sobol (0,2)-sequence (`error_aov::Shifts`). Previews after passes
-    /// 1, 2, 4, ... and at most every [`PREVIEW_SECONDS`] between them.
+    /// Whole passes over the image, passes `first`, `first + 1`, ..., one sample per pixel
+    /// each: sample `k` of a pixel comes from its replicated Sobol (0,2)-sequence
+    /// (`error_aov::Shifts`). Previews after passes 1, 2, 4, ... and at most every
+    /// [`PREVIEW_SECONDS`] between them.
     pub fn progressive<I: Integrator>(
         &self,
         it: &mut I,
         schedule: Schedule,
-    ) -> Result<Passes<I::Extra>> {
+        first: u32,
+    ) -> Result<Passes<I::Extra, I::Acc>> {
         use rayon::prelude::*;
         let (w, h) = (self.scene.width, self.scene.height);
-        let (shifts, mut pixels): (Vec<Shifts>, Vec<Pixel<I::Extra>>) = (0..w * h)
+        let (shifts, mut pixels): (Vec<Shifts>, Vec<Pixel<I::Extra, I::Acc>>) = (0..w * h)
             .into_par_iter()
             .map(|i| {
                 let mut rng = Rng::new(self.seed, i as u64);
@@ -546,7 +557,9 @@ impl<'a> CameraPass<'a> {
             match schedule {
                 Schedule::Deadline { start, deadline } if passes > 0 => {
                     let per_pass = t.elapsed().as_secs_f64() / passes as f64;
-                    if start.elapsed().as_secs_f64() + per_pass > deadline || passes == u32::MAX {
+                    if start.elapsed().as_secs_f64() + per_pass > deadline
+                        || u64::from(first) + u64::from(passes) >= u64::from(u32::MAX)
+                    {
                         break;
                     }
                     let f = (start.elapsed().as_secs_f64() / deadline).min(1.0) as f32;
@@ -556,7 +569,7 @@ impl<'a> CameraPass<'a> {
                 Schedule::Passes(n) => self.report(passes as f32 / n as f32, self.phase),
                 Schedule::Deadline { .. } => {}
             }
-            let k = passes;
+            let k = first + passes;
             let pass = it.begin_pass(k)?;
             if self.cancelled() {
                 return Err(Error::Cancelled);
@@ -574,7 +587,8 @@ impl<'a> CameraPass<'a> {
                             if self.cancelled() {
                                 return;
                             }
-                            self.sample(it_ref, &pass, px, x, y, sh.point(k), k, scratch);
+                            let own = it_ref.pass_rng(&pass, y * w + x);
+                            self.sample(it_ref, &pass, px, own, (x, y), sh.point(k), k, scratch);
                         }
                     },
                 );

@@ -1,6 +1,9 @@
 //! Tests of the camera-pass driver, with a toy integrator.
 
 use super::*;
+use crate::render::accumulate::Sums;
+use crate::render::aov::Term;
+use crate::render::error_aov::Replicates;
 use crate::scene::default_scene;
 use std::sync::Mutex;
 
@@ -32,6 +35,7 @@ impl Toy {
 
 impl Integrator for Toy {
     type Extra = u32;
+    type Acc = Sums;
     type Scratch = ();
     type Pass = u32;
     fn scratch(&self) {}
@@ -86,10 +90,10 @@ fn films_are_bit_identical_for_any_thread_count() {
     let two = in_pool(2, || driver.stratified(&mut Toy::new(), 7, None).unwrap().0);
     assert_eq!(bits(&one), bits(&two));
     let p1 = in_pool(1, || {
-        driver.progressive(&mut Toy::new(), Schedule::Passes(5))
+        driver.progressive(&mut Toy::new(), Schedule::Passes(5), 0)
     });
     let p2 = in_pool(2, || {
-        driver.progressive(&mut Toy::new(), Schedule::Passes(5))
+        driver.progressive(&mut Toy::new(), Schedule::Passes(5), 0)
     });
     assert_eq!(bits(&p1.unwrap().film), bits(&p2.unwrap().film));
     // Another seed gives another image.
@@ -110,7 +114,9 @@ fn the_image_after_k_passes_does_not_depend_on_the_passes_that_follow() {
     let mut driver = CameraPass::new(&scene, &filter, 9, "render");
     driver.preview = Some(&keep);
     let mut toy = Toy::new();
-    let out = driver.progressive(&mut toy, Schedule::Passes(8)).unwrap();
+    let out = driver
+        .progressive(&mut toy, Schedule::Passes(8), 0)
+        .unwrap();
     assert_eq!(out.passes, 8);
     assert_eq!(
         *toy.passes_begun.lock().unwrap(),
@@ -125,7 +131,7 @@ fn the_image_after_k_passes_does_not_depend_on_the_passes_that_follow() {
     let quiet = CameraPass::new(&scene, &filter, 9, "render");
     for (k, preview) in previews.iter().filter(|(k, _)| [1, 4].contains(k)) {
         let alone = quiet
-            .progressive(&mut Toy::new(), Schedule::Passes(*k))
+            .progressive(&mut Toy::new(), Schedule::Passes(*k), 0)
             .unwrap();
         assert_eq!(bits(&alone.film), *preview, "after {k} passes");
     }
@@ -162,11 +168,13 @@ fn the_further_share_enters_the_error_not_the_eye_terms() {
     let filter = Filter::gaussian(0.5);
     let driver = CameraPass::new(&scene, &filter, 1, "render");
     let base = driver
-        .progressive(&mut Toy::new(), Schedule::Passes(8))
+        .progressive(&mut Toy::new(), Schedule::Passes(8), 0)
         .unwrap();
     let mut toy = Toy::new();
     toy.further = 1.0;
-    let shifted = driver.progressive(&mut toy, Schedule::Passes(8)).unwrap();
+    let shifted = driver
+        .progressive(&mut toy, Schedule::Passes(8), 0)
+        .unwrap();
     // The default resolve reports the eye terms only, and a constant share leaves the
     // spread of the replicates, and so the error, alone (to rounding).
     for t in Term::ALL {
@@ -180,7 +188,7 @@ fn the_further_share_enters_the_error_not_the_eye_terms() {
         .map(|(a, b)| (a - b).abs() / a.max(1e-6))
         .fold(0.0f32, f32::max);
     assert!(worst < 1e-3, "error AOV moved by {worst}");
-    let mean = |p: &Passes<u32>| p.pixels[0].batches.mean();
+    let mean = |p: &Passes<u32>| p.pixels[0].sums.batches.mean();
     let d = mean(&shifted) - mean(&base);
     assert!(
         (d - Spectrum::splat(1.0)).abs().max_element() < 1e-5,
@@ -253,7 +261,7 @@ fn cancelling_ends_either_loop_with_cancelled() {
         Err(Error::Cancelled)
     ));
     assert!(matches!(
-        driver.progressive(&mut Toy::new(), Schedule::Passes(4)),
+        driver.progressive(&mut Toy::new(), Schedule::Passes(4), 0),
         Err(Error::Cancelled)
     ));
 }
@@ -268,12 +276,15 @@ fn a_deadline_runs_at_least_one_pass_and_stops() {
         start,
         deadline: 0.0,
     };
-    assert_eq!(driver.progressive(&mut Toy::new(), past).unwrap().passes, 1);
+    assert_eq!(
+        driver.progressive(&mut Toy::new(), past, 0).unwrap().passes,
+        1
+    );
     let soon = Schedule::Deadline {
         start,
         deadline: 0.2,
     };
-    let out = driver.progressive(&mut Toy::new(), soon).unwrap();
+    let out = driver.progressive(&mut Toy::new(), soon, 0).unwrap();
     assert!(out.passes > 1, "{}", out.passes);
     assert!(start.elapsed().as_secs_f64() < 5.0);
 }
@@ -287,6 +298,7 @@ struct Rare {
 
 impl Integrator for Rare {
     type Extra = u32;
+    type Acc = Sums;
     type Scratch = ();
     type Pass = ();
     fn scratch(&self) {}

@@ -3,6 +3,7 @@
 //! eye (`eye::trace`) through the camera-pass driver, in one stratified pass or, progressive
 //! or under a time budget, in whole passes.
 
+use super::accumulate::Sums;
 use super::adaptive::{Adaptive, AdaptiveStats};
 use super::budget::BudgetStats;
 use super::cache_fill;
@@ -36,6 +37,7 @@ struct Jensen<'a> {
 
 impl Integrator for Jensen<'_> {
     type Extra = ();
+    type Acc = Sums;
     type Scratch = KnnScratch;
     type Pass = ();
 
@@ -323,7 +325,7 @@ impl Renderer<'_> {
         let mut adaptive_stats = None;
         let (film, spp) = if s.progressive || budget_seconds.is_some() {
             let schedule = Schedule::of(budget_seconds, s.spp, start);
-            let out = driver.progressive(&mut jensen, schedule)?;
+            let out = driver.progressive(&mut jensen, schedule, 0)?;
             if let Some(bs) = budget_stats.as_mut() {
                 bs.passes = out.passes;
                 bs.spp = out.passes;

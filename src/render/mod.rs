@@ -1,4 +1,5 @@
 //! The second pass: camera rays, the terms, and the film.
+pub mod accumulate;
 pub mod adaptive;
 pub mod aov;
 pub mod budget;
@@ -15,6 +16,7 @@ pub mod lightgroups;
 pub mod map_file;
 mod memory;
 pub mod options;
+pub mod partial;
 pub mod photons;
 pub mod pppm;
 mod renderer;

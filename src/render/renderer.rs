@@ -35,7 +35,7 @@ pub struct RenderOutput {
     pub film: Film,
     pub stats: RenderStats,
     /// pppm: the passes' partial sums, to save or merge with other blocks.
-    pub partial: Option<Box<super::pppm::Partial>>,
+    pub partial: Option<Box<super::partial::Partial>>,
     /// Jensen's mode, when asked for ([`Renderer::keep_photon_maps`]): the photon maps and
     /// irradiance cache of the render, to reuse or save.
     pub photon_maps: Option<std::sync::Arc<super::map_file::MapSet>>,

@@ -36,6 +36,7 @@
 //! stream continues across passes, so the image after K passes is the same whatever the
 //! thread count and however many passes follow.
 
+use super::accumulate::Sums;
 use super::aov::Term;
 use super::budget::BudgetStats;
 use super::compositing::SampleAovs;
@@ -111,6 +112,7 @@ struct Sppm<'a> {
 
 impl Integrator for Sppm<'_> {
     type Extra = Radius;
+    type Acc = Sums;
     type Scratch = (KnnScratch, Vec<VisiblePoint>);
     type Pass = SppmPass;
 
@@ -210,9 +212,9 @@ impl Integrator for Sppm<'_> {
             } else {
                 Spectrum::ZERO
             };
-            v.0[t.index()] = px.acc.0[t.index()] / k + photon;
+            v.0[t.index()] = px.sums.acc.0[t.index()] / k + photon;
         }
-        (v, total_error(&px.batches, &x.bias))
+        (v, total_error(&px.sums.batches, &x.bias))
     }
 
     /// Each light group's photon flux, τ_g / (π R² K), beside the means of its eye terms.
@@ -251,7 +253,7 @@ impl Renderer<'_> {
             maps: Vec::new(),
         };
         let schedule = Schedule::of(budget_seconds, s.spp, start);
-        let out = driver.progressive(&mut sppm, schedule)?;
+        let out = driver.progressive(&mut sppm, schedule, 0)?;
         let mut stats = sppm.stats;
         stats.passes = out.passes;
         let (mut r0, mut r1, mut counted) = (0.0f64, 0.0f64, 0u64);

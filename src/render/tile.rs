@@ -14,6 +14,7 @@
 //! every tile's first round, [`TileStage::Finish`]. Without adaptive sampling one
 //! `Finish` stage renders a tile.
 
+use super::accumulate::Sums;
 use super::adaptive::{self, Adaptive};
 use super::aov::Term;
 use super::driver::{Pixel, Rect};
@@ -66,12 +67,12 @@ pub fn encode_pixels(pixels: &[Pixel<()>]) -> Vec<u8> {
         let (state, inc) = px.rng.to_parts();
         w.u64(state);
         w.u64(inc);
-        for v in px.acc.0 {
+        for v in px.sums.acc.0 {
             w.f32(v.x);
             w.f32(v.y);
             w.f32(v.z);
         }
-        let (sums, counts) = px.batches.to_parts();
+        let (sums, counts) = px.sums.batches.to_parts();
         for (s, c) in sums.iter().zip(counts) {
             w.f32(s.x);
             w.f32(s.y);
@@ -110,8 +111,10 @@ pub fn decode_pixels(bytes: &[u8], n: usize) -> Result<Vec<Pixel<()>>> {
         }
         out.push(Pixel {
             rng,
-            acc,
-            batches: Replicates::from_parts(sums, counts),
+            sums: Sums {
+                acc,
+                batches: Replicates::from_parts(sums, counts),
+            },
             aovs: Default::default(),
             extra: (),
         });

@@ -1,0 +1,513 @@
+//! The partial sums of pppm (`.ppart`): a block of passes of one render, as per-pixel
+//! fixed-point sums (`accumulate::FixedSums`), and their merge. Sums of passes 0..N are the
+//! same bits whatever blocks they were rendered in, on whatever machines, and in whatever
+//! order the blocks are merged: N workers x K passes give the image of one process rendering
+//! N·K passes. A pixel's image is exact while its sum over the passes stays below 2^39
+//! (5.5e11) in absolute value.
+
+use super::accumulate::{fixed_means, replicate_error, FixedSums, REPLICATE_VALUES, TERM_VALUES};
+use super::error_aov::REPLICATES;
+use super::film::Film;
+use super::photons::MapStats;
+use crate::error::{Error, Result};
+use crate::io::container::{self, Kind, Reader, Writer};
+use std::path::Path;
+
+/// The partial-sum file (`.ppart`): a container of this kind.
+pub const PARTIAL_FILE: Kind = Kind {
+    magic: *b"PMPART\0\n",
+    version: 1,
+    what: "partial-sum file",
+};
+
+/// What identifies the render that a partial sum belongs to: partials merge only with
+/// partials of the same header.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PartialHeader {
+    pub width: u32,
+    pub height: u32,
+    pub seed: u64,
+    pub alpha: f32,
+    pub initial_radius: f32,
+    pub photons_per_pass: u64,
+    /// The passes of the whole render (`spp`): the merge of every block holds `0..total`.
+    pub total_passes: u32,
+    /// A hash of the scene (camera included) and of the settings that change a pass, from
+    /// the front end (0 = not given).
+    pub key: u64,
+}
+
+/// Totals that are not part of the image, for the stats.
+#[derive(Clone, Debug, Default)]
+pub struct Tally {
+    pub non_finite: u64,
+    pub photons_emitted: u64,
+    pub photon_seconds: f64,
+    pub camera_seconds: f64,
+    pub partials: u32,
+}
+
+/// The sums of a set of passes of one pppm render: merge several with [`Partial::merge`],
+/// and make the image with [`Partial::film`].
+#[derive(Clone, Debug)]
+pub struct Partial {
+    pub header: PartialHeader,
+    /// Sorted, disjoint half-open ranges of the passes summed.
+    pub ranges: Vec<(u32, u32)>,
+    /// Per pixel (row-major), per term, RGB: the sums of the passes' fixed-point values.
+    pub terms: Vec<i64>,
+    /// Per pixel, per replicate, RGB: the sums of the combined image's fixed-point values.
+    pub replicates: Vec<i64>,
+    pub tally: Tally,
+    /// The render options (JSON) of the render, for the stats of the merged image.
+    pub options: String,
+    /// The photon maps of the last pass rendered, for the stats.
+    pub maps: Vec<MapStats>,
+}
+
+impl Partial {
+    /// No passes yet.
+    pub fn empty(header: PartialHeader) -> Partial {
+        let n = header.width as usize * header.height as usize;
+        Partial {
+            header,
+            ranges: Vec::new(),
+            terms: vec![0; n * TERM_VALUES],
+            replicates: vec![0; n * REPLICATE_VALUES],
+            tally: Tally::default(),
+            options: String::new(),
+            maps: Vec::new(),
+        }
+    }
+
+    /// The sums of passes `first..first + passes` of every pixel (row-major), as the camera-pass
+    /// driver accumulated them.
+    pub fn of_pixels<'a>(
+        header: PartialHeader,
+        pixels: impl Iterator<Item = &'a FixedSums>,
+        first: u32,
+        passes: u32,
+    ) -> Partial {
+        let mut p = Partial::empty(header);
+        for (i, px) in pixels.enumerate() {
+            p.terms[i * TERM_VALUES..(i + 1) * TERM_VALUES].copy_from_slice(&px.terms);
+            p.replicates[i * REPLICATE_VALUES..(i + 1) * REPLICATE_VALUES]
+                .copy_from_slice(&px.replicates);
+        }
+        if passes > 0 {
+            p.ranges.push((first, first + passes));
+        }
+        p
+    }
+
+    /// Passes summed.
+    pub fn passes(&self) -> u32 {
+        self.ranges.iter().map(|(a, b)| b - a).sum()
+    }
+
+    /// Adds `other`'s passes to these. Errors, naming the difference, when the two belong
+    /// to different renders, or when a pass is in both (it would be counted twice).
+    pub fn merge(&mut self, other: &Partial) -> Result<()> {
+        let (a, b) = (&self.header, &other.header);
+        let differ = |what: &str, x: String, y: String| {
+            Err(Error::InvalidSetting {
+                setting: "partials".into(),
+                message: format!("the partial sums are of different renders: {what} {x} and {y}"),
+            })
+        };
+        if (a.width, a.height) != (b.width, b.height) {
+            return differ(
+                "image size",
+                format!("{}x{}", a.width, a.height),
+                format!("{}x{}", b.width, b.height),
+            );
+        }
+        if a.seed != b.seed {
+            return differ("seed", a.seed.to_string(), b.seed.to_string());
+        }
+        if a.alpha.to_bits() != b.alpha.to_bits() {
+            return differ("alpha", a.alpha.to_string(), b.alpha.to_string());
+        }
+        if a.initial_radius.to_bits() != b.initial_radius.to_bits() {
+            return differ(
+                "initial radius",
+                a.initial_radius.to_string(),
+                b.initial_radius.to_string(),
+            );
+        }
+        if a.photons_per_pass != b.photons_per_pass {
+            return differ(
+                "photons per pass",
+                a.photons_per_pass.to_string(),
+                b.photons_per_pass.to_string(),
+            );
+        }
+        if a.total_passes != b.total_passes {
+            return differ(
+                "passes in all",
+                a.total_passes.to_string(),
+                b.total_passes.to_string(),
+            );
+        }
+        if a.key != b.key {
+            return differ(
+                "scene or settings (key)",
+                format!("{:016x}", a.key),
+                format!("{:016x}", b.key),
+            );
+        }
+        for &(x0, x1) in &other.ranges {
+            for &(y0, y1) in &self.ranges {
+                let (lo, hi) = (x0.max(y0), x1.min(y1));
+                if lo < hi {
+                    return Err(Error::InvalidSetting {
+                        setting: "partials".into(),
+                        message: format!(
+                            "passes {lo}..{hi} are in two partial sums: they would be counted \
+                             twice"
+                        ),
+                    });
+                }
+            }
+        }
+        for (x, y) in self.terms.iter_mut().zip(&other.terms) {
+            *x = x.wrapping_add(*y);
+        }
+        for (x, y) in self.replicates.iter_mut().zip(&other.replicates) {
+            *x = x.wrapping_add(*y);
+        }
+        self.ranges.extend_from_slice(&other.ranges);
+        self.ranges.sort_unstable();
+        let mut merged: Vec<(u32, u32)> = Vec::new();
+        for &(x0, x1) in &self.ranges {
+            match merged.last_mut() {
+                Some(last) if last.1 == x0 => last.1 = x1,
+                _ => merged.push((x0, x1)),
+            }
+        }
+        self.ranges = merged;
+        let t = &other.tally;
+        self.tally.non_finite += t.non_finite;
+        self.tally.photons_emitted += t.photons_emitted;
+        self.tally.photon_seconds += t.photon_seconds;
+        self.tally.camera_seconds += t.camera_seconds;
+        self.tally.partials += t.partials;
+        if self.options.is_empty() {
+            self.options = other.options.clone();
+        }
+        if self.maps.is_empty() {
+            self.maps = other.maps.clone();
+        }
+        Ok(())
+    }
+
+    /// Merges `parts` (in any order: the result is the same bits).
+    pub fn merge_all(parts: &[Partial]) -> Result<Partial> {
+        let Some(first) = parts.first() else {
+            return Err(Error::InvalidSetting {
+                setting: "partials".into(),
+                message: "no partial sums to merge".into(),
+            });
+        };
+        let mut out = first.clone();
+        for p in &parts[1..] {
+            out.merge(p)?;
+        }
+        Ok(out)
+    }
+
+    /// Errors unless the passes summed are exactly 0..n for some n (a block lost or not yet
+    /// rendered leaves a gap).
+    pub fn check_complete(&self) -> Result<u32> {
+        let total = self.header.total_passes;
+        match self.ranges.as_slice() {
+            [(0, n)] if *n == total && total > 0 => Ok(total),
+            [] => Err(Error::InvalidSetting {
+                setting: "partials".into(),
+                message: "no passes".into(),
+            }),
+            r => {
+                let mut missing = Vec::new();
+                let mut at = 0;
+                for &(a, b) in r {
+                    if a > at {
+                        missing.push(format!("{at}..{a}"));
+                    }
+                    at = b;
+                }
+                if at < total {
+                    missing.push(format!("{at}..{total}"));
+                }
+                Err(Error::InvalidSetting {
+                    setting: "partials".into(),
+                    message: format!(
+                        "passes {} of the render's {total} are missing (the partial sums hold \
+                         {}): render and merge every block",
+                        missing.join(", "),
+                        r.iter()
+                            .map(|(a, b)| format!("{a}..{b}"))
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                })
+            }
+        }
+    }
+
+    /// The image of the passes summed: each term's mean over the passes, and the `error`
+    /// AOV from the replicates' means.
+    pub fn film(&self) -> Film {
+        let (w, h) = (self.header.width as usize, self.header.height as usize);
+        let mut film = Film::new(w, h);
+        let passes = self.passes();
+        let mut per_rep = [0u32; REPLICATES];
+        for &(a, b) in &self.ranges {
+            for p in a..b {
+                per_rep[p as usize % REPLICATES] += 1;
+            }
+        }
+        for i in 0..w * h {
+            let sums = &self.terms[i * TERM_VALUES..(i + 1) * TERM_VALUES];
+            film.set_pixel(i % w, i / w, &fixed_means(sums, passes));
+            let reps = &self.replicates[i * REPLICATE_VALUES..(i + 1) * REPLICATE_VALUES];
+            film.error.data[i] = replicate_error(reps, &per_rep);
+        }
+        film
+    }
+
+    /// The partial sum as the bytes of a `.ppart` file.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let mut w = Writer::default();
+        let h = &self.header;
+        w.u32(h.width);
+        w.u32(h.height);
+        w.u64(h.seed);
+        w.f32(h.alpha);
+        w.f32(h.initial_radius);
+        w.u64(h.photons_per_pass);
+        w.u32(h.total_passes);
+        w.u64(h.key);
+        w.u64(self.ranges.len() as u64);
+        for &(a, b) in &self.ranges {
+            w.u32(a);
+            w.u32(b);
+        }
+        let t = &self.tally;
+        w.u64(t.non_finite);
+        w.u64(t.photons_emitted);
+        w.f64(t.photon_seconds);
+        w.f64(t.camera_seconds);
+        w.u32(t.partials);
+        w.str(&self.options);
+        w.str(&serde_json::to_string(&self.maps).unwrap_or_default());
+        for sums in [&self.terms, &self.replicates] {
+            w.u64(sums.len() as u64);
+            w.buf.reserve(sums.len() * 8);
+            for v in sums.iter() {
+                w.buf.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+        container::encode(&PARTIAL_FILE, &w.buf)
+    }
+
+    /// Reads the bytes of a `.ppart` file; `source` names it in errors.
+    pub fn from_bytes(bytes: &[u8], source: &Path) -> Result<Partial> {
+        let payload = container::decode(&PARTIAL_FILE, bytes, source)?;
+        let mut r = Reader::new(payload, source, PARTIAL_FILE.what);
+        let header = PartialHeader {
+            width: r.u32("width")?,
+            height: r.u32("height")?,
+            seed: r.u64("seed")?,
+            alpha: r.f32("alpha")?,
+            initial_radius: r.f32("initial radius")?,
+            photons_per_pass: r.u64("photons per pass")?,
+            total_passes: r.u32("passes in all")?,
+            key: r.u64("key")?,
+        };
+        let n = r.count(8, "ranges")?;
+        let mut ranges = Vec::with_capacity(n);
+        for _ in 0..n {
+            let (a, b) = (r.u32("range")?, r.u32("range")?);
+            if a >= b {
+                return Err(r.corrupt(format!("empty pass range {a}..{b}")));
+            }
+            ranges.push((a, b));
+        }
+        let tally = Tally {
+            non_finite: r.u64("non-finite count")?,
+            photons_emitted: r.u64("photons emitted")?,
+            photon_seconds: r.f64("photon seconds")?,
+            camera_seconds: r.f64("camera seconds")?,
+            partials: r.u32("partials")?,
+        };
+        let options = r.str("options")?.to_string();
+        let maps_json = r.str("map stats")?;
+        let maps: Vec<MapStatsIn> = serde_json::from_str(maps_json).unwrap_or_default();
+        let pixels = header.width as usize * header.height as usize;
+        let mut read_sums = |what: &str, per_pixel: usize| -> Result<Vec<i64>> {
+            let n = r.count(8, what)?;
+            if n != pixels * per_pixel {
+                return Err(r.corrupt(format!(
+                    "{n} {what} for {pixels} pixels (expected {})",
+                    pixels * per_pixel
+                )));
+            }
+            let bytes = r.take(n * 8, what)?;
+            Ok(bytes
+                .chunks_exact(8)
+                .map(|c| i64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]))
+                .collect())
+        };
+        let terms = read_sums("term sums", TERM_VALUES)?;
+        let replicates = read_sums("replicate sums", REPLICATE_VALUES)?;
+        r.finish()?;
+        Ok(Partial {
+            header,
+            ranges,
+            terms,
+            replicates,
+            tally,
+            options,
+            maps: maps.into_iter().map(MapStatsIn::into_stats).collect(),
+        })
+    }
+
+    /// Writes the partial sum to `path` atomically.
+    pub fn save(&self, path: &Path) -> Result<()> {
+        container::write_atomic(path, &self.to_bytes())
+    }
+
+    pub fn load(path: &Path) -> Result<Partial> {
+        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+        Partial::from_bytes(&bytes, path)
+    }
+}
+
+/// [`MapStats`] as read back from a partial's JSON (its `map` name owned).
+#[derive(serde::Deserialize)]
+struct MapStatsIn {
+    map: String,
+    built: bool,
+    stored: u64,
+    emitted: u64,
+    memory_bytes: u64,
+    bytes_per_photon: u64,
+    max_radius: f32,
+    seconds: f64,
+    kdtree_seconds: f64,
+    irradiance_points: u64,
+    #[serde(default)]
+    volume_points: u64,
+    #[serde(default)]
+    exitance_points: u64,
+    skipped_because: Option<String>,
+}
+
+impl MapStatsIn {
+    fn into_stats(self) -> MapStats {
+        let map = match self.map.as_str() {
+            "global" => "global",
+            "caustic" => "caustic",
+            _ => "volume",
+        };
+        MapStats {
+            map,
+            built: self.built,
+            stored: self.stored,
+            emitted: self.emitted,
+            memory_bytes: self.memory_bytes,
+            bytes_per_photon: self.bytes_per_photon,
+            max_radius: self.max_radius,
+            seconds: self.seconds,
+            kdtree_seconds: self.kdtree_seconds,
+            irradiance_points: self.irradiance_points,
+            volume_points: self.volume_points,
+            exitance_points: self.exitance_points,
+            skipped_because: self.skipped_because,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn partial(ranges: &[(u32, u32)], fill: i64) -> Partial {
+        let mut p = Partial::empty(PartialHeader {
+            width: 2,
+            height: 1,
+            seed: 1,
+            alpha: 0.7,
+            initial_radius: 0.1,
+            photons_per_pass: 10,
+            total_passes: 12,
+            key: 5,
+        });
+        p.ranges = ranges.to_vec();
+        p.terms.iter_mut().for_each(|v| *v = fill);
+        p.replicates.iter_mut().for_each(|v| *v = fill);
+        p.tally.partials = 1;
+        p
+    }
+
+    #[test]
+    fn merging_checks_the_render_and_never_counts_a_pass_twice() {
+        let a = partial(&[(0, 4)], 3);
+        let b = partial(&[(4, 8)], i64::MAX);
+        let c = partial(&[(8, 12)], 7);
+        // Any order gives the same sums (wrapping addition is associative and commutative).
+        let abc = Partial::merge_all(&[a.clone(), b.clone(), c.clone()]).unwrap();
+        let cab = Partial::merge_all(&[c.clone(), a.clone(), b.clone()]).unwrap();
+        assert_eq!(abc.terms, cab.terms);
+        assert_eq!(abc.ranges, vec![(0, 12)]);
+        assert_eq!(abc.check_complete().unwrap(), 12);
+        let e = Partial::merge_all(&[a.clone(), a.clone()])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("passes 0..4 are in two partial sums"), "{e}");
+        let gap = Partial::merge_all(&[a.clone(), c.clone()]).unwrap();
+        let e = gap.check_complete().unwrap_err().to_string();
+        assert!(
+            e.contains("passes 4..8 of the render's 12 are missing"),
+            "{e}"
+        );
+        // The first blocks alone are not the render either.
+        let e = Partial::merge_all(&[a.clone(), b.clone()])
+            .unwrap()
+            .check_complete()
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("passes 8..12 of the render's 12 are missing"),
+            "{e}"
+        );
+        let mut other = partial(&[(4, 8)], 1);
+        other.header.seed = 2;
+        let e = Partial::merge_all(&[a.clone(), other])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("seed 1 and 2"), "{e}");
+        let mut other = partial(&[(4, 8)], 1);
+        other.header.key = 6;
+        assert!(Partial::merge_all(&[a, other]).is_err());
+    }
+
+    #[test]
+    fn partial_files_round_trip_and_reject_damage() {
+        let mut p = partial(&[(0, 3), (5, 6)], -42);
+        p.options = "{\"seed\":1}".into();
+        p.tally.photon_seconds = 1.5;
+        let bytes = p.to_bytes();
+        let q = Partial::from_bytes(&bytes, Path::new("p.ppart")).unwrap();
+        assert_eq!(q.header, p.header);
+        assert_eq!(
+            (q.ranges, q.terms, q.replicates),
+            (p.ranges, p.terms, p.replicates)
+        );
+        assert_eq!(q.options, p.options);
+        let e = Partial::from_bytes(&bytes[..bytes.len() - 9], Path::new("p.ppart"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("p.ppart: truncated partial-sum file"), "{e}");
+    }
+}
