@@ -26,3 +26,16 @@ pub const PI: f32 = std::f32::consts::PI;
 pub const INV_PI: f32 = std::f32::consts::FRAC_1_PI;
 pub const INV_2PI: f32 = 0.5 * std::f32::consts::FRAC_1_PI;
 pub const INV_4PI: f32 = 0.25 * std::f32::consts::FRAC_1_PI;
+
+/// Each group's fraction of `total`, per channel, from the groups' shares `parts` (0 where
+/// the total is 0).
+pub fn fractions(parts: &[Spectrum], total: Spectrum) -> Vec<Spectrum> {
+    let inv = total.to_array().map(|t| {
+        if t > 0.0 && t.is_finite() {
+            1.0 / t
+        } else {
+            0.0
+        }
+    });
+    parts.iter().map(|p| *p * Spectrum::from(inv)).collect()
+}

@@ -217,10 +217,7 @@ impl IrradianceMap {
                     parts.iter_mut().for_each(|v| *v = Spectrum::ZERO);
                     let est = global
                         .irradiance_estimate_split(p, n, k, max_r2, select, scratch, &mut parts);
-                    out.extend(crate::render::lightgroups::fractions(
-                        &parts,
-                        est.irradiance,
-                    ));
+                    out.extend(crate::math::fractions(&parts, est.irradiance));
                 }
                 out
             })

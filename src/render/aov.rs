@@ -97,19 +97,7 @@ pub const NORMAL_AOV: &str = "normal";
 pub const NOISY_SUFFIX: &str = "_noisy";
 /// Layer-name prefix of a light group's image (`lightgroup.<name>`).
 pub const LIGHTGROUP_PREFIX: &str = "lightgroup.";
-/// The light group of lights, emitters and worlds that name none, once any names one.
-pub const DEFAULT_LIGHTGROUP: &str = "default";
-
-/// The light groups of a scene whose IR names the groups `given`: those, then
-/// [`DEFAULT_LIGHTGROUP`] for the emitters in none (unless a group has that name); none
-/// without groups. Every front end derives the group images from this.
-pub fn light_group_names(given: &[String]) -> Vec<String> {
-    let mut names = given.to_vec();
-    if !names.is_empty() && !names.iter().any(|n| n == DEFAULT_LIGHTGROUP) {
-        names.push(DEFAULT_LIGHTGROUP.to_string());
-    }
-    names
-}
+pub use crate::scene::lightgroups::{light_group_names, DEFAULT_LIGHTGROUP};
 
 /// The terms that `--denoise` denoises (each on its own; the beauty stays their sum).
 /// `emission` (emitters and the background seen directly) is left as it is.

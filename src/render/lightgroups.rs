@@ -13,6 +13,7 @@
 //!
 //! Without groups nothing here runs: the estimators get no split.
 
+pub use crate::math::fractions;
 use crate::math::Spectrum;
 use crate::scene::Scene;
 
@@ -77,19 +78,6 @@ impl<'a> Split<'a> {
 #[inline]
 pub fn scaled<'s>(split: &'s mut Option<&mut Split<'_>>, s: Spectrum) -> Option<Split<'s>> {
     split.as_mut().map(|sp| sp.scaled(s))
-}
-
-/// Each group's fraction of `total`, per channel, from the groups' shares `parts` (0 where
-/// the total is 0).
-pub fn fractions(parts: &[Spectrum], total: Spectrum) -> Vec<Spectrum> {
-    let inv = total.to_array().map(|t| {
-        if t > 0.0 && t.is_finite() {
-            1.0 / t
-        } else {
-            0.0
-        }
-    });
-    parts.iter().map(|p| *p * Spectrum::from(inv)).collect()
 }
 
 #[cfg(test)]

@@ -441,12 +441,12 @@ impl Scene {
 }
 
 /// The group names and each light's group index: the IR's groups in order, then `default`
-/// for the emitters in none (`aov::light_group_names`). Without groups: no names, every
+/// for the emitters in none (`lightgroups::light_group_names`). Without groups: no names, every
 /// light 0.
 fn light_groups(desc: &SceneDesc, groups: &[Option<u8>]) -> (Vec<String>, Vec<u8>) {
     let given: Vec<String> = desc.lightgroups.iter().map(|g| g.name.clone()).collect();
-    let names = crate::render::aov::light_group_names(&given);
-    let default = crate::render::aov::DEFAULT_LIGHTGROUP;
+    let names = super::lightgroups::light_group_names(&given);
+    let default = super::lightgroups::DEFAULT_LIGHTGROUP;
     let fallback = names.iter().position(|n| n == default).unwrap_or(0);
     let index = groups.iter().map(|g| g.unwrap_or(fallback as u8)).collect();
     (names, index)

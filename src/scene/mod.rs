@@ -3,9 +3,11 @@ pub mod build;
 pub mod camera;
 pub mod desc;
 pub mod graph_desc;
+pub mod lightgroups;
 mod objects;
 pub mod shading;
 pub mod subsurface;
+pub mod subsurface_walk;
 mod transmit;
 mod validate;
 
