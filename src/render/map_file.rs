@@ -210,7 +210,13 @@ pub fn key_parts(desc: &SceneDesc, s: &RenderSettings) -> KeyParts {
     }
 }
 
-/// The keys of a render of `desc` with `s` (see [`super::RenderKeys`]).
+/// The settings that do not change the image, left out of the render key: the threads, the
+/// memory limit, where photon maps are saved or loaded, and which block of pppm passes a
+/// process renders (blocks of one render differ in it, and merge).
+pub const NOT_IN_IMAGE: [&str; 4] = ["threads", "memory_limit", "photon_map_files", "pass_range"];
+
+/// The keys of a render of `desc` with `s` (see [`super::RenderKeys`]). The render key hashes
+/// every setting but [`NOT_IN_IMAGE`], as the settings serialise: a new setting is in it.
 pub fn keys(desc: &SceneDesc, s: &RenderSettings) -> super::RenderKeys {
     let maps = key_parts(desc, s).key();
     let mut v = Fnv64::default();
@@ -219,20 +225,23 @@ pub fn keys(desc: &SceneDesc, s: &RenderSettings) -> super::RenderKeys {
     let mut r = Fnv64::default();
     r.u64(maps);
     r.u64(view);
-    json(
-        &mut r,
-        &(
-            &s.filter,
-            s.sppm_alpha,
-            s.sppm_initial_photons,
-            s.photons.volume_step,
-        ),
-    );
+    json(&mut r, &image_settings(s));
     super::RenderKeys {
         maps,
         view,
         render: r.finish(),
     }
+}
+
+/// The settings as JSON without [`NOT_IN_IMAGE`].
+fn image_settings(s: &RenderSettings) -> serde_json::Value {
+    let mut v = serde_json::to_value(s).unwrap_or_else(|e| unreachable!("settings serialise: {e}"));
+    if let Some(map) = v.as_object_mut() {
+        for k in NOT_IN_IMAGE {
+            map.remove(k);
+        }
+    }
+    v
 }
 
 /// Jensen's photon maps and irradiance cache, as one render built them.
@@ -718,4 +727,80 @@ pub fn check_settings(s: &RenderSettings) -> Result<()> {
         });
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every setting that changes the image changes the render key; the threads, the memory
+    /// limit, the map files and the block of passes do not.
+    #[test]
+    fn the_render_key_covers_every_setting_that_changes_the_image() {
+        let desc = crate::scene::default_scene();
+        let base = RenderSettings::default();
+        let key = |s: &RenderSettings| keys(&desc, s).render;
+        let k0 = key(&base);
+        let all = serde_json::to_value(&base).unwrap();
+        for k in NOT_IN_IMAGE {
+            assert!(all.get(k).is_some(), "{k} is a setting");
+        }
+        let changed: Vec<(&str, RenderSettings)> = vec![
+            (
+                "spp",
+                RenderSettings {
+                    spp: 9,
+                    ..base.clone()
+                },
+            ),
+            (
+                "noise_threshold",
+                RenderSettings {
+                    noise_threshold: 0.3,
+                    ..base.clone()
+                },
+            ),
+            (
+                "sppm_initial_photons",
+                RenderSettings {
+                    sppm_initial_photons: 7,
+                    ..base.clone()
+                },
+            ),
+            (
+                "pppm_initial_radius",
+                RenderSettings {
+                    pppm_initial_radius: Some(0.1),
+                    ..base.clone()
+                },
+            ),
+            (
+                "gather_rays_per_sample",
+                RenderSettings {
+                    gather_rays_per_sample: Some(3),
+                    ..base.clone()
+                },
+            ),
+            (
+                "progressive",
+                RenderSettings {
+                    progressive: true,
+                    ..base.clone()
+                },
+            ),
+        ];
+        for (what, s) in &changed {
+            assert_ne!(key(s), k0, "{what}");
+        }
+        let mut photons = base.clone();
+        photons.photons.volume_points = false;
+        assert_ne!(key(&photons), k0, "photons.volume_points");
+        let same = RenderSettings {
+            threads: 3,
+            memory_limit: Some(1 << 30),
+            pass_range: Some((2, 5)),
+            ..base.clone()
+        };
+        assert_eq!(key(&same), k0);
+    }
 }

@@ -73,10 +73,16 @@ impl Quality {
             global,
             caustic,
             volume: caustic,
+            volume_step: None,
             gather: 50,
+            max_radius: None,
             final_gather_rays: fg_rays,
+            irradiance_cache: true,
             cache_tolerance: tolerance,
-            ..PhotonSettings::default()
+            max_bounces: 64,
+            max_emitted_factor: 20,
+            volume_points: true,
+            f32_power: false,
         }
     }
 
@@ -103,8 +109,26 @@ impl Quality {
             adaptive_sampling: true,
             noise_threshold,
             max_spp,
+            seed: 0,
+            threads: 0,
+            max_specular_depth: MAX_SPECULAR_DEPTH,
+            filter: Filter::gaussian(0.5),
+            terms: TermMask::ALL,
             photons: self.photons(),
-            ..RenderSettings::default()
+            memory_limit: None,
+            time_budget: None,
+            progressive: false,
+            gather_rays_per_sample: None,
+            mode: RenderMode::Jensen,
+            sppm_alpha: SPPM_ALPHA,
+            sppm_initial_photons: SPPM_INITIAL_PHOTONS,
+            pppm_initial_radius: None,
+            pass_range: None,
+            photon_map_files: Default::default(),
+            aovs: AovRequest {
+                cryptomatte_levels: CRYPTOMATTE_LEVELS,
+                ..AovRequest::default()
+            },
         }
     }
 }
@@ -170,21 +194,7 @@ impl PhotonSettings {
 /// Python and Blender do at their default quality.
 impl Default for PhotonSettings {
     fn default() -> Self {
-        PhotonSettings {
-            global: 100_000,
-            caustic: 50_000,
-            volume: 50_000,
-            volume_step: None,
-            gather: 50,
-            max_radius: None,
-            final_gather_rays: 128,
-            irradiance_cache: true,
-            cache_tolerance: 0.1,
-            max_bounces: 64,
-            max_emitted_factor: 20,
-            volume_points: true,
-            f32_power: false,
-        }
+        Quality::Medium.photons()
     }
 }
 
@@ -222,6 +232,9 @@ pub const SPPM_ALPHA: f32 = 0.7;
 /// caustic edges and contact shadows) low; measured on the caustic reference scene, 20 gave
 /// 35% less error than 100 at equal time.
 pub const SPPM_INITIAL_PHOTONS: usize = 20;
+
+/// Specular and rough-glass bounces an eye path follows at most, by default (every preset).
+pub const MAX_SPECULAR_DEPTH: u32 = 64;
 
 /// Cryptomatte ranks per pixel by default: the specification's suggested 6 (three layers).
 pub const CRYPTOMATTE_LEVELS: u32 = 6;
@@ -277,35 +290,10 @@ pub struct RenderSettings {
     pub aovs: AovRequest,
 }
 
+/// The `medium` preset.
 impl Default for RenderSettings {
     fn default() -> Self {
-        let (noise_threshold, max_spp) = Quality::Medium.adaptive();
-        RenderSettings {
-            spp: Quality::Medium.spp(),
-            adaptive_sampling: true,
-            noise_threshold,
-            max_spp,
-            seed: 0,
-            threads: 0,
-            max_specular_depth: 64,
-            filter: Filter::gaussian(0.5),
-            terms: TermMask::ALL,
-            photons: PhotonSettings::default(),
-            memory_limit: None,
-            time_budget: None,
-            progressive: false,
-            gather_rays_per_sample: None,
-            mode: RenderMode::Jensen,
-            sppm_alpha: SPPM_ALPHA,
-            sppm_initial_photons: SPPM_INITIAL_PHOTONS,
-            pppm_initial_radius: None,
-            pass_range: None,
-            photon_map_files: Default::default(),
-            aovs: AovRequest {
-                cryptomatte_levels: CRYPTOMATTE_LEVELS,
-                ..AovRequest::default()
-            },
-        }
+        Quality::Medium.settings()
     }
 }
 
@@ -359,19 +347,4 @@ pub fn parse_bytes(s: &str) -> Result<u64, String> {
         return Err(bad());
     }
     n.checked_mul(1u64 << shift).ok_or_else(bad)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// `RenderSettings::default()` is the `medium` preset, field for field.
-    #[test]
-    fn the_default_settings_are_the_medium_preset() {
-        assert_eq!(
-            format!("{:?}", RenderSettings::default()),
-            format!("{:?}", Quality::Medium.settings())
-        );
-        assert_eq!(PhotonSettings::default(), Quality::Medium.photons());
-    }
 }

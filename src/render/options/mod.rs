@@ -16,8 +16,8 @@ use crate::render::budget::check_budget;
 use crate::render::film::Filter;
 use crate::render::map_file::OnMismatch;
 use crate::render::settings::{
-    available_memory, Quality, RenderMode, RenderSettings, CRYPTOMATTE_LEVELS, SPPM_ALPHA,
-    SPPM_INITIAL_PHOTONS,
+    available_memory, Quality, RenderMode, RenderSettings, CRYPTOMATTE_LEVELS, MAX_SPECULAR_DEPTH,
+    SPPM_ALPHA, SPPM_INITIAL_PHOTONS,
 };
 use clap::{Args, FromArgMatches};
 use serde::{Deserialize, Serialize};
@@ -224,7 +224,7 @@ render_options! {
     pub gather_rays_per_sample: Option<u32>,
     /// Specular and rough-glass bounces followed from the eye at most (Russian roulette ends
     /// most chains earlier; light trapped in rough glass needs dozens).
-    #[arg(long, default_value_t = 64)]
+    #[arg(long, default_value_t = MAX_SPECULAR_DEPTH)]
     #[schema(label: "Max Specular Depth", group: Group::Gathering, min: Some(0.0),
              soft_max: Some(128.0), preset: true)]
     pub max_specular_depth: u32,

@@ -118,3 +118,16 @@ fn the_schema_lists_every_field_once_with_its_default() {
     assert_eq!(get("initial_radius")["modes"], serde_json::json!(["pppm"]));
     assert_eq!(get("radius")["unit"], "distance");
 }
+
+/// The options given nothing (the command without flags, Python without keywords) give the
+/// settings of a `Renderer` given none, field for field (the memory limit aside: the options
+/// read the machine's available memory).
+#[test]
+fn no_options_give_the_default_settings() {
+    let mut s = RenderOptions::default().settings();
+    s.memory_limit = None;
+    assert_eq!(
+        format!("{s:?}"),
+        format!("{:?}", crate::render::RenderSettings::default())
+    );
+}
