@@ -22,11 +22,10 @@
 //! `gather_rays_per_sample` is bit-identical to it.
 
 use super::cache_fill;
-use super::eye::{EyeCtx, EyeSettings};
+use super::eye::EyeSettings;
 use super::photons;
 use super::renderer::Renderer;
 use super::settings::{RenderSettings, BYTES_PER_TRIANGLE};
-use super::terms::volume::MarchSettings;
 use crate::error::{Error, Result};
 use serde::Serialize;
 use std::time::Instant;
@@ -250,19 +249,13 @@ impl Renderer<'_> {
                 let tc = Instant::now();
                 let mut cal_settings = s.clone();
                 cal_settings.photons.final_gather_rays = CALIBRATION_GATHER_RAYS;
-                let ctx = EyeCtx {
-                    scene: self.scene,
-                    work: &self.work,
-                    maps: &cal_maps,
-                    cache: None,
-                    settings: EyeSettings {
-                        terms: s.terms,
-                        max_specular_depth: s.max_specular_depth,
-                        final_gather_rays: CALIBRATION_GATHER_RAYS,
-                        gather_rays_per_sample: CALIBRATION_GATHER_RAYS,
-                    },
-                    march: MarchSettings::for_render(&s, self.scene, cal_maps.global_r2),
+                let settings = EyeSettings {
+                    terms: s.terms,
+                    max_specular_depth: s.max_specular_depth,
+                    final_gather_rays: CALIBRATION_GATHER_RAYS,
+                    gather_rays_per_sample: CALIBRATION_GATHER_RAYS,
                 };
+                let ctx = self.eye_ctx(&s, &cal_maps, None, settings);
                 let cache =
                     cache_fill::fill(&ctx, &cal_settings, &|_| {}, &|| self.is_cancelled())?;
                 let secs = tc.elapsed().as_secs_f64();

@@ -18,7 +18,6 @@ use super::photons::{self, MapStats, PhotonMaps};
 use super::renderer::{RenderOutput, Renderer};
 use super::settings::{RenderMode, RenderSettings};
 use super::stats::{RenderStats, StatsParts};
-use super::terms::volume::MarchSettings;
 use super::tile::{self, TileOutput, TileStage};
 use crate::error::{Error, Result};
 use crate::geometry::Ray;
@@ -181,14 +180,7 @@ impl Renderer<'_> {
         let t1 = Instant::now();
         let s: &RenderSettings = &p.settings;
         let maps = self.maps_of(&p);
-        let ctx = EyeCtx {
-            scene: self.scene,
-            work: &self.work,
-            maps,
-            cache: None,
-            settings: eye_settings(s),
-            march: MarchSettings::for_render(s, self.scene, maps.global_r2),
-        };
+        let ctx = self.eye_ctx(s, maps, None, eye_settings(s));
         let view = self.keys.map(|k| k.view);
         let given = self
             .reuse
@@ -308,14 +300,7 @@ impl Renderer<'_> {
         let mut budget_stats = p.budget_stats.take();
         let s: &RenderSettings = &p.settings;
         let maps = self.maps_of(&p);
-        let ctx = EyeCtx {
-            scene: self.scene,
-            work: &self.work,
-            maps,
-            cache: p.cache.as_deref(),
-            settings: eye_settings(s),
-            march: MarchSettings::for_render(s, self.scene, maps.global_r2),
-        };
+        let ctx = self.eye_ctx(s, maps, p.cache.as_deref(), eye_settings(s));
         let budget_seconds = s.time_budget.filter(|b| *b > 0.0);
 
         // Second pass: camera rays.
@@ -389,14 +374,7 @@ impl Renderer<'_> {
             ));
         }
         let maps = self.maps_of(&p);
-        let ctx = EyeCtx {
-            scene: self.scene,
-            work: &self.work,
-            maps,
-            cache: p.cache.as_deref(),
-            settings: eye_settings(s),
-            march: MarchSettings::for_render(s, self.scene, maps.global_r2),
-        };
+        let ctx = self.eye_ctx(s, maps, p.cache.as_deref(), eye_settings(s));
         let t2 = Instant::now();
         let driver = self.camera_pass(s, "render");
         let mut jensen = Jensen { ctx };

@@ -19,6 +19,7 @@ pub mod options;
 pub mod partial;
 pub mod photons;
 pub mod pppm;
+pub mod progressive;
 mod renderer;
 pub mod settings;
 pub mod sppm;

@@ -40,19 +40,18 @@
 
 use super::accumulate::FixedSums;
 use super::aov::Term;
-use super::compositing::{SampleAovs, NO_AOVS};
-use super::driver::{Integrator, Schedule};
+use super::compositing::NO_AOVS;
+use super::driver::Schedule;
 use super::eye::{self, EyeCtx, EyeSettings, VisiblePoint};
 use super::film::TermRadiance;
 use super::memory::MemoryEstimate;
 use super::partial::{Partial, PartialHeader, Tally};
-use super::photons::{self, MapStats, PhotonMaps};
+use super::photons::{self};
+use super::progressive::{self, Progressive, ProgressivePass, Radii};
 use super::renderer::{RenderOutput, Renderer};
 use super::settings::RenderMode;
 use super::stats::StatsParts;
-use super::terms::volume::MarchSettings;
 use crate::error::{Error, Result};
-use crate::geometry::Ray;
 use crate::math::{is_finite3, Spectrum, PI};
 use crate::photon::map::PhotonMap;
 use crate::photon::KnnScratch;
@@ -128,124 +127,53 @@ fn gather(global: &PhotonMap, vps: &[VisiblePoint], r2: f32, ctx: &EyeCtx) -> Te
 const TAG_PIXEL: u64 = 0x5050_4D5F_5049_5845;
 const TAG_RADIUS: u64 = 0x5050_4D5F_5231_5F5F;
 
-/// A pass's photons and radius.
-struct PppmPass {
-    maps: PhotonMaps,
-    march: MarchSettings,
-    /// The pass's squared radius, the same for every pixel.
-    r2: f32,
-    seed: u64,
-}
-
-/// The pppm integrator: a fresh photon map per pass, gathered at the visible points over the
-/// pass's global radius; each pass's estimate goes whole into the fixed-point sums.
-struct Pppm<'a> {
-    renderer: &'a Renderer<'a>,
+/// pppm's radii: one per pass, the same for every pixel (K&Z 2011, eq. 15); each pass's
+/// estimate goes whole into the fixed-point sums.
+struct Global {
     r1: f32,
-    need: [bool; 3],
-    tally: Tally,
-    /// The last pass's maps, for the stats.
-    maps: Vec<MapStats>,
+    alpha: f32,
 }
 
-impl Integrator for Pppm<'_> {
+impl Radii for Global {
     type Extra = ();
     type Acc = FixedSums;
-    type Scratch = (KnnScratch, Vec<VisiblePoint>);
-    type Pass = PppmPass;
+    const IRRADIANCE_POINTS: bool = false;
 
-    fn scratch(&self) -> Self::Scratch {
-        (KnnScratch::new(), Vec::with_capacity(4))
+    fn pass_seed(&self, seed: u64, k: u32) -> u64 {
+        pass_seed(seed, k)
     }
 
-    /// Traces pass `k`'s photon map, with the pass's own seed.
-    fn begin_pass(&mut self, k: u32) -> Result<PppmPass> {
-        let r = self.renderer;
-        let s = &r.settings;
-        let seed = pass_seed(s.seed, k);
-        let tp = Instant::now();
-        let (maps, map_stats) =
-            photons::build_with(r.scene, &s.photons, seed, self.need, r.cancel(), false);
-        if r.is_cancelled() {
-            return Err(Error::Cancelled);
-        }
-        self.tally.photons_emitted += map_stats
-            .iter()
-            .filter(|m| m.built && m.map == "global")
-            .map(|m| m.emitted)
-            .sum::<u64>();
-        self.tally.photon_seconds += tp.elapsed().as_secs_f64();
-        self.maps = map_stats;
-        let march = MarchSettings::for_render(s, r.scene, maps.global_r2);
-        Ok(PppmPass {
-            maps,
-            march,
-            r2: pass_radius2(self.r1, s.sppm_alpha, k),
-            seed,
-        })
-    }
-
-    fn end_pass(&mut self, _pass: PppmPass, camera_seconds: f64) {
-        self.tally.camera_seconds += camera_seconds;
+    fn pass_radius2(&self, k: u32) -> f32 {
+        pass_radius2(self.r1, self.alpha, k)
     }
 
     /// A stream of (pass seed, pixel): a pass depends on its index only, so that blocks of
     /// passes render anywhere.
-    fn pass_rng(&self, pass: &PppmPass, pixel: usize) -> Option<Rng> {
-        Some(Rng::derive(pass.seed, TAG_PIXEL, pixel as u64))
+    fn pass_rng(&self, pass_seed: u64, pixel: usize) -> Option<Rng> {
+        Some(Rng::derive(pass_seed, TAG_PIXEL, pixel as u64))
     }
 
-    /// A camera sample to its visible points, where its eye terms are estimated, plus the
-    /// pass's photons gathered there: the pass's whole estimate of the pixel.
-    fn sample(
+    /// The pass's photons within its radius, added to the sample's terms: the pass's whole
+    /// estimate of the pixel.
+    fn gather(
         &self,
-        pass: &PppmPass,
-        ray: Ray,
-        rng: &mut Rng,
+        ctx: &EyeCtx,
+        pass: &ProgressivePass,
+        global: &PhotonMap,
+        vps: &[VisiblePoint],
         _extra: &mut (),
-        _k: u32,
-        (scratch, vps): &mut Self::Scratch,
-        aovs: &mut SampleAovs,
-    ) -> (TermRadiance, Spectrum) {
-        let r = self.renderer;
-        let ctx = EyeCtx {
-            scene: r.scene,
-            work: &r.work,
-            maps: &pass.maps,
-            cache: None,
-            settings: r.pppm_eye_settings(),
-            march: pass.march,
-        };
-        vps.clear();
-        let mut record = |vp: VisiblePoint| vps.push(vp);
-        let mut l = eye::trace_split(&ctx, ray, rng, scratch, Some(&mut record), aovs);
-        if let Some(global) = &pass.maps.global {
-            let p = gather(global, vps, pass.r2, &ctx);
-            for (v, p) in l.0.iter_mut().zip(p.0) {
-                *v += p;
-            }
+        _scratch: &mut KnnScratch,
+        l: &mut TermRadiance,
+    ) -> Spectrum {
+        let p = gather(global, vps, pass.r2, ctx);
+        for (v, p) in l.0.iter_mut().zip(p.0) {
+            *v += p;
         }
-        (l, Spectrum::ZERO)
+        Spectrum::ZERO
     }
 }
 
 impl Renderer<'_> {
-    fn pppm_eye_settings(&self) -> EyeSettings {
-        let s = &self.settings;
-        EyeSettings {
-            terms: s.terms,
-            max_specular_depth: s.max_specular_depth,
-            final_gather_rays: 0,
-            gather_rays_per_sample: 0,
-        }
-    }
-
-    /// The global and volume maps a pass needs (no caustic map, no precomputed irradiance).
-    fn pppm_need(&self) -> [bool; 3] {
-        let [global, _, volume] = self.needed_maps();
-        [global, false, volume]
-    }
-
     /// r_1: the median, over the pixels of a grid (about 4096 of them), of the distance to
     /// the `initial_photons`-th nearest photon of pass 1's global map around the pixel's
     /// first visible point (the pixel centre's camera ray), at most the largest search
@@ -269,17 +197,11 @@ impl Renderer<'_> {
         };
         let (w, h) = (self.scene.width, self.scene.height);
         let stride = (((w * h) as f64 / 4096.0).sqrt().ceil() as usize).max(1);
-        let ctx = EyeCtx {
-            scene: self.scene,
-            work: &self.work,
-            maps: &maps,
-            cache: None,
-            settings: EyeSettings {
-                terms: self.settings.terms.without(Term::Volume),
-                ..self.pppm_eye_settings()
-            },
-            march: MarchSettings::for_render(s, self.scene, max_r2),
+        let settings = EyeSettings {
+            terms: s.terms.without(Term::Volume),
+            ..progressive::eye_settings(s)
         };
+        let ctx = self.eye_ctx(s, &maps, None, settings);
         use rayon::prelude::*;
         let pixels: Vec<usize> = (0..h)
             .step_by(stride)
@@ -355,13 +277,11 @@ impl Renderer<'_> {
             total_passes: total,
             key,
         };
-        let mut it = Pppm {
-            renderer: self,
+        let radii = Global {
             r1,
-            need: self.pppm_need(),
-            tally: Tally::default(),
-            maps: Vec::new(),
+            alpha: s.sppm_alpha,
         };
+        let mut it = Progressive::new(self, radii);
         let driver = self.camera_pass(s, "progressive");
         // A block of passes (`pass_range`) is whole: the CLI refuses a time budget with it.
         let schedule = match s.pass_range {
@@ -375,12 +295,15 @@ impl Renderer<'_> {
             first,
             out.passes,
         );
+        let t = it.totals;
         partial.tally = Tally {
             non_finite: driver.non_finite_samples(),
+            photons_emitted: t.photons_emitted,
+            photon_seconds: t.photon_seconds,
+            camera_seconds: t.camera_seconds,
             partials: 1,
-            ..it.tally
         };
-        partial.maps = it.maps;
+        partial.maps = t.maps;
         partial.options = serde_json::to_string(&super::options::RenderOptions::from_settings(s))
             .unwrap_or_default();
         Ok(partial)

@@ -174,6 +174,26 @@ impl<'a> Renderer<'a> {
         driver
     }
 
+    /// What the eye reads under settings `s` (the render's, or a budget's plan): the scene,
+    /// the work counters, the photon maps, the irradiance cache, and the march through media
+    /// at the maps' largest radius.
+    pub(super) fn eye_ctx<'c>(
+        &'c self,
+        s: &RenderSettings,
+        maps: &'c super::photons::PhotonMaps,
+        cache: Option<&'c super::irradiance_cache::IrradianceCache>,
+        settings: super::eye::EyeSettings,
+    ) -> super::eye::EyeCtx<'c> {
+        super::eye::EyeCtx {
+            scene: self.scene,
+            work: &self.work,
+            maps,
+            cache,
+            settings,
+            march: super::terms::volume::MarchSettings::for_render(s, self.scene, maps.global_r2),
+        }
+    }
+
     pub(super) fn is_cancelled(&self) -> bool {
         self.cancel
             .as_ref()

@@ -39,23 +39,21 @@
 use super::accumulate::Sums;
 use super::aov::Term;
 use super::budget::BudgetStats;
-use super::compositing::SampleAovs;
-use super::driver::{Integrator, Pixel, Schedule};
+use super::driver::{Pixel, Schedule};
 use super::error_aov::Replicates;
-use super::eye::{self, EyeCtx, EyeSettings, VisiblePoint};
+use super::eye::{EyeCtx, VisiblePoint};
 use super::film::TermRadiance;
 use super::memory::MemoryEstimate;
-use super::photons::{self, MapStats, PhotonMaps};
+use super::photons::PhotonMaps;
+use super::progressive::{Progressive, ProgressivePass, Radii};
 use super::renderer::{RenderOutput, Renderer};
 use super::settings::{RenderMode, RenderSettings};
 use super::stats::StatsParts;
-use super::terms::volume::MarchSettings;
-use crate::error::{Error, Result};
-use crate::geometry::Ray;
+use crate::error::Result;
 use crate::math::{is_finite3, Spectrum, PI};
 use crate::photon::map::{group_of, PhotonMap};
 use crate::photon::KnnScratch;
-use crate::sampling::{mix64, Rng};
+use crate::sampling::mix64;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -94,111 +92,42 @@ struct Radius {
     bias: Replicates,
 }
 
-/// A pass's photons: its own global (and volume) map.
-struct SppmPass {
-    maps: PhotonMaps,
-    march: MarchSettings,
+/// sppm's radii: each pixel's own, shrinking with the photons it keeps.
+struct Shrinking<'a> {
+    settings: &'a RenderSettings,
+    /// Light groups of the scene.
+    groups: usize,
 }
 
-/// The progressive integrator: a fresh photon map per pass, gathered at the visible points.
-struct Sppm<'a> {
-    renderer: &'a Renderer<'a>,
-    need: [bool; 3],
-    stats: SppmStats,
-    /// Per map: the last pass's stored photons and memory, emitted paths and seconds summed
-    /// over the passes; or why the map was not built.
-    maps: Vec<MapStats>,
-}
-
-impl Integrator for Sppm<'_> {
+impl Radii for Shrinking<'_> {
     type Extra = Radius;
     type Acc = Sums;
-    type Scratch = (KnnScratch, Vec<VisiblePoint>);
-    type Pass = SppmPass;
+    const IRRADIANCE_POINTS: bool = true;
 
-    fn scratch(&self) -> Self::Scratch {
-        (KnnScratch::new(), Vec::with_capacity(4))
+    fn pass_seed(&self, seed: u64, k: u32) -> u64 {
+        mix64(seed ^ mix64(0x5350_504D ^ k as u64))
     }
 
-    /// Traces pass `k`'s photon map, with its own seed.
-    fn begin_pass(&mut self, k: u32) -> Result<SppmPass> {
-        let r = self.renderer;
-        let s = &r.settings;
-        let tp = Instant::now();
-        let pass_seed = mix64(s.seed ^ mix64(0x5350_504D ^ k as u64));
-        let (maps, map_stats) =
-            photons::build(r.scene, &s.photons, pass_seed, self.need, r.cancel());
-        if r.is_cancelled() {
-            return Err(Error::Cancelled);
-        }
-        self.stats.photons_emitted += map_stats
-            .iter()
-            .filter(|m| m.built && m.map == "global")
-            .map(|m| m.emitted)
-            .sum::<u64>();
-        if self.maps.is_empty() {
-            self.maps = map_stats;
-        } else {
-            for (acc, m) in self.maps.iter_mut().zip(map_stats) {
-                acc.emitted += m.emitted;
-                acc.seconds += m.seconds;
-                acc.stored = m.stored;
-                acc.memory_bytes = m.memory_bytes;
-            }
-        }
-        self.stats.photon_seconds += tp.elapsed().as_secs_f64();
-        let march = MarchSettings::for_render(s, r.scene, maps.global_r2);
-        Ok(SppmPass { maps, march })
-    }
-
-    fn end_pass(&mut self, _pass: SppmPass, camera_seconds: f64) {
-        self.stats.camera_seconds += camera_seconds;
-    }
-
-    /// A camera sample to its visible points, where its eye terms are estimated; then the
-    /// visible points gather this pass's photons.
-    fn sample(
+    fn gather(
         &self,
-        pass: &SppmPass,
-        ray: Ray,
-        rng: &mut Rng,
+        _ctx: &EyeCtx,
+        pass: &ProgressivePass,
+        global: &PhotonMap,
+        vps: &[VisiblePoint],
         px: &mut Radius,
-        k: u32,
-        (scratch, vps): &mut Self::Scratch,
-        aovs: &mut SampleAovs,
-    ) -> (TermRadiance, Spectrum) {
-        let r = self.renderer;
-        let s = &r.settings;
-        let ctx = EyeCtx {
-            scene: r.scene,
-            work: &r.work,
-            maps: &pass.maps,
-            cache: None,
-            settings: EyeSettings {
-                terms: s.terms,
-                max_specular_depth: s.max_specular_depth,
-                final_gather_rays: 0,
-                gather_rays_per_sample: 0,
-            },
-            march: pass.march,
-        };
-        vps.clear();
-        let mut record = |vp: VisiblePoint| vps.push(vp);
-        let l = eye::trace_split(&ctx, ray, rng, scratch, Some(&mut record), aovs);
-        let photons = match &pass.maps.global {
-            Some(global) => gather(
-                k,
-                global,
-                &pass.maps,
-                vps,
-                px,
-                s,
-                scratch,
-                r.scene.light_groups.len(),
-            ),
-            None => Spectrum::ZERO,
-        };
-        (l, photons)
+        scratch: &mut KnnScratch,
+        _l: &mut TermRadiance,
+    ) -> Spectrum {
+        gather(
+            pass.k,
+            global,
+            &pass.maps,
+            vps,
+            px,
+            self.settings,
+            scratch,
+            self.groups,
+        )
     }
 
     /// The eye terms' mean over the passes plus τ / (π R² K); the `error` with the bias.
@@ -239,23 +168,25 @@ impl Renderer<'_> {
         start: Instant,
     ) -> Result<RenderOutput> {
         let s = &self.settings;
-        let [need_global, _, need_volume] = self.needed_maps();
         let budget_seconds = s.time_budget.filter(|b| *b > 0.0);
         let driver = self.camera_pass(s, "progressive");
-        let mut sppm = Sppm {
-            renderer: self,
-            need: [need_global, false, need_volume],
-            stats: SppmStats {
-                alpha: s.sppm_alpha,
-                photons_per_pass: s.photons.global as u64,
-                ..SppmStats::default()
-            },
-            maps: Vec::new(),
+        let radii = Shrinking {
+            settings: s,
+            groups: self.scene.light_groups.len(),
         };
+        let mut sppm = Progressive::new(self, radii);
         let schedule = Schedule::of(budget_seconds, s.spp, start);
         let out = driver.progressive(&mut sppm, schedule, 0)?;
-        let mut stats = sppm.stats;
-        stats.passes = out.passes;
+        let t = sppm.totals;
+        let mut stats = SppmStats {
+            passes: out.passes,
+            alpha: s.sppm_alpha,
+            photons_per_pass: s.photons.global as u64,
+            photons_emitted: t.photons_emitted,
+            photon_seconds: t.photon_seconds,
+            camera_seconds: t.camera_seconds,
+            ..SppmStats::default()
+        };
         let (mut r0, mut r1, mut counted) = (0.0f64, 0.0f64, 0u64);
         for x in out.pixels.iter().map(|px| &px.extra).filter(|x| x.r2 > 0.0) {
             r0 += (x.initial_r2 as f64).sqrt();
@@ -269,7 +200,7 @@ impl Renderer<'_> {
         let mut seconds = BTreeMap::new();
         seconds.insert("photons".to_string(), stats.photon_seconds);
         seconds.insert("render".to_string(), stats.camera_seconds);
-        let mut maps = sppm.maps;
+        let mut maps = t.maps;
         for m in maps.iter_mut().filter(|m| m.map == "caustic") {
             m.skipped_because =
                 Some("progressive mode: each pass's global map holds the caustic photons".into());
