@@ -2,8 +2,10 @@
 
 use super::*;
 use crate::render::accumulate::Sums;
+use crate::render::adaptive::Adaptive;
 use crate::render::aov::Term;
-use crate::render::error_aov::Replicates;
+use crate::render::error_aov::{replicate_of, Replicates, REPLICATES};
+use crate::render::stratified::{replicate_grids, stratified_point};
 use crate::scene::default_scene;
 use std::sync::Mutex;
 
