@@ -550,8 +550,8 @@ fn extreme_gather_sizes_and_radii_stay_finite() {
     let cases: [(&str, Tweak); 4] = [
         ("gather 1", |p| p.gather = 1),
         ("gather 10000", |p| p.gather = 10_000),
-        ("radius 1e-6", |p| p.max_radius = Some(1e-6)),
-        ("radius 1e6", |p| p.max_radius = Some(1e6)),
+        ("radius 1e-6", |p| p.radius = Some(1e-6)),
+        ("radius 1e6", |p| p.radius = Some(1e6)),
     ];
     for (label, tweak) in cases {
         let settings = |seed| {
@@ -748,7 +748,7 @@ fn camera_inside_a_closed_box_lit_from_outside_sees_black() {
     // The leak is the search reaching across the edges: with a radius far below the
     // distance from the edge to the nearest gather point it is gone.
     let mut s = small_settings(23);
-    s.photons.max_radius = Some(1e-4);
+    s.photons.radius = Some(1e-4);
     let out = run(&thin, s);
     firewall("camera in closed thin box, radius 1e-4", &out, 0);
     assert_eq!(mean(&out, Term::Indirect), 0.0, "thin box, radius 1e-4");

@@ -39,7 +39,7 @@ fn small_scene(name: &str) -> SceneDesc {
 fn block(scene: &Scene, s: &RenderSettings, a: u32, b: u32, r1: Option<f32>) -> Partial {
     let s = RenderSettings {
         pass_range: Some((a, b)),
-        pppm_initial_radius: r1,
+        initial_radius: r1,
         ..s.clone()
     };
     let out = Renderer::new(scene)

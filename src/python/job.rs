@@ -131,7 +131,7 @@ impl Job {
             "two_stage_tiles": tile::two_stages(&s),
             "tiles": self.args.tiles,
             "block_passes": self.args.block_passes,
-            "initial_radius": s.pppm_initial_radius,
+            "initial_radius": s.initial_radius,
             "output": self.args.output,
             "stats": self.args.stats,
             "png": self.args.png,
@@ -223,7 +223,7 @@ impl Job {
         threads: Option<usize>,
     ) -> PyResult<f32> {
         let settings = self.settings(threads);
-        if let Some(r) = settings.pppm_initial_radius {
+        if let Some(r) = settings.initial_radius {
             return Ok(r);
         }
         self.run(py, || {
@@ -251,7 +251,7 @@ impl Job {
     ) -> PyResult<Bound<'py, PyBytes>> {
         let mut settings = self.settings(threads);
         settings.pass_range = Some((first, end));
-        settings.pppm_initial_radius = Some(r1);
+        settings.initial_radius = Some(r1);
         let bytes = self.run(py, || {
             let out = cli::render_request(cli::RenderRequest::new(&scene.desc, settings))?;
             let p = out

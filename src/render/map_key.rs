@@ -228,16 +228,16 @@ mod tests {
                 },
             ),
             (
-                "sppm_initial_photons",
+                "initial_photons",
                 RenderSettings {
-                    sppm_initial_photons: 7,
+                    initial_photons: 7,
                     ..base.clone()
                 },
             ),
             (
-                "pppm_initial_radius",
+                "initial_radius",
                 RenderSettings {
-                    pppm_initial_radius: Some(0.1),
+                    initial_radius: Some(0.1),
                     ..base.clone()
                 },
             ),

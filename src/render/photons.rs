@@ -129,7 +129,7 @@ pub fn build_with(
 ) -> (PhotonMaps, Vec<MapStats>) {
     debug_panic_hook();
     let [need_global, need_caustic, need_volume] = need;
-    let max_r = s.max_radius.unwrap_or(0.1 * scene.radius);
+    let max_r = s.radius.unwrap_or(0.1 * scene.radius);
     let mut stats = Vec::new();
     let no_lights = scene.lights.is_empty();
     let mut run = |kind: MapKind,

@@ -207,7 +207,7 @@ impl Renderer<'_> {
             .step_by(stride)
             .flat_map(|y| (0..w).step_by(stride).map(move |x| y * w + x))
             .collect();
-        let k = s.sppm_initial_photons.max(1);
+        let k = s.initial_photons.max(1);
         let mut r2s: Vec<f32> = pixels
             .par_iter()
             .map_init(
@@ -271,16 +271,13 @@ impl Renderer<'_> {
             width: self.scene.width as u32,
             height: self.scene.height as u32,
             seed: s.seed,
-            alpha: s.sppm_alpha,
+            alpha: s.alpha,
             initial_radius: r1,
             photons_per_pass: s.photons.global as u64,
             total_passes: total,
             key,
         };
-        let radii = Global {
-            r1,
-            alpha: s.sppm_alpha,
-        };
+        let radii = Global { r1, alpha: s.alpha };
         let mut it = Progressive::new(self, radii);
         let driver = self.camera_pass(s, "progressive");
         // A block of passes (`pass_range`) is whole: the CLI refuses a time budget with it.
@@ -320,7 +317,7 @@ impl Renderer<'_> {
         let s = &self.settings;
         super::compositing::require_none(self.scene, s, "pppm's passes")?;
         let t0 = Instant::now();
-        let (r1, source) = match s.pppm_initial_radius {
+        let (r1, source) = match s.initial_radius {
             Some(r) => (r, "given"),
             None => (self.pppm_initial_radius()?, "computed"),
         };

@@ -75,7 +75,7 @@ impl Quality {
             volume: caustic,
             volume_step: None,
             gather: 50,
-            max_radius: None,
+            radius: None,
             final_gather_rays: fg_rays,
             irradiance_cache: true,
             cache_tolerance: tolerance,
@@ -120,9 +120,9 @@ impl Quality {
             progressive: false,
             gather_rays_per_sample: None,
             mode: RenderMode::Jensen,
-            sppm_alpha: SPPM_ALPHA,
-            sppm_initial_photons: SPPM_INITIAL_PHOTONS,
-            pppm_initial_radius: None,
+            alpha: SPPM_ALPHA,
+            initial_photons: SPPM_INITIAL_PHOTONS,
+            initial_radius: None,
             pass_range: None,
             photon_map_files: Default::default(),
             aovs: AovRequest {
@@ -147,7 +147,7 @@ pub struct PhotonSettings {
     /// Photons in each radiance estimate (k nearest).
     pub gather: usize,
     /// Largest search radius in scene units; `None` derives it from the scene size.
-    pub max_radius: Option<f32>,
+    pub radius: Option<f32>,
     /// Final-gathering rays per pixel: each irradiance-cache record gathers this many; a
     /// point gathered without the cache uses this many divided among the pixel's samples.
     pub final_gather_rays: u32,
@@ -276,12 +276,12 @@ pub struct RenderSettings {
     pub mode: RenderMode,
     /// Progressive photon mapping's α in (0, 1): the fraction of each pass's photons kept
     /// when a pixel's radius shrinks.
-    pub sppm_alpha: f32,
+    pub alpha: f32,
     /// Progressive photon mapping: a pixel's first radius reaches this many photons (k
     /// nearest around its first visible point).
-    pub sppm_initial_photons: usize,
+    pub initial_photons: usize,
     /// pppm: the first pass's radius r_1; `None` computes it (`render::pppm`).
-    pub pppm_initial_radius: Option<f32>,
+    pub initial_radius: Option<f32>,
     /// pppm: render only passes `[first, end)` (a block of a render split into several).
     pub pass_range: Option<(u32, u32)>,
     /// Jensen's mode: photon maps saved to and loaded from files (`render::map_file`).

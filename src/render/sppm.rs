@@ -21,7 +21,7 @@
 //!
 //! Each pass's photon powers are normalised by the paths it emitted, so after K passes the
 //! photon terms are τ / (π R² K) and the other terms the mean of the passes. R starts at the
-//! distance to the `sppm_initial_photons`-th nearest photon around the pixel's first visible
+//! distance to the `initial_photons`-th nearest photon around the pixel's first visible
 //! point (at most the maximum radius). R² shrinks like K^(α−1), so the density-estimation bias (∝ R²) goes
 //! to zero while the variance of the accumulated estimate goes down like K^(−α) (Knaus &
 //! Zwicker 2011): the estimate is consistent.
@@ -180,7 +180,7 @@ impl Renderer<'_> {
         let t = sppm.totals;
         let mut stats = SppmStats {
             passes: out.passes,
-            alpha: s.sppm_alpha,
+            alpha: s.alpha,
             photons_per_pass: s.photons.global as u64,
             photons_emitted: t.photons_emitted,
             photon_seconds: t.photon_seconds,
@@ -259,13 +259,7 @@ fn gather(
         return Spectrum::ZERO;
     };
     if px.r2 <= 0.0 {
-        px.r2 = initial_radius2(
-            global,
-            first,
-            s.sppm_initial_photons,
-            maps.global_r2,
-            scratch,
-        );
+        px.r2 = initial_radius2(global, first, s.initial_photons, maps.global_r2, scratch);
         px.initial_r2 = px.r2;
     }
     let r2 = px.r2;
@@ -303,7 +297,7 @@ fn gather(
     px.bias.add(k, (pass_estimate - inner_estimate) * 2.0);
     if m > 0 {
         let (n, m) = (px.n, m as f32);
-        let kept = n + s.sppm_alpha * m;
+        let kept = n + s.alpha * m;
         let ratio = kept / (n + m);
         px.n = kept;
         px.r2 = r2 * ratio;

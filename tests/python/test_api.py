@@ -272,7 +272,7 @@ def test_keywords_arrive_in_the_recorded_settings():
     p = s["photons"]
     assert (s["spp"], s["seed"], s["max_specular_depth"], s["filter"]) == (1, 5, 3, "box")
     assert (p["global"], p["caustic"], p["volume"], p["gather"]) == (1000, 500, 300, 10)
-    assert p["max_radius"] == pytest.approx(0.1)
+    assert p["radius"] == pytest.approx(0.1)
     assert (p["final_gather_rays"], p["irradiance_cache"], p["f32_power"]) == (4, False, True)
     assert p["cache_tolerance"] == pytest.approx(0.3)
     d = photonmap.defaults()
@@ -280,8 +280,8 @@ def test_keywords_arrive_in_the_recorded_settings():
     s = plain["stats"]["settings"]
     assert (s["seed"], s["threads"], s["filter"], s["mode"]) == (
         d["seed"], d["threads"], d["filter"], d["mode"])
-    assert s["sppm_alpha"] == pytest.approx(d["alpha"])
-    assert s["sppm_initial_photons"] == d["initial_photons"]
+    assert s["alpha"] == pytest.approx(d["alpha"])
+    assert s["initial_photons"] == d["initial_photons"]
     assert s["progressive"] == d["progressive"]
 
 

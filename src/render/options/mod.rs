@@ -301,7 +301,7 @@ impl RenderOptions {
             caustic_photons: Some(p.caustic),
             volume_photons: Some(p.volume),
             gather: Some(p.gather),
-            radius: p.max_radius,
+            radius: p.radius,
             final_gather_rays: Some(p.final_gather_rays),
             irradiance_cache: Some(p.irradiance_cache),
             cache_tolerance: Some(p.cache_tolerance),
@@ -317,8 +317,8 @@ impl RenderOptions {
         RenderOptions {
             quality: Quality::Medium,
             mode: s.mode,
-            alpha: s.sppm_alpha,
-            initial_photons: s.sppm_initial_photons,
+            alpha: s.alpha,
+            initial_photons: s.initial_photons,
             spp: Some(s.spp),
             adaptive_sampling: Some(s.adaptive_sampling),
             noise_threshold: Some(s.noise_threshold),
@@ -338,7 +338,7 @@ impl RenderOptions {
             volume_photons: Some(p.volume),
             volume_step: p.volume_step,
             gather: Some(p.gather),
-            radius: p.max_radius,
+            radius: p.radius,
             photon_power: if p.f32_power {
                 PhotonPower::F32
             } else {
@@ -349,7 +349,7 @@ impl RenderOptions {
             cache_tolerance: Some(p.cache_tolerance),
             gather_rays_per_sample: s.gather_rays_per_sample,
             max_specular_depth: s.max_specular_depth,
-            initial_radius: s.pppm_initial_radius,
+            initial_radius: s.initial_radius,
             save_photon_maps: s.photon_map_files.save.clone(),
             load_photon_maps: s.photon_map_files.load.clone(),
             photon_maps_mismatch: s.photon_map_files.on_mismatch,
@@ -435,7 +435,7 @@ impl RenderOptions {
         p.volume = self.volume_photons.unwrap_or(p.volume);
         p.volume_step = self.volume_step.or(p.volume_step);
         p.gather = self.gather.unwrap_or(p.gather);
-        p.max_radius = self.radius.or(p.max_radius);
+        p.radius = self.radius.or(p.radius);
         p.final_gather_rays = self.final_gather_rays.unwrap_or(p.final_gather_rays);
         p.irradiance_cache = self.irradiance_cache.unwrap_or(p.irradiance_cache);
         p.cache_tolerance = self.cache_tolerance.unwrap_or(p.cache_tolerance);
@@ -443,11 +443,11 @@ impl RenderOptions {
         s.memory_limit = self.memory_limit.map(|b| b.0).or_else(available_memory);
         s.time_budget = self.time_budget.filter(|b| *b > 0.0);
         s.mode = self.mode;
-        s.sppm_alpha = self.alpha;
-        s.sppm_initial_photons = self.initial_photons;
+        s.alpha = self.alpha;
+        s.initial_photons = self.initial_photons;
         s.progressive = self.progressive;
         s.gather_rays_per_sample = self.gather_rays_per_sample;
-        s.pppm_initial_radius = self.initial_radius;
+        s.initial_radius = self.initial_radius;
         s.photon_map_files = crate::render::map_file::MapFiles {
             save: self
                 .save_photon_maps
