@@ -2,7 +2,8 @@
 //!
 //! - `scene`: `Scene`, a validated scene IR, and `CancelToken`;
 //! - `render`: `render(scene, ...)`, with the GIL released;
-//! - `merge`: `merge_partials` and `add_partials`, the partial sums of pppm passes;
+//! - `merge`: `merge_partials`, `add_partials` and `tile_stats`, the pieces of a frame
+//!   rendered apart put together;
 //! - `command`: `run_cli(argv, usd_loader, denoiser)`, the `photonmap` command;
 //! - `job`: `Job`, a command split into pieces for other processes (`photonmap.distributed`);
 //! - `settings`: the presets, the settings' schema, the AOV list, the Cryptomatte header.
@@ -123,6 +124,7 @@ fn core_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<job::Job>()?;
     m.add_function(wrap_pyfunction!(merge::merge_partials, m)?)?;
     m.add_function(wrap_pyfunction!(merge::add_partials, m)?)?;
+    m.add_function(wrap_pyfunction!(merge::tile_stats, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add_function(wrap_pyfunction!(command::run_cli, m)?)?;
     m.add_function(wrap_pyfunction!(settings::preset, m)?)?;

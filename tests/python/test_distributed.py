@@ -109,6 +109,9 @@ def test_a_jensen_frame_in_4_tiles(client, animation, tmp_path):
     # Adaptive sampling decided over the whole frame: the same samples as in one process.
     assert dist["adaptive"]["pixels_refined"] == one["adaptive"]["pixels_refined"] > 0
     assert dist["camera_rays"] == one["camera_rays"]
+    # Adaptive sampling's figures and the memory over the frame, as the core computes them.
+    assert dist["adaptive"] == one["adaptive"]
+    assert dist["memory_bytes"] == one["memory_bytes"]
     assert stats[0]["width"] == 64
 
 
