@@ -11,27 +11,7 @@ import photonmap
 from . import passes
 from .export import export_scene
 from .properties import SCHEMA, render_settings
-
-
-def _mib(n) -> str:
-    return f"{(n or 0) / (1024 * 1024):.1f} MiB"
-
-
-def stats_line(stats: dict) -> str:
-    """Photons stored per map, memory and time per pass, from the core's stats."""
-    stored = ", ".join(f"{k} {v:,}" for k, v in (stats.get("photons_stored") or {}).items())
-    secs = ", ".join(f"{k} {v:.2f}s" for k, v in (stats.get("seconds") or {}).items())
-    mem = stats.get("memory_bytes", 0) + sum(m.get("memory_bytes", 0)
-                                             for m in stats.get("photon_maps") or [])
-    reuse = stats.get("photon_map_reuse") or {}
-    maps = {"loaded": "photon maps loaded", "reused": "photon maps reused"}.get(reuse.get("maps"), "")
-    if reuse.get("saved_to"):
-        maps = "photon maps saved"
-    n = stats.get("unsupported_nodes", 0)
-    unsupported = f"{n} unsupported shader node{'s' if n != 1 else ''}" if n else ""
-    parts = [p for p in (maps, f"photons stored: {stored}" if stored else "", secs, _mib(mem),
-                         unsupported) if p]
-    return " | ".join(parts)
+from .status import stats_line
 
 
 def _result_seconds(pixels: int) -> float:

@@ -7,6 +7,7 @@
 //! `render::aov` and writes them (`io`).
 
 pub mod cli;
+pub mod command;
 pub mod error;
 pub mod geometry;
 pub mod io;

@@ -1247,9 +1247,8 @@ fn memory_limit_flag_parses_sizes() {
     a.output = out.clone();
     a.options.photons = Some(100_000_000);
     a.quiet = true;
-    let e = photonmap::cli::run_render(&a, None)
-        .err()
-        .expect("over the limit");
+    let e = photonmap::command::run_render(&a, photonmap::command::Frontend::default())
+        .expect_err("over the limit");
     assert!(e.to_string().contains("--memory-limit"), "{e}");
     assert!(!out.exists());
 }

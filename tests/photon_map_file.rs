@@ -5,7 +5,7 @@
 
 mod common;
 use common::*;
-use photonmap::cli::{render_request, RenderRequest};
+use photonmap::command::{render_request, RenderRequest};
 use photonmap::render::driver::Rect;
 use photonmap::render::film::{Film, Filter};
 use photonmap::render::map_file::{self, MapSet, OnMismatch};

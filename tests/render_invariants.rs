@@ -318,7 +318,8 @@ fn terms_rendered_alone_sum_to_the_full_render() {
 /// combined image and each `<term>.R/G/B` layer the film's term, bit for bit.
 #[test]
 fn written_exr_holds_the_film() {
-    use photonmap::cli::{write_outputs, RenderArgs};
+    use photonmap::cli::RenderArgs;
+    use photonmap::command::output::write_outputs;
     use photonmap::io::exr::read_rgb_layers;
     let desc = every_term_scene();
     let out = render(&desc, 2, 7, 0);
@@ -326,7 +327,7 @@ fn written_exr_holds_the_film() {
     std::fs::create_dir_all(&dir).unwrap();
     let mut args = RenderArgs::defaults();
     args.output = dir.join("film.exr");
-    write_outputs(&args, &out).expect("writes");
+    write_outputs(&args, &out, None).expect("writes");
     let (layers, _) = read_rgb_layers(&args.output).expect("reads back");
     let same = |a: &photonmap::render::film::Image, b: &photonmap::render::film::Image| {
         a.data.len() == b.data.len()

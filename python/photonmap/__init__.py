@@ -67,6 +67,7 @@ __all__ = [
     "defaults",
     "settings_schema",
     "merge_partials",
+    "tile_stats",
 ]
 
 _MESH_ARRAYS = ("positions", "indices", "normals", "uvs", "material_indices")
@@ -325,6 +326,22 @@ def merge_partials(partials) -> dict:
     all of them: the dict ``render`` returns, ``partial`` the merged sums. Partials of
     different renders, a pass in two partials, or missing passes raise ValueError."""
     return _images(_core.merge_partials([bytes(p) for p in partials]))
+
+
+def tile_stats(tiles, width: int, height: int, rounds=None) -> dict:
+    """The stats of a Jensen frame of ``width`` x ``height`` rendered in tiles over the
+    frame's photon maps (``photonmap render --cluster``), from its tiles' stats (dicts, or
+    the JSON text ``_core.Job.tile_finish`` returns): the first tile's, with the sums of what
+    the tiles counted (non-finite samples, camera-pass seconds, work) and, given each pixel's
+    ``rounds`` of adaptive sampling (a (height, width) integer array, or its little-endian
+    uint32 bytes as ``_core.Job.adaptive_rounds`` returns them), adaptive sampling's figures
+    and the camera rays over the frame. The core computes them as for a frame rendered
+    whole (``src/command/report.rs``)."""
+    texts = [t if isinstance(t, str) else json.dumps(t) for t in tiles]
+    if rounds is not None and not isinstance(rounds, (bytes, bytearray)):
+        rounds = np.ascontiguousarray(rounds, dtype="<u4").tobytes()
+    return json.loads(_core.tile_stats(texts, width, height,
+                                       None if rounds is None else bytes(rounds)))
 
 
 def aov_specs(light_groups: list[str] | tuple[str, ...] = (), **settings: Any) -> list[dict]:

@@ -37,7 +37,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from . import _core
+from . import _core, tile_stats
 
 #: How the extra is installed, for the error when Dask is missing.
 EXTRA = "pip install 'photonmap[distributed]'"
@@ -146,11 +146,11 @@ def task_tile_first(argv, frame, maps, rect, threads):
 
 
 def task_tile_finish(argv, frame, maps, rect, rounds, first, threads):
+    """A tile's film and its stats (JSON)."""
     job = _core.Job(argv)
     scene, _ = _load(job, frame)
     state = first[2] if first is not None else None
-    film, stats = job.tile_finish(scene, maps, rect, rounds, state, threads)
-    return film, json.loads(stats)
+    return job.tile_finish(scene, maps, rect, rounds, state, threads)
 
 
 def task_add(a, b):
@@ -292,7 +292,7 @@ def _tiles(client, argv, job, info, frame, threads, progress):
     tiles = _split(width, height, cols, rows)
     firsts = [None] * len(tiles)
     rounds = [None] * len(tiles)
-    all_rounds = None
+    frame_rounds = None
     if info["two_stage_tiles"]:
         firsts = [client.submit(task_tile_first, argv, frame, maps, t, threads, retries=RETRIES)
                   for t in tiles]
@@ -304,15 +304,15 @@ def _tiles(client, argv, job, info, frame, threads, progress):
         for i, (x, y, w, h) in enumerate(tiles):
             means[y:y + h, x:x + w] = np.frombuffer(got[2 * i], "<f4").reshape(h, w, 3)
             errors[y:y + h, x:x + w] = np.frombuffer(got[2 * i + 1], "<f4").reshape(h, w, 3)
-        r = job.adaptive_rounds(means.tobytes(), errors.tobytes(), width, height)
-        if r is not None:
-            all_rounds = np.frombuffer(r, "<u4").reshape(height, width)
-            rounds = [all_rounds[y:y + h, x:x + w].tobytes() for (x, y, w, h) in tiles]
+        frame_rounds = job.adaptive_rounds(means.tobytes(), errors.tobytes(), width, height)
+        if frame_rounds is not None:
+            r = np.frombuffer(frame_rounds, "<u4").reshape(height, width)
+            rounds = [r[y:y + h, x:x + w].tobytes() for (x, y, w, h) in tiles]
     futs = [client.submit(task_tile_finish, argv, frame, maps, t, rounds[i], firsts[i], threads,
                           retries=RETRIES)
             for i, t in enumerate(tiles)]
     done = _wait(client, futs, progress, "tiles")
-    stats = merge_tile_stats([s for _, s in done], width, height, all_rounds)
+    stats = tile_stats([s for _, s in done], width, height, frame_rounds)
     stats["seconds"]["photon_maps_step"] = maps_seconds
     stats["distributed"] = {"workers": _workers(client), "tiles": len(tiles),
                             "stages": 2 if info["two_stage_tiles"] else 1,
@@ -320,26 +320,6 @@ def _tiles(client, argv, job, info, frame, threads, progress):
     job.write_tiles(frame, width, height, [(t, f) for t, (f, _) in zip(tiles, done)],
                     json.dumps(stats))
     return stats
-
-
-def merge_tile_stats(tiles: list[dict], width: int, height: int, rounds) -> dict:
-    """The stats of a frame from its tiles' stats: the first tile's, with the frame's size,
-    the sums of what the tiles counted, and adaptive sampling's figures over the frame."""
-    out = json.loads(json.dumps(tiles[0]))
-    out["width"], out["height"] = width, height
-    out["non_finite_samples"] = sum(t["non_finite_samples"] for t in tiles)
-    out["seconds"]["render"] = sum(t["seconds"].get("render", 0.0) for t in tiles)
-    for k in out.get("work", {}):
-        out["work"][k] = sum(t["work"][k] for t in tiles)
-    spp = out["spp"]
-    extra = 0
-    if rounds is not None and out.get("adaptive"):
-        r = rounds.astype(np.int64)
-        extra = int(((r - 1) * spp).sum())
-        out["adaptive"].update(pixels_refined=int((r > 1).sum()), extra_samples=extra,
-                               mean_spp=float((r * spp).mean()))
-    out["camera_rays"] = width * height * spp + extra
-    return out
 
 
 def main(argv: list[str]) -> int:

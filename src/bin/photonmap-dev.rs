@@ -1,42 +1,26 @@
 //! Development and benchmark binary: `cargo run --release -- render [scene.json] -o out.exr`.
-//! The user-facing `photonmap` command (Python package) takes the same arguments.
+//! The user-facing `photonmap` command (Python package) takes the same arguments and runs the
+//! same command (`photonmap::command`).
 
 use clap::Parser;
-use photonmap::cli::{progress_bar, run_merge, run_render, summary, Cli, Command};
+use photonmap::cli::{Cli, Command};
+use photonmap::command::{self, report, Frontend};
 
 fn main() {
-    let cli = Cli::parse();
-    let args = match cli.command {
-        Command::Render(args) => args,
-        Command::Merge(m) => {
-            match run_merge(&m) {
-                Ok(p) if !m.quiet => eprintln!(
-                    "wrote {} ({} passes from {} partial sums)",
-                    m.output.display(),
-                    p.passes(),
-                    m.partials.len()
-                ),
-                Ok(_) => {}
-                Err(e) => {
-                    eprintln!("photonmap: error: {e}");
-                    std::process::exit(1);
-                }
+    match Cli::parse().command {
+        Command::Merge(m) => match command::run_merge(&m) {
+            Ok(p) if !m.quiet => eprintln!("{}", report::merge_summary(&m, &p)),
+            Ok(_) => {}
+            Err(e) => {
+                eprintln!("photonmap: error: {e}");
+                std::process::exit(1);
             }
-            return;
-        }
-    };
-    let (bar, progress) = progress_bar(args.quiet);
-    match run_render(&args, Some(progress)) {
-        Ok(out) => {
-            bar.finish_and_clear();
-            if !args.quiet {
-                eprintln!("{}", summary(&args, &out));
+        },
+        Command::Render(args) => {
+            if let Err(f) = command::run_render(&args, Frontend::default()) {
+                eprintln!("photonmap: error: {f}");
+                std::process::exit(1);
             }
-        }
-        Err(e) => {
-            bar.abandon();
-            eprintln!("photonmap: error: {e}");
-            std::process::exit(1);
         }
     }
 }

@@ -8,13 +8,16 @@
 //! Every method releases the GIL while it works and turns a panic of the core into
 //! `PhotonmapError`.
 
-use super::{caught, to_py, usd_load_fn, PhotonmapError, PyScene};
-use crate::cli::{self, Cli, Command, RenderArgs};
+use super::command::usd_load_fn;
+use super::scene::PyScene;
+use super::{caught, to_py, PhotonmapError};
+use crate::cli::{Cli, Command, RenderArgs};
+use crate::command::output::{self, ImageFiles};
+use crate::command::{merge, render_request, report, scene, FrameReuse, RenderRequest};
 use crate::error::Error;
 use crate::math::Spectrum;
 use crate::render::driver::Rect;
 use crate::render::map_file::{self, MapSet};
-use crate::render::partial::Partial;
 use crate::render::tile::{self, TileOutput, TileStage};
 use crate::render::{RenderOutput, RenderSettings, Renderer};
 use crate::scene::Scene;
@@ -62,7 +65,9 @@ fn spectra_bytes<'py>(py: Python<'py>, v: &[Spectrum]) -> Bound<'py, PyBytes> {
 }
 
 fn stats_json(out: &RenderOutput) -> PyResult<String> {
-    serde_json::to_string(&out.stats).map_err(|e| PhotonmapError::new_err(e.to_string()))
+    Ok(report::stats_json(&out.stats, None)
+        .map_err(to_py)?
+        .to_string())
 }
 
 fn maps_of(bytes: Option<&[u8]>) -> Result<Option<Arc<MapSet>>, Error> {
@@ -120,7 +125,7 @@ impl Job {
     fn info(&self) -> PyResult<String> {
         let s = self.args.settings();
         let frames = self.frames()?.len();
-        let reuse = cli::FrameReuse::new(&self.args, frames).enabled();
+        let reuse = FrameReuse::new(&self.args, frames).enabled();
         Ok(serde_json::json!({
             "mode": s.mode,
             "spp": s.spp,
@@ -150,7 +155,7 @@ impl Job {
     ) -> PyResult<(PyScene, Option<String>)> {
         let py_err: std::cell::RefCell<Option<PyErr>> = Default::default();
         let mut load = usd_load_fn(usd_loader.as_ref(), &py_err);
-        let loaded = caught(|| self.args.load_scene_with(frame, Some(&mut load)));
+        let loaded = caught(|| scene::load(&self.args, frame, Some(&mut load)));
         drop(load);
         match loaded {
             Ok(l) => Ok((
@@ -180,12 +185,12 @@ impl Job {
         let settings = self.settings(threads);
         let out = self.run(py, || {
             let reuse = maps_of(maps.as_deref())?;
-            let out = cli::render_request(cli::RenderRequest {
+            let out = render_request(RenderRequest {
                 reuse,
-                ..cli::RenderRequest::new(&scene.desc, settings)
+                ..RenderRequest::new(&scene.desc, settings)
             })?;
             let imp = import_stats.and_then(|s| serde_json::from_str(&s).ok());
-            cli::write_outputs_with(&a, &out, imp.as_ref())?;
+            output::write_outputs(&a, &out, imp.as_ref())?;
             Ok(out)
         })?;
         stats_json(&out)
@@ -202,9 +207,9 @@ impl Job {
     ) -> PyResult<Bound<'py, PyBytes>> {
         let settings = self.settings(threads);
         let bytes = self.run(py, || {
-            let out = cli::render_request(cli::RenderRequest {
+            let out = render_request(RenderRequest {
                 maps_only: true,
-                ..cli::RenderRequest::new(&scene.desc, settings)
+                ..RenderRequest::new(&scene.desc, settings)
             })?;
             let set = out
                 .photon_maps
@@ -253,7 +258,7 @@ impl Job {
         settings.pass_range = Some((first, end));
         settings.initial_radius = Some(r1);
         let bytes = self.run(py, || {
-            let out = cli::render_request(cli::RenderRequest::new(&scene.desc, settings))?;
+            let out = render_request(RenderRequest::new(&scene.desc, settings))?;
             let p = out
                 .partial
                 .ok_or_else(|| Error::Internal("no partial sums".into()))?;
@@ -275,29 +280,14 @@ impl Job {
     ) -> PyResult<String> {
         let a = self.args.for_frame(frame);
         let st = self.run(py, || {
-            let parts: Vec<Partial> = partials
-                .iter()
-                .map(|b| Partial::from_bytes(b, Path::new("a block's partial sums")))
-                .collect::<Result<_, Error>>()?;
-            let merged = Partial::merge_all(&parts)?;
-            merged.check_complete()?;
-            let mut st = cli::merged_stats(&merged);
-            if let Some(e) = extra {
-                let e: serde_json::Value = serde_json::from_str(&e)
-                    .map_err(|e| Error::Internal(format!("extra stats: {e}")))?;
-                if let (Some(o), Some(e)) = (st.as_object_mut(), e.as_object()) {
-                    for (k, v) in e {
-                        o.insert(k.clone(), v.clone());
-                    }
-                }
-            }
-            cli::write_merged_with(
-                &merged,
-                &a.output,
-                a.png.as_deref(),
-                a.stats.as_deref(),
-                &st,
-            )?;
+            let parts = merge::from_bytes(&partials, |i| format!("block {i}'s partial sums"))?;
+            let merged = merge::complete(parts)?;
+            let extra: Option<serde_json::Value> = extra
+                .map(|e| serde_json::from_str(&e))
+                .transpose()
+                .map_err(|e| Error::Internal(format!("extra stats: {e}")))?;
+            let st = report::merged_stats(&merged, extra.as_ref())?;
+            output::write_image(ImageFiles::of(&a), &merged.film(), &st)?;
             Ok(st)
         })?;
         Ok(st.to_string())
@@ -398,16 +388,15 @@ impl Job {
         match out {
             TileOutput::Finished { film, stats } => Ok((
                 PyBytes::new(py, &tile::film_to_bytes(&film)),
-                serde_json::to_string(&stats)
-                    .map_err(|e| PhotonmapError::new_err(e.to_string()))?,
+                report::stats_json(&stats, None).map_err(to_py)?.to_string(),
             )),
             TileOutput::First { .. } => Err(PhotonmapError::new_err("unexpected tile stage")),
         }
     }
 
     /// Jensen: assembles the tiles of `frame` (each `(rect, film bytes)`) into the
-    /// `width`-by-`height` image and writes the frame's outputs, with `stats` (JSON, the
-    /// tiles' stats merged) as its stats.
+    /// `width`-by-`height` image and writes the frame's outputs, with `stats` (JSON: the
+    /// tiles' stats combined by `tile_stats`) as its stats.
     fn write_tiles(
         &self,
         py: Python<'_>,
@@ -439,7 +428,7 @@ impl Job {
             }
             let st: serde_json::Value = serde_json::from_str(&stats)
                 .map_err(|e| Error::Internal(format!("tile stats: {e}")))?;
-            cli::write_film_outputs(&a, &film, &st)
+            output::write_image(ImageFiles::of(&a), &film, &st)
         })
     }
 

@@ -1,15 +1,21 @@
 //! The stats of a render: what it did, what it skipped and why, with the settings it was
-//! given. Written as the stats JSON.
+//! given. Written as the stats JSON (`command::report`). The stats of a merged pppm image are
+//! made here too ([`RenderStats::of_partial`]), by the same code as a render's.
 
 use super::adaptive::AdaptiveStats;
 use super::aov::Term;
 use super::budget::BudgetStats;
 use super::memory::MemoryEstimate;
+use super::options::RenderOptions;
+use super::partial::Partial;
 use super::photons::{self, MapStats, PhotonMaps};
+use super::pppm::{pass_radius2, PppmStats};
 use super::renderer::Renderer;
 use super::settings::{RenderMode, RenderSettings, BYTES_PER_TRIANGLE};
 use super::sppm::SppmStats;
+use crate::error::{Error, Result};
 use serde::Serialize;
+use std::collections::BTreeMap;
 
 /// Why a term is zero in this render.
 #[derive(Clone, Debug, Serialize)]
@@ -86,7 +92,11 @@ pub struct RenderStats {
     /// The same settings as the render keywords and flags name them (`render::options`):
     /// `photonmap.render(scene, **stats["options"])` renders the same image (a budgeted
     /// render is replayed from its plan, `time_budget`).
-    pub options: super::options::RenderOptions,
+    pub options: RenderOptions,
+    /// The figures these stats do not know, which the stats JSON gives as `null`: in the stats
+    /// of a merged pppm image, [`RenderStats::SCENE_FIGURES`].
+    #[serde(skip)]
+    pub unknown: &'static [&'static str],
 }
 
 /// What a render measured, for [`RenderStats`].
@@ -147,24 +157,57 @@ impl Renderer<'_> {
         out
     }
 
-    /// The stats of a render of either mode, from what it measured.
+    /// The stats of a render of any mode, from what it measured: the figures of the settings
+    /// and the measures ([`RenderStats::measured`]) and those of the scene.
     pub(super) fn stats(&self, p: StatsParts) -> RenderStats {
-        let s = &self.settings;
+        let aov_bytes = self.aovs.memory_bytes(p.width, p.height);
+        let mut st = RenderStats::measured(&self.settings, p);
+        st.warnings = self.scene.warnings.clone();
+        st.shading_graphs = self.scene.graph_stats;
+        st.work = self.work.stats();
+        st.triangles = self.scene.triangle_count;
+        st.lights = self.scene.lights.len();
+        // The film (one image per term and the error AOV), the scene geometry, the photon
+        // maps and the compositing AOVs.
+        st.memory_bytes += self.scene.triangle_count as u64 * 64 + aov_bytes;
+        st.aov_memory_bytes = aov_bytes;
+        st
+    }
+}
+
+impl RenderStats {
+    /// The figures that come from the render's scene and machine (`Renderer::stats`), which
+    /// partial sums do not carry: the stats of a merged pppm image give them as `null`.
+    pub const SCENE_FIGURES: &'static [&'static str] = &[
+        "threads",
+        "triangles",
+        "lights",
+        "memory_bytes",
+        "memory_estimate",
+        "shading_graphs",
+        "skipped",
+        "work",
+    ];
+
+    /// Bytes of a `width` x `height` film: one RGB `f32` image per term and the error AOV.
+    fn film_memory_bytes(width: usize, height: usize) -> u64 {
+        (width * height * (Term::COUNT + 1) * 12) as u64
+    }
+
+    /// The stats of `settings` and of what a render measured, without its scene's figures
+    /// (zero here; `Renderer::stats` fills them in). `memory_bytes` holds the film and the
+    /// photon maps.
+    fn measured(s: &RenderSettings, p: StatsParts) -> RenderStats {
         let photon_bytes: u64 = p.maps.iter().map(|m| m.memory_bytes).sum();
         RenderStats {
-            warnings: self.scene.warnings.clone(),
-            shading_graphs: self.scene.graph_stats,
             settings: s.clone(),
-            options: super::options::RenderOptions::from_settings(s),
-            work: self.work.stats(),
+            options: RenderOptions::from_settings(s),
             version: env!("CARGO_PKG_VERSION"),
             seed: s.seed,
             width: p.width,
             height: p.height,
             spp: p.spp,
             threads: p.threads,
-            triangles: self.scene.triangle_count,
-            lights: self.scene.lights.len(),
             seconds: p.seconds,
             camera_rays: (p.width * p.height) as u64 * p.spp as u64
                 + p.adaptive.map_or(0, |a| a.extra_samples),
@@ -178,24 +221,93 @@ impl Renderer<'_> {
             irradiance_cache_records: p.irradiance_cache_records,
             skipped: p.skipped,
             non_finite_samples: p.non_finite_samples,
-            // The film: one image per term and the error AOV, RGB f32, and the compositing
-            // AOVs.
-            memory_bytes: (p.width * p.height * (Term::COUNT + 1) * 12) as u64
-                + self.scene.triangle_count as u64 * 64
-                + photon_bytes
-                + self.aovs.memory_bytes(p.width, p.height),
-            aov_memory_bytes: self.aovs.memory_bytes(p.width, p.height),
-            denoise: None,
+            memory_bytes: Self::film_memory_bytes(p.width, p.height) + photon_bytes,
             memory_estimate: p.estimate,
             bytes_per_photon: s.photons.bytes_per_photon(),
             bytes_per_triangle: BYTES_PER_TRIANGLE,
             time_budget: p.time_budget,
             mode: p.mode,
             sppm: p.sppm,
-            pppm: None,
-            photon_map_reuse: None,
             adaptive: p.adaptive,
+            ..RenderStats::default()
         }
+    }
+
+    /// The stats of the image of partial sums `p` (a merge of blocks of pppm passes): what a
+    /// render of those passes in one piece reports, from the partial sums alone. The settings
+    /// are those the blocks recorded (the thread count of the block `p` took them from); the
+    /// photon maps are those `p` keeps, a block's last pass's (`command::merge::sum` keeps
+    /// the latest block's: the render's last pass); the figures of the scene and the machine
+    /// ([`Self::SCENE_FIGURES`]) are unknown.
+    pub fn of_partial(p: &Partial) -> Result<RenderStats> {
+        let options: RenderOptions = serde_json::from_str(&p.options).map_err(|e| {
+            Error::Internal(format!(
+                "the partial sums' render options are not readable: {e}"
+            ))
+        })?;
+        let settings = options.settings();
+        let t = &p.tally;
+        let mut seconds = BTreeMap::new();
+        seconds.insert("photons".to_string(), t.photon_seconds);
+        seconds.insert("render".to_string(), t.camera_seconds);
+        let mut st = RenderStats::measured(
+            &settings,
+            StatsParts {
+                width: p.header.width as usize,
+                height: p.header.height as usize,
+                spp: p.passes(),
+                threads: 0,
+                seconds,
+                maps: PppmStats::map_stats(&p.maps),
+                irradiance_cache_records: 0,
+                skipped: Vec::new(),
+                non_finite_samples: t.non_finite,
+                estimate: MemoryEstimate::default(),
+                time_budget: None,
+                mode: RenderMode::Pppm,
+                sppm: None,
+                adaptive: None,
+            },
+        );
+        let mut pppm = PppmStats::of_partial(p);
+        if settings.pppm_initial_radius.is_none() {
+            pppm.initial_radius_source = "computed".into();
+        }
+        st.pppm = Some(pppm);
+        st.unknown = Self::SCENE_FIGURES;
+        Ok(st)
+    }
+}
+
+impl PppmStats {
+    /// What the passes of partial sums `p` did, with r_1 as given (the header's).
+    pub fn of_partial(p: &Partial) -> PppmStats {
+        let t = &p.tally;
+        let last = p.ranges.last().map_or(0, |r| r.1.saturating_sub(1));
+        PppmStats {
+            passes: p.passes(),
+            pass_ranges: p.ranges.clone(),
+            alpha: p.header.alpha,
+            initial_radius: p.header.initial_radius,
+            initial_radius_source: "given".into(),
+            final_radius: pass_radius2(p.header.initial_radius, p.header.alpha, last).sqrt(),
+            photons_per_pass: p.header.photons_per_pass,
+            photons_emitted: t.photons_emitted,
+            photon_seconds: t.photon_seconds,
+            camera_seconds: t.camera_seconds,
+            partials: t.partials,
+        }
+    }
+
+    /// The stats of a pass's photon maps as a pppm render reports them: the caustic map is
+    /// never built, its photons being in each pass's global map.
+    pub fn map_stats(maps: &[MapStats]) -> Vec<MapStats> {
+        let mut maps = maps.to_vec();
+        for m in maps.iter_mut().filter(|m| m.map == "caustic") {
+            m.skipped_because =
+                Some("progressive mode: each pass's global map holds the caustic photons".into());
+        }
+        maps
     }
 }
 

@@ -76,14 +76,25 @@ def test_a_camera_animation_renders_the_same_bits(client, animation, tmp_path):
 
 
 def test_a_pppm_frame_of_8_passes_in_blocks(client, animation, tmp_path):
-    argv = ["render", animation, "--frames", "2", "--mode", "pppm", *SMALL, "--spp", "8"]
-    one_process(argv + ["-o", str(tmp_path / "one.exr")])
+    argv = ["render", animation, "--frames", "2", "--mode", "pppm", *SMALL, "--spp", "8",
+            "--memory-limit", "8G"]
+    one_process(argv + ["-o", str(tmp_path / "one.exr"), "--stats", str(tmp_path / "one.json")])
     stats = pmd.render(argv + ["-o", str(tmp_path / "dist.exr"), "--block-passes", "3"],
                        client, threads=1)
     assert same_bits(tmp_path / "one.exr", tmp_path / "dist.exr")
     (st,) = stats
     assert st["pppm"]["passes"] == 8 and st["pppm"]["partials"] == 3
     assert st["distributed"]["blocks"] == 3 and st["distributed"]["merge_tasks"] == 2
+    # The merged stats are a whole render's: its keys (the USD importer's figures aside) and
+    # settings (the blocks were given r_1 and one thread each), the last pass's photon maps.
+    one = json.load(open(tmp_path / "one.json"))
+    assert set(st) | {"import"} == set(one) | {"distributed"}
+    assert st["settings"]["pppm_initial_radius"] == st["pppm"]["initial_radius"]
+    for s in (st["settings"], one["settings"]):
+        s.pop("threads"), s.pop("pppm_initial_radius")
+    assert st["settings"] == one["settings"]
+    assert [(m["map"], m["stored"]) for m in st["photon_maps"]] == \
+        [(m["map"], m["stored"]) for m in one["photon_maps"]]
 
 
 def test_a_jensen_frame_in_4_tiles(client, animation, tmp_path):
@@ -98,6 +109,9 @@ def test_a_jensen_frame_in_4_tiles(client, animation, tmp_path):
     # Adaptive sampling decided over the whole frame: the same samples as in one process.
     assert dist["adaptive"]["pixels_refined"] == one["adaptive"]["pixels_refined"] > 0
     assert dist["camera_rays"] == one["camera_rays"]
+    # Adaptive sampling's figures and the memory over the frame, as the core computes them.
+    assert dist["adaptive"] == one["adaptive"]
+    assert dist["memory_bytes"] == one["memory_bytes"]
     assert stats[0]["width"] == 64
 
 
