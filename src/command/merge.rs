@@ -18,11 +18,9 @@ pub fn from_bytes(partials: &[Vec<u8>], what: impl Fn(usize) -> String) -> Resul
         .collect()
 }
 
-/// The sum of partial sums (in any order: the image is the same bits), without checking that
-/// every pass is there: a step of a tree reduction. The sum keeps the photon-map stats of the
-/// block of the latest passes, as a render in one piece reports its last pass's.
-pub fn sum(mut parts: Vec<Partial>) -> Result<Partial> {
-    parts.sort_by_key(|p| std::cmp::Reverse(p.ranges.last().map_or(0, |r| r.1)));
+/// The sum of partial sums (in any order: the image and the stats are the same), without
+/// checking that every pass is there: a step of a tree reduction.
+pub fn sum(parts: Vec<Partial>) -> Result<Partial> {
     Partial::merge_all(&parts)
 }
 

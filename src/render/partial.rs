@@ -176,6 +176,11 @@ impl Partial {
         for (x, y) in self.replicates.iter_mut().zip(&other.replicates) {
             *x = x.wrapping_add(*y);
         }
+        // The photon maps' stats as one render of all the passes reports them: emitted paths
+        // and seconds summed, the stored photons and memory of the block whose passes end
+        // last (whatever the order of the merge).
+        let ends = |p: &[(u32, u32)]| p.last().map_or(0, |r| r.1);
+        let other_ends_later = ends(&other.ranges) > ends(&self.ranges);
         self.ranges.extend_from_slice(&other.ranges);
         self.ranges.sort_unstable();
         let mut merged: Vec<(u32, u32)> = Vec::new();
@@ -197,6 +202,15 @@ impl Partial {
         }
         if self.maps.is_empty() {
             self.maps = other.maps.clone();
+        } else {
+            for (m, o) in self.maps.iter_mut().zip(&other.maps) {
+                m.emitted += o.emitted;
+                m.seconds += o.seconds;
+                if other_ends_later {
+                    m.stored = o.stored;
+                    m.memory_bytes = o.memory_bytes;
+                }
+            }
         }
         Ok(())
     }
@@ -490,6 +504,36 @@ mod tests {
         let mut other = partial(&[(4, 8)], 1);
         other.header.key = 6;
         assert!(Partial::merge_all(&[a, other]).is_err());
+    }
+
+    /// The merged photon-map stats are those of one render of all the passes, in any order:
+    /// emitted paths summed, the stored photons of the block that ends last.
+    #[test]
+    fn merged_map_stats_do_not_depend_on_the_order() {
+        let with_map = |ranges: &[(u32, u32)], stored: u64, emitted: u64| {
+            let mut p = partial(ranges, 1);
+            p.maps = vec![MapStats {
+                map: "global",
+                built: true,
+                stored,
+                emitted,
+                memory_bytes: stored * 20,
+                bytes_per_photon: 20,
+                max_radius: 0.1,
+                seconds: 1.0,
+                kdtree_seconds: 0.0,
+                irradiance_points: 0,
+                volume_points: 0,
+                exitance_points: 0,
+                skipped_because: None,
+            }];
+            p
+        };
+        let (a, b) = (with_map(&[(0, 4)], 10, 100), with_map(&[(4, 8)], 11, 200));
+        for parts in [[a.clone(), b.clone()], [b, a]] {
+            let m = &Partial::merge_all(&parts).unwrap().maps[0];
+            assert_eq!((m.stored, m.emitted, m.memory_bytes), (11, 300, 220));
+        }
     }
 
     #[test]

@@ -373,36 +373,16 @@ impl Renderer<'_> {
         estimate: MemoryEstimate,
     ) -> Result<RenderOutput> {
         let t = &partial.tally;
-        let last = partial.ranges.last().map_or(0, |r| r.1.saturating_sub(1));
-        let pstats = PppmStats {
-            passes: partial.passes(),
-            pass_ranges: partial.ranges.clone(),
-            alpha: partial.header.alpha,
-            initial_radius: partial.header.initial_radius,
-            initial_radius_source: "given".into(),
-            final_radius: pass_radius2(partial.header.initial_radius, partial.header.alpha, last)
-                .sqrt(),
-            photons_per_pass: partial.header.photons_per_pass,
-            photons_emitted: t.photons_emitted,
-            photon_seconds: t.photon_seconds,
-            camera_seconds: t.camera_seconds,
-            partials: t.partials,
-        };
         let mut seconds = BTreeMap::new();
         seconds.insert("photons".to_string(), t.photon_seconds);
         seconds.insert("render".to_string(), t.camera_seconds);
-        let mut maps = partial.maps.clone();
-        for m in maps.iter_mut().filter(|m| m.map == "caustic") {
-            m.skipped_because =
-                Some("progressive mode: each pass's global map holds the caustic photons".into());
-        }
         let mut stats = self.stats(StatsParts {
             width: partial.header.width as usize,
             height: partial.header.height as usize,
             spp: partial.passes(),
             threads,
             seconds,
-            maps,
+            maps: progressive::map_stats(&partial.maps),
             irradiance_cache_records: 0,
             skipped: self.skipped_terms(None),
             non_finite_samples: t.non_finite,
@@ -412,7 +392,7 @@ impl Renderer<'_> {
             sppm: None,
             adaptive: None,
         });
-        stats.pppm = Some(pstats);
+        stats.pppm = Some(PppmStats::of_partial(partial));
         Ok(RenderOutput {
             film: partial.film(),
             stats,

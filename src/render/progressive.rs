@@ -228,3 +228,14 @@ impl<R: Radii> Integrator for Progressive<'_, R> {
         self.radii.resolve_groups(px, passes, groups)
     }
 }
+
+/// The stats of the passes' photon maps as the progressive modes report them: the caustic map
+/// is never built, its photons being in each pass's global map.
+pub fn map_stats(maps: &[MapStats]) -> Vec<MapStats> {
+    let mut maps = maps.to_vec();
+    for m in maps.iter_mut().filter(|m| m.map == "caustic") {
+        m.skipped_because =
+            Some("progressive mode: each pass's global map holds the caustic photons".into());
+    }
+    maps
+}

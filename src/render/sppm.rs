@@ -45,7 +45,7 @@ use super::eye::{EyeCtx, VisiblePoint};
 use super::film::TermRadiance;
 use super::memory::MemoryEstimate;
 use super::photons::PhotonMaps;
-use super::progressive::{Progressive, ProgressivePass, Radii};
+use super::progressive::{self, Progressive, ProgressivePass, Radii};
 use super::renderer::{RenderOutput, Renderer};
 use super::settings::{RenderMode, RenderSettings};
 use super::stats::StatsParts;
@@ -200,11 +200,7 @@ impl Renderer<'_> {
         let mut seconds = BTreeMap::new();
         seconds.insert("photons".to_string(), stats.photon_seconds);
         seconds.insert("render".to_string(), stats.camera_seconds);
-        let mut maps = t.maps;
-        for m in maps.iter_mut().filter(|m| m.map == "caustic") {
-            m.skipped_because =
-                Some("progressive mode: each pass's global map holds the caustic photons".into());
-        }
+        let maps = progressive::map_stats(&t.maps);
         let time_budget = budget_seconds.map(|b| {
             BudgetStats {
                 planned_seconds: out.passes as f64 * out.seconds_per_pass,

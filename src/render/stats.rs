@@ -258,7 +258,7 @@ impl RenderStats {
                 spp: p.passes(),
                 threads: 0,
                 seconds,
-                maps: PppmStats::map_stats(&p.maps),
+                maps: super::progressive::map_stats(&p.maps),
                 irradiance_cache_records: 0,
                 skipped: Vec::new(),
                 non_finite_samples: t.non_finite,
@@ -270,7 +270,7 @@ impl RenderStats {
             },
         );
         let mut pppm = PppmStats::of_partial(p);
-        if settings.pppm_initial_radius.is_none() {
+        if settings.initial_radius.is_none() {
             pppm.initial_radius_source = "computed".into();
         }
         st.pppm = Some(pppm);
@@ -297,17 +297,6 @@ impl PppmStats {
             camera_seconds: t.camera_seconds,
             partials: t.partials,
         }
-    }
-
-    /// The stats of a pass's photon maps as a pppm render reports them: the caustic map is
-    /// never built, its photons being in each pass's global map.
-    pub fn map_stats(maps: &[MapStats]) -> Vec<MapStats> {
-        let mut maps = maps.to_vec();
-        for m in maps.iter_mut().filter(|m| m.map == "caustic") {
-            m.skipped_because =
-                Some("progressive mode: each pass's global map holds the caustic photons".into());
-        }
-        maps
     }
 }
 
