@@ -86,12 +86,12 @@ def test_a_pppm_frame_of_8_passes_in_blocks(client, animation, tmp_path):
     assert st["pppm"]["passes"] == 8 and st["pppm"]["partials"] == 3
     assert st["distributed"]["blocks"] == 3 and st["distributed"]["merge_tasks"] == 2
     # The merged stats are a whole render's: its keys (the USD importer's figures aside) and
-    # settings (the blocks were given r_1 and one thread each), the last pass's photon maps.
+    # settings (the blocks were given r_1 and one thread each), the last pass's stored photons.
     one = json.load(open(tmp_path / "one.json"))
     assert set(st) | {"import"} == set(one) | {"distributed"}
-    assert st["settings"]["pppm_initial_radius"] == st["pppm"]["initial_radius"]
+    assert st["settings"]["initial_radius"] == st["pppm"]["initial_radius"]
     for s in (st["settings"], one["settings"]):
-        s.pop("threads"), s.pop("pppm_initial_radius")
+        s.pop("threads"), s.pop("initial_radius")
     assert st["settings"] == one["settings"]
     assert [(m["map"], m["stored"]) for m in st["photon_maps"]] == \
         [(m["map"], m["stored"]) for m in one["photon_maps"]]
