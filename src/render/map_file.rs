@@ -212,7 +212,7 @@ impl MapSet {
             None
         };
         let stats_json = r.str("map stats")?;
-        let stats = parse_map_stats(stats_json).map_err(|e| r.corrupt(e))?;
+        let stats = super::photons::parse_map_stats(stats_json).map_err(|e| r.corrupt(e))?;
         let cache = if r.u8("cache present")? != 0 {
             let tolerance = r.f32("cache tolerance")?;
             let cell = r.f32("cache cell")?;
@@ -256,54 +256,6 @@ impl MapSet {
         check_key(&set, expected, &path.display().to_string())?;
         Ok(set)
     }
-}
-
-/// [`MapStats`] read back from JSON (the map names are the three static ones).
-fn parse_map_stats(text: &str) -> std::result::Result<Vec<MapStats>, String> {
-    #[derive(Deserialize)]
-    struct In {
-        map: String,
-        built: bool,
-        stored: u64,
-        emitted: u64,
-        memory_bytes: u64,
-        bytes_per_photon: u64,
-        max_radius: f32,
-        seconds: f64,
-        kdtree_seconds: f64,
-        irradiance_points: u64,
-        #[serde(default)]
-        volume_points: u64,
-        #[serde(default)]
-        exitance_points: u64,
-        skipped_because: Option<String>,
-    }
-    let v: Vec<In> = serde_json::from_str(text).map_err(|e| format!("map stats: {e}"))?;
-    v.into_iter()
-        .map(|m| {
-            let map = match m.map.as_str() {
-                "global" => "global",
-                "caustic" => "caustic",
-                "volume" => "volume",
-                other => return Err(format!("map stats: unknown map `{other}`")),
-            };
-            Ok(MapStats {
-                map,
-                built: m.built,
-                stored: m.stored,
-                emitted: m.emitted,
-                memory_bytes: m.memory_bytes,
-                bytes_per_photon: m.bytes_per_photon,
-                max_radius: m.max_radius,
-                seconds: m.seconds,
-                kdtree_seconds: m.kdtree_seconds,
-                irradiance_points: m.irradiance_points,
-                volume_points: m.volume_points,
-                exitance_points: m.exitance_points,
-                skipped_because: m.skipped_because,
-            })
-        })
-        .collect()
 }
 
 /// Checks that `s` can save or load photon maps: Jensen's mode (the progressive modes trace

@@ -356,7 +356,7 @@ impl Partial {
         };
         let options = r.str("options")?.to_string();
         let maps_json = r.str("map stats")?;
-        let maps: Vec<MapStatsIn> = serde_json::from_str(maps_json).unwrap_or_default();
+        let maps = super::photons::parse_map_stats(maps_json).map_err(|e| r.corrupt(e))?;
         let pixels = header.width as usize * header.height as usize;
         let mut read_sums = |what: &str, per_pixel: usize| -> Result<Vec<i64>> {
             let n = r.count(8, what)?;
@@ -382,7 +382,7 @@ impl Partial {
             replicates,
             tally,
             options,
-            maps: maps.into_iter().map(MapStatsIn::into_stats).collect(),
+            maps,
         })
     }
 
@@ -394,51 +394,6 @@ impl Partial {
     pub fn load(path: &Path) -> Result<Partial> {
         let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
         Partial::from_bytes(&bytes, path)
-    }
-}
-
-/// [`MapStats`] as read back from a partial's JSON (its `map` name owned).
-#[derive(serde::Deserialize)]
-struct MapStatsIn {
-    map: String,
-    built: bool,
-    stored: u64,
-    emitted: u64,
-    memory_bytes: u64,
-    bytes_per_photon: u64,
-    max_radius: f32,
-    seconds: f64,
-    kdtree_seconds: f64,
-    irradiance_points: u64,
-    #[serde(default)]
-    volume_points: u64,
-    #[serde(default)]
-    exitance_points: u64,
-    skipped_because: Option<String>,
-}
-
-impl MapStatsIn {
-    fn into_stats(self) -> MapStats {
-        let map = match self.map.as_str() {
-            "global" => "global",
-            "caustic" => "caustic",
-            _ => "volume",
-        };
-        MapStats {
-            map,
-            built: self.built,
-            stored: self.stored,
-            emitted: self.emitted,
-            memory_bytes: self.memory_bytes,
-            bytes_per_photon: self.bytes_per_photon,
-            max_radius: self.max_radius,
-            seconds: self.seconds,
-            kdtree_seconds: self.kdtree_seconds,
-            irradiance_points: self.irradiance_points,
-            volume_points: self.volume_points,
-            exitance_points: self.exitance_points,
-            skipped_because: self.skipped_because,
-        }
     }
 }
 
