@@ -1,8 +1,9 @@
 use super::*;
 use crate::geometry::shapes;
+use crate::geometry::triangle::face_normal;
 use crate::math::Transform;
 use crate::sampling::Rng;
-use glam::Quat;
+use glam::{Quat, Vec2};
 
 fn soup(n: usize, rng: &mut Rng, size: f32) -> MeshGeom {
     let mut positions = Vec::new();

@@ -7,7 +7,13 @@
 //! char phi, theta; short flag;` with the power stored in Ward's RGBE format
 //! (G. Ward, "Real Pixels", Graphics Gems II, 1991).
 
-use std::sync::LazyLock;
+mod direction;
+mod rgbe;
+
+pub use direction::{
+    decode_direction, direction_tables, encode_direction, DirectionTables, DIRECTION_ERROR_BOUND,
+};
+pub use rgbe::{rgbe_decode, rgbe_encode, RGBE_MAX};
 
 use glam::Vec3;
 
@@ -442,179 +448,6 @@ fn check_direction(dir: Vec3) -> Result<Vec3, PhotonError> {
     } else {
         Ok(d)
     }
-}
-
-// ---------------------------------------------------------------------------
-// RGBE
-// ---------------------------------------------------------------------------
-
-/// Largest channel value representable in RGBE: `255 · 2^(255−136)`
-/// ≈ 1.6948e38. Larger (finite) channels saturate to this value.
-pub const RGBE_MAX: f32 = 1.694_765_7e38;
-
-/// Exact `2^x` as f32 for `-149 <= x <= 127` (subnormal results included).
-#[inline(always)]
-fn exp2i_f32(x: i32) -> f32 {
-    debug_assert!((-149..=127).contains(&x));
-    if x >= -126 {
-        f32::from_bits(((x + 127) as u32) << 23)
-    } else {
-        f32::from_bits(1u32 << (x + 149))
-    }
-}
-
-/// Exact `2^x` as f64 for `-1022 <= x <= 1023`.
-#[inline(always)]
-fn exp2i_f64(x: i32) -> f64 {
-    f64::from_bits(((x + 1023) as u64) << 52)
-}
-
-/// Encodes a non-negative RGB power as Ward's RGBE (shared exponent).
-///
-/// Format (as Radiance's `float2rgbe`): with `frexp(max) = m·2^e`,
-/// `m ∈ [0.5, 1)`, each channel is stored as `c·2^(8−e)` in a byte and the
-/// exponent byte is `e + 128`; exponent byte 0 means exactly zero. Decoding
-/// ([`rgbe_decode`]) is `byte · 2^(E−136)` (no +0.5 offset, so a zero byte
-/// decodes to exactly zero).
-///
-/// Precision: this encoder **rounds** to nearest (Radiance truncates), so
-/// * the largest channel has relative error ≤ 1/256 (its mantissa byte is in
-///   [128, 255] before rounding, rounding error ≤ ½);
-/// * every channel has absolute error ≤ half a step = `2^(e−9)`, which is
-///   ≤ max/256 — except when rounding the largest mantissa carries into the
-///   exponent (max ∈ [255.5, 256)·2^(e−8)), where it is ≤ max/255.5; so the
-///   bound that always holds is max/255.5 (< max/256 · 1.002);
-/// * channels below half a step flush to exactly 0: always when
-///   `c < max·2⁻⁹`, possibly when `c < max·2⁻⁸`.
-///
-/// Range: a largest channel below `f32::MIN_POSITIVE` (zero, subnormals)
-/// encodes to exactly zero — every normal f32 has an in-range exponent.
-/// Channels above [`RGBE_MAX`] (≥ 2^127 needs exponent byte 256) saturate
-/// to exponent byte 255 with mantissas clamped to 255; the exponent byte
-/// never wraps.
-///
-/// Negative, NaN or infinite channels are rejected with
-/// [`PhotonError::InvalidPower`].
-pub fn rgbe_encode(rgb: Vec3) -> Result<[u8; 4], PhotonError> {
-    check_power(rgb)?;
-    Ok(rgbe_encode_valid(rgb.to_array()))
-}
-
-fn rgbe_encode_valid(c: [f32; 3]) -> [u8; 4] {
-    let max = c[0].max(c[1]).max(c[2]);
-    if max < f32::MIN_POSITIVE {
-        return [0; 4];
-    }
-    let max = max as f64;
-    // frexp: max = m·2^e with m in [0.5, 1) (max is a normal f64 here).
-    let mut e = ((max.to_bits() >> 52) & 0x7ff) as i32 - 1022;
-    if max * exp2i_f64(8 - e) + 0.5 >= 256.0 {
-        // Rounding the largest mantissa up to 256 carries into the exponent.
-        e += 1;
-    }
-    // Exponent byte 256 would wrap: saturate at byte 255 instead (the
-    // mantissas then clamp to 255 through the saturating `as u8`).
-    let e = e.min(127);
-    let scale = exp2i_f64(8 - e);
-    let q = |x: f32| (x as f64 * scale + 0.5) as u8;
-    [q(c[0]), q(c[1]), q(c[2]), (e + 128) as u8]
-}
-
-/// Decodes Ward's RGBE: `byte · 2^(E−136)` per channel, exactly zero when
-/// the exponent byte is 0. Exact in f32 (no rounding) for every input.
-#[inline]
-pub fn rgbe_decode(rgbe: [u8; 4]) -> Vec3 {
-    if rgbe[3] == 0 {
-        return Vec3::ZERO;
-    }
-    let f = exp2i_f32(rgbe[3] as i32 - 136);
-    Vec3::new(rgbe[0] as f32 * f, rgbe[1] as f32 * f, rgbe[2] as f32 * f)
-}
-
-// ---------------------------------------------------------------------------
-// Direction quantisation
-// ---------------------------------------------------------------------------
-
-/// Worst-case angle (radians) between a unit vector and its decoded
-/// quantisation: `π·√5 / 512` ≈ 0.013723 rad ≈ 0.786°.
-///
-/// Derivation: theta (256 steps over [0, π]) and phi (256 steps over
-/// [0, 2π)) are truncated into bins and decoded at the bin *centre*, so
-/// |Δθ| ≤ π/512 and |Δφ| ≤ 2π/512 = π/256. The path that moves θ and φ
-/// linearly between the two points has length
-/// `∫ √(Δθ² + sin²θ(t)·Δφ²) dt ≤ √(Δθ² + S²·Δφ²)`, with `S` the largest
-/// `sin θ` over the theta bin (≤ 1), and the great-circle angle is no longer
-/// than that path: angle ≤ √((π/512)² + (S·π/256)²) ≤ π√5/512.
-/// (Jensen's code decodes at the bin start, which doubles the bound.)
-pub const DIRECTION_ERROR_BOUND: f32 = 0.013_720_342; // rounded up from π√5/512
-
-/// Precomputed sines and cosines of the (bin-centre) decoded angles,
-/// as Jensen's `costheta/sintheta/cosphi/sinphi` tables (appendix B).
-#[derive(Debug, Clone)]
-pub struct DirectionTables {
-    /// `cos((i + ½)·π/256)`.
-    pub cos_theta: [f32; 256],
-    /// `sin((i + ½)·π/256)`.
-    pub sin_theta: [f32; 256],
-    /// `cos((j + ½)·2π/256)`.
-    pub cos_phi: [f32; 256],
-    /// `sin((j + ½)·2π/256)`.
-    pub sin_phi: [f32; 256],
-}
-
-static DIRECTION_TABLES: LazyLock<DirectionTables> = LazyLock::new(|| {
-    let mut t = DirectionTables {
-        cos_theta: [0.0; 256],
-        sin_theta: [0.0; 256],
-        cos_phi: [0.0; 256],
-        sin_phi: [0.0; 256],
-    };
-    for i in 0..256 {
-        let theta = (i as f64 + 0.5) * (std::f64::consts::PI / 256.0);
-        let phi = (i as f64 + 0.5) * (2.0 * std::f64::consts::PI / 256.0);
-        t.cos_theta[i] = theta.cos() as f32;
-        t.sin_theta[i] = theta.sin() as f32;
-        t.cos_phi[i] = phi.cos() as f32;
-        t.sin_phi[i] = phi.sin() as f32;
-    }
-    t
-});
-
-/// The shared direction tables (built once, on first use).
-#[inline]
-pub fn direction_tables() -> &'static DirectionTables {
-    &DIRECTION_TABLES
-}
-
-/// Quantises a unit vector to `(phi, theta)` bytes (Jensen 2001 §7.2 /
-/// *Practical Guide*): `theta = ⌊acos(z)·256/π⌋`,
-/// `phi = ⌊atan2(y, x)·256/(2π)⌋` (+256 when negative), both clamped to
-/// 255. Uses `floor` rather than C's truncation toward zero so that small
-/// negative phi wraps to 255 instead of sharing bin 0. See
-/// [`DIRECTION_ERROR_BOUND`] for the accuracy.
-#[inline]
-pub fn encode_direction(dir: Vec3) -> (u8, u8) {
-    let z = dir.z.clamp(-1.0, 1.0);
-    let theta = (z.acos() * (256.0 / std::f32::consts::PI)).floor();
-    let theta = theta.clamp(0.0, 255.0) as u8;
-    let mut phi = (dir.y.atan2(dir.x) * (256.0 / std::f32::consts::TAU)).floor();
-    if phi < 0.0 {
-        phi += 256.0;
-    }
-    let phi = phi.clamp(0.0, 255.0) as u8;
-    (phi, theta)
-}
-
-/// Decodes `(phi, theta)` bytes to a unit vector through the tables.
-#[inline]
-pub fn decode_direction(phi: u8, theta: u8) -> Vec3 {
-    let t = direction_tables();
-    let st = t.sin_theta[theta as usize];
-    Vec3::new(
-        st * t.cos_phi[phi as usize],
-        st * t.sin_phi[phi as usize],
-        t.cos_theta[theta as usize],
-    )
 }
 
 #[cfg(test)]

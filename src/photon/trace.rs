@@ -6,26 +6,26 @@
 //! until the map holds its target number of photons (Jensen shoots until N are stored) or the
 //! emission cap is reached. The result does not depend on the thread count.
 
-use super::append::append_parallel;
-use super::irradiance::{self, IrradianceMap};
+mod interactions;
+mod rounds;
+
 use super::map::{
     MapKind, PhotonMap, PhotonTree, Select, FLAG_CAUSTIC_PATH, FLAG_FIRST_HIT, FLAG_FROM_MEDIUM,
     FLAG_SUBSURFACE_EXIT, GROUP_SHIFT,
 };
-use super::{encode_direction, Photon, PhotonF32, PhotonKdTree, PhotonRecord};
-use crate::geometry::{Ray, RayPath, Scatter, SurfaceInteraction};
+use super::{encode_direction, Photon, PhotonF32, PhotonRecord};
+use crate::geometry::{Ray, RayPath, Scatter};
 use crate::lights::{LeSample, Light, Target};
-use crate::materials::bsdf::{Bsdf, Component, LobeFlags};
-use crate::materials::subsurface::Subsurface;
+use crate::materials::bsdf::{Component, LobeFlags};
 use crate::math::{is_finite3, Spectrum};
-use crate::media::{Medium, MediumStack};
+use crate::media::MediumStack;
 use crate::sampling::Rng;
 use crate::scene::shading::{Crossing, MAX_TRANSPARENT};
-use crate::scene::subsurface_walk as subsurface;
 use crate::scene::Scene;
 use glam::Vec3;
-use rayon::prelude::*;
-use std::sync::atomic::{AtomicBool, Ordering};
+use interactions::{free_flight, specular_component, walk_below, Flight};
+use rounds::build_map_of;
+use std::sync::atomic::AtomicBool;
 
 /// Photon paths per batch.
 pub const BATCH: u64 = 2048;
@@ -80,9 +80,9 @@ pub struct TraceParams<'a> {
     /// Store the photons' power as `f32` ([`PhotonF32`], 28 bytes) instead of RGBE
     /// ([`Photon`], 20 bytes).
     pub f32_power: bool,
-    /// Precompute irradiance at every [`irradiance::STRIDE`]-th photon from its `k` nearest
-    /// photons within the squared radius, counting those the `Select` takes (global maps, for
-    /// final gathering).
+    /// Precompute irradiance at every [`super::irradiance::STRIDE`]-th photon from its `k`
+    /// nearest photons within the squared radius, counting those the `Select` takes (global
+    /// maps, for final gathering).
     pub irradiance: Option<(usize, f32, Select)>,
 }
 
@@ -339,143 +339,6 @@ fn trace_path(
     }
 }
 
-/// Where a photon's walk below a subsurface material ended.
-struct WalkExit {
-    /// The walk's weight.
-    walk: Spectrum,
-    /// The weight of the photon's way out: the subsurface lobe's weight towards the direction
-    /// it leaves in, as a camera path looking back along it would enter with (Cycles' lobe
-    /// weight is the viewer's), times the Lambertian sample's.
-    weight: Spectrum,
-    /// The exit and the surface's outward geometric normal there.
-    p: Vec3,
-    n: Vec3,
-    /// The ray the photon leaves along (the exit's white Lambertian surface, sampled).
-    ray: Ray,
-}
-
-/// A photon's walk below the subsurface material at `si`. The light arriving there enters
-/// whole, as through the white Lambertian surface that ends a camera path's walk; the
-/// lobe's weight applies where it leaves.
-fn walk_below(
-    scene: &Scene,
-    si: &SurfaceInteraction,
-    ss: &Subsurface,
-    rng: &mut Rng,
-) -> Option<WalkExit> {
-    let exit = subsurface::photon_walk(scene, si, ss, rng)?;
-    let bs = exit
-        .bsdf
-        .sample_component(exit.si.wo, Component::Diffuse, rng.f32(), rng.vec2())?;
-    if bs.wi.dot(exit.si.ng) <= 0.0 {
-        return None;
-    }
-    let mat = scene.materials.get(exit.si.material as usize)?;
-    let mut out = exit.si;
-    out.wo = bs.wi;
-    let (w, _) = scene.shading_bsdf(mat, &mut out).subsurface_entry(bs.wi)?;
-    Some(WalkExit {
-        walk: exit.weight,
-        weight: w * bs.importance_weight(),
-        p: exit.si.p,
-        n: exit.si.ng,
-        ray: exit.si.spawn_ray(bs.wi),
-    })
-}
-
-/// Splits the specular-and-glossy reflection chosen with probability `p` into its
-/// near-specular lobes and the rest, in proportion to their albedos at `wo`: a photon that
-/// leaves by a near-specular lobe is on a caustic path, one that leaves by a broader lobe is
-/// not. Returns the part and its probability.
-fn specular_component(bsdf: &Bsdf, wo: Vec3, p: f32, rng: &mut Rng) -> (Component, f32) {
-    if bsdf.flags() & LobeFlags::NEAR_SPECULAR == 0 {
-        return (Component::Specular, p);
-    }
-    let near = mean(bsdf.component_albedo(wo, Component::NearSpecular));
-    let other = mean(bsdf.component_albedo(wo, Component::SpecularOther));
-    let f = if near + other > 0.0 {
-        near / (near + other)
-    } else {
-        1.0
-    };
-    if rng.f32() < f {
-        (Component::NearSpecular, p * f)
-    } else {
-        (Component::SpecularOther, p * (1.0 - f))
-    }
-}
-
-/// The outcome of a photon's flight through a medium up to the next surface at `dist`.
-enum Flight {
-    /// A real collision at `t`; `weight` is the per-channel throughput of reaching and
-    /// scattering there, relative to the density the distance was drawn with.
-    Collide { t: f32, weight: Spectrum },
-    /// No collision before the surface; `weight` corrects the per-channel transmittance.
-    Pass { weight: Spectrum },
-}
-
-/// Free-flight sampling: homogeneous media draw the distance from the channel-mean extinction
-/// and correct each channel by the ratio of densities; grids use delta tracking against their
-/// maximum density (grey extinction, so no correction).
-fn free_flight(med: &Medium, o: Vec3, d: Vec3, dist: f32, rng: &mut Rng) -> Flight {
-    match med {
-        Medium::Homogeneous(h) => {
-            let st = h.sigma_t;
-            let st_avg = mean(st);
-            if !(st_avg > 0.0) {
-                return Flight::Pass {
-                    weight: Spectrum::ONE,
-                };
-            }
-            let t = -(1.0 - rng.f32()).ln() / st_avg;
-            let rel = |s: f32, x: f32| (-(s - st_avg) * x).exp();
-            if t < dist {
-                let ratio = Spectrum::new(
-                    st.x / st_avg * rel(st.x, t),
-                    st.y / st_avg * rel(st.y, t),
-                    st.z / st_avg * rel(st.z, t),
-                );
-                let albedo = Spectrum::new(
-                    safe_div(h.sigma_s.x, st.x),
-                    safe_div(h.sigma_s.y, st.y),
-                    safe_div(h.sigma_s.z, st.z),
-                );
-                Flight::Collide {
-                    t,
-                    weight: ratio * albedo,
-                }
-            } else {
-                Flight::Pass {
-                    weight: Spectrum::new(rel(st.x, dist), rel(st.y, dist), rel(st.z, dist)),
-                }
-            }
-        }
-        Medium::Grid(g) => match g.sample_collision(o, d, dist, rng) {
-            Some((t, _)) => {
-                let st = g.sigma_t;
-                let albedo = Spectrum::new(
-                    safe_div(g.sigma_s.x, st),
-                    safe_div(g.sigma_s.y, st),
-                    safe_div(g.sigma_s.z, st),
-                );
-                Flight::Collide { t, weight: albedo }
-            }
-            None => Flight::Pass {
-                weight: Spectrum::ONE,
-            },
-        },
-    }
-}
-
-#[inline]
-fn safe_div(a: f32, b: f32) -> f32 {
-    if b > 0.0 {
-        a / b
-    } else {
-        0.0
-    }
-}
-
 /// Traces batch `b`: `BATCH` photon paths.
 fn trace_batch(scene: &Scene, params: &TraceParams, b: u64) -> Vec<RawPhoton> {
     let mut rng = Rng::derive(params.seed, 0x5048_4F54 ^ params.kind as u64, b);
@@ -530,138 +393,5 @@ pub fn build_map(scene: &Scene, params: &TraceParams) -> Option<PhotonMap> {
         build_map_of::<PhotonF32>(scene, params, PhotonTree::F32)
     } else {
         build_map_of::<Photon>(scene, params, PhotonTree::Rgbe)
-    }
-}
-
-/// [`build_map`] with records of type `P`; `tree` wraps the kd-tree and the power scale.
-fn build_map_of<P: PhotonRecord>(
-    scene: &Scene,
-    params: &TraceParams,
-    tree: fn(PhotonKdTree<P>, f32) -> PhotonTree,
-) -> Option<PhotonMap> {
-    let cancelled = || params.cancel.is_some_and(|c| c.load(Ordering::Relaxed));
-    // The stored records, in batch order; each round's are appended in parallel.
-    let mut photons: Vec<P> = Vec::new();
-    // The irradiance points: every `irradiance::STRIDE`-th photon traced, counted over the
-    // rounds in order.
-    let take_points = params.irradiance.is_some();
-    let mut points: Vec<IrradianceSite> = Vec::new();
-    let mut seen = 0usize;
-    let mut stored = 0usize;
-    let mut batches = 0u64;
-    let max_batches = params.max_emitted.div_ceil(BATCH).max(1);
-    let mut round = 4u64;
-    while stored < params.target && batches < max_batches {
-        if cancelled() {
-            return None;
-        }
-        let n = round.min(max_batches - batches);
-        let results: Vec<Vec<RawPhoton>> = (batches..batches + n)
-            .into_par_iter()
-            .map(|b| {
-                if cancelled() {
-                    return Vec::new();
-                }
-                trace_batch(scene, params, b)
-            })
-            .collect();
-        if cancelled() {
-            return None;
-        }
-        // The round's records and its irradiance points, batch by batch in parallel; each
-        // batch knows the index of its first photon, so the points are the same for any
-        // thread count. The records are then appended to the map's array, in parallel.
-        let mut first = Vec::with_capacity(results.len());
-        let mut count = 0usize;
-        for r in &results {
-            first.push(seen + count);
-            count += r.len();
-        }
-        seen += count;
-        let converted: Vec<(Vec<P>, Vec<IrradianceSite>)> = results
-            .into_par_iter()
-            .zip(first)
-            .map(|(raw, first)| {
-                let points = if take_points {
-                    let skip =
-                        (irradiance::STRIDE - first % irradiance::STRIDE) % irradiance::STRIDE;
-                    raw.iter()
-                        .skip(skip)
-                        .step_by(irradiance::STRIDE)
-                        .map(|r| (r.p, r.n, r.flags & FLAG_SUBSURFACE_EXIT as u8 != 0))
-                        .collect()
-                } else {
-                    Vec::new()
-                };
-                (raw.iter().filter_map(record_of::<P>).collect(), points)
-            })
-            .collect();
-        let batches_done: Vec<&[P]> = converted.iter().map(|c| &c.0[..]).collect();
-        append_parallel(&mut photons, &batches_done);
-        for (_, pts) in &converted {
-            points.extend_from_slice(pts);
-        }
-        drop(converted);
-        stored += count;
-        batches += n;
-        // Size the next round from the storage rate seen so far (deterministic).
-        let per_batch = stored as f64 / batches as f64;
-        let missing = params.target.saturating_sub(stored) as f64;
-        round = if per_batch > 0.0 {
-            ((missing / per_batch).ceil() as u64).clamp(1, 512)
-        } else {
-            (round * 2).min(512)
-        };
-    }
-    let emitted = batches * BATCH;
-    let t = std::time::Instant::now();
-    let kd = balance(photons, params.cancel)?;
-    let mut map = PhotonMap {
-        kind: params.kind,
-        tree: tree(kd, 1.0 / emitted as f32),
-        irradiance: None,
-        exitance: None,
-        emitted,
-        build_seconds: t.elapsed().as_secs_f64(),
-    };
-    if let Some((k, max_r2, select)) = params.irradiance {
-        // The sites at subsurface exits hold the exits' exitance, the others irradiance.
-        // (In place: the others stay in the sites' own array.)
-        let exits: Vec<IrradianceSite> = points.iter().filter(|s| s.2).copied().collect();
-        if !exits.is_empty() {
-            points.retain(|s| !s.2);
-        }
-        let strip = |v: Vec<IrradianceSite>| v.into_iter().map(|(p, n, _)| (p, n)).collect();
-        let build = |sites: Vec<(Vec3, (u8, u8))>, select: Select| {
-            let mut m = IrradianceMap::build(&map, sites, k, max_r2, select, params.cancel)?;
-            if !scene.light_groups.is_empty() {
-                m.split_groups(&map, scene.light_groups.len(), k, select, params.cancel)?;
-            }
-            Some(m)
-        };
-        let irradiance = build(strip(points), select)?;
-        let exitance = if exits.is_empty() {
-            None
-        } else {
-            Some(build(strip(exits), Select::with(FLAG_SUBSURFACE_EXIT))?)
-        };
-        map.irradiance = Some(irradiance);
-        map.exitance = exitance;
-    }
-    Some(map)
-}
-
-/// The kd-tree of `photons`, balanced with the cancel flag polled if there is one (`None`
-/// when cancelled).
-fn balance<P: PhotonRecord>(
-    photons: Vec<P>,
-    cancel: Option<&AtomicBool>,
-) -> Option<PhotonKdTree<P>> {
-    if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-        return None;
-    }
-    match cancel {
-        Some(flag) => PhotonKdTree::build_cancellable(photons, flag),
-        None => Some(PhotonKdTree::build(photons)),
     }
 }

@@ -1,18 +1,20 @@
 //! From the validated IR to the render scene: acceleration structure, materials, textures,
 //! lights (emissive triangles included), camera.
 
+mod lights;
+mod meshes;
+
 use super::camera::Camera;
 use super::desc::*;
 use crate::error::{Error, Result};
-use crate::geometry::{Accel, Instance, MeshGeom, Ray, SurfaceInteraction};
-use crate::lights::{
-    AreaLight, AreaShape, DistantLight, EnvironmentLight, Light, LightCtx, LightSampler,
-    PointLight, SpotShape, TriangleLight,
-};
+use crate::geometry::{Accel, Instance, Ray, SurfaceInteraction};
+use crate::lights::{EnvironmentLight, Light, LightCtx, LightSampler, TriangleLight};
 use crate::materials::{texture::Texture, Material};
 use crate::math::{Bounds3, Spectrum, Transform};
 use crate::media::{GridMedium, Homogeneous, Medium};
 use glam::{Vec2, Vec3};
+use lights::light_from_desc;
+use meshes::{mesh_geom, with_tangents};
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -468,186 +470,4 @@ fn medium_from_desc(m: &MediumDesc) -> Medium {
             ))
         }
     }
-}
-
-/// Gives `geom` its tangents when one of its materials has a tangent-space Normal Map
-/// (`tangent_materials`, by material index) and it has UVs and no tangents of its own.
-fn with_tangents(geom: &mut MeshGeom, tangent_materials: &[bool]) -> bool {
-    let key = crate::geometry::TANGENT_KEY;
-    let reads = |id: &u32| {
-        tangent_materials
-            .get(*id as usize)
-            .copied()
-            .unwrap_or(false)
-    };
-    if !geom.material_ids.iter().any(reads) || geom.attributes.iter().any(|(k, _)| *k == key) {
-        return false;
-    }
-    match crate::geometry::vertex_tangents(geom) {
-        Some(t) => {
-            geom.attributes.push((key, t));
-            if let Some(n) = &geom.normals {
-                let n = n.iter().map(|n| n.extend(0.0)).collect();
-                geom.attributes
-                    .push((crate::geometry::TANGENT_NORMAL_KEY, n));
-            }
-            true
-        }
-        None => false,
-    }
-}
-
-fn mesh_geom(m: &MeshDesc) -> MeshGeom {
-    MeshGeom {
-        positions: m.positions.iter().map(|p| v3(*p)).collect(),
-        indices: m.indices.clone(),
-        normals: m
-            .normals
-            .as_ref()
-            .map(|n| n.iter().map(|v| v3(*v)).collect()),
-        uvs: m
-            .uvs
-            .as_ref()
-            .map(|u| u.iter().map(|v| Vec2::from(*v)).collect()),
-        material_ids: match &m.material_indices {
-            Some(mi) => mi.clone(),
-            None => vec![m.material; m.indices.len()],
-        },
-        attributes: m
-            .attributes
-            .iter()
-            .flatten()
-            .map(|(name, vals)| {
-                (
-                    crate::geometry::attribute_key(name),
-                    vals.iter().map(|v| glam::Vec4::from(*v)).collect(),
-                )
-            })
-            .collect(),
-    }
-}
-
-fn light_from_desc(l: &LightDesc) -> Light {
-    match l {
-        LightDesc::Point {
-            position,
-            power,
-            color,
-            radius,
-            soft_falloff,
-            ..
-        } => Light::Point(PointLight::new(
-            v3(*position),
-            *power,
-            v3(*color),
-            *radius,
-            None,
-            *soft_falloff,
-        )),
-        LightDesc::Sphere {
-            position,
-            radius,
-            power,
-            color,
-            ..
-        } => Light::Point(PointLight::new(
-            v3(*position),
-            *power,
-            v3(*color),
-            *radius,
-            None,
-            false,
-        )),
-        LightDesc::Spot {
-            position,
-            direction,
-            power,
-            color,
-            cone_angle,
-            blend,
-            radius,
-            soft_falloff,
-            ..
-        } => {
-            let spot = SpotShape::new(v3(*direction), *cone_angle, *blend);
-            Light::Point(PointLight::new(
-                v3(*position),
-                *power,
-                v3(*color),
-                *radius,
-                Some(spot),
-                *soft_falloff,
-            ))
-        }
-        LightDesc::Rect {
-            transform,
-            width,
-            height,
-            power,
-            color,
-            two_sided,
-            spread,
-            ..
-        } => area_light(
-            AreaShape::Rect,
-            transform,
-            0.5 * width,
-            0.5 * height,
-            *power,
-            v3(*color),
-            *two_sided,
-            *spread,
-        ),
-        LightDesc::Disk {
-            transform,
-            radius,
-            radius_y,
-            power,
-            color,
-            two_sided,
-            spread,
-            ..
-        } => area_light(
-            AreaShape::Disk,
-            transform,
-            *radius,
-            radius_y.unwrap_or(*radius),
-            *power,
-            v3(*color),
-            *two_sided,
-            *spread,
-        ),
-        LightDesc::Distant {
-            direction,
-            irradiance,
-            color,
-            angle,
-            ..
-        } => Light::Distant(DistantLight::new(
-            v3(*direction),
-            *irradiance,
-            v3(*color),
-            *angle,
-        )),
-    }
-}
-
-fn area_light(
-    shape: AreaShape,
-    m: &Matrix,
-    hx: f32,
-    hy: f32,
-    power: f32,
-    color: Spectrum,
-    two_sided: bool,
-    spread: f32,
-) -> Light {
-    let t = Transform::from_rows(m).unwrap_or_default();
-    let center = t.point(Vec3::ZERO);
-    let ex = t.vector(Vec3::X * hx);
-    let ey = t.vector(Vec3::Y * hy);
-    let n = t.normal(-Vec3::Z);
-    Light::Area(AreaLight::new(
-        shape, center, ex, ey, n, power, color, two_sided, spread,
-    ))
 }
