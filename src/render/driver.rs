@@ -16,7 +16,6 @@ use super::compositing::{AovLayout, PixelAovs, SampleAovs};
 use super::error_aov::Shifts;
 use super::eye;
 use super::film::{Film, Filter, TermRadiance};
-use super::renderer::{OutputTimeFn, PreviewFn, ProgressFn};
 pub use super::stratified::{first_round_noise, Rect};
 use crate::error::{Error, Result};
 use crate::geometry::Ray;
@@ -26,6 +25,18 @@ use crate::scene::Scene;
 use glam::Vec2;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
+
+/// Called with (fraction done in [0,1], phase name). May be called from worker threads.
+pub type ProgressFn = dyn Fn(f32, &str) + Send + Sync;
+
+/// Called during a progressive render (`progressive`, a time budget, or `RenderMode::Sppm`)
+/// with the image so far and the passes it holds: after passes 1, 2, 4, 8, ... and at most
+/// every [`PREVIEW_SECONDS`] between them. The Blender viewport refines through it.
+pub type PreviewFn = dyn Fn(&Film, u32) + Send + Sync;
+
+/// Seconds that writing out a film like this one will take (called once, with the film after
+/// the first camera pass of a budgeted render, whose last passes leave that much time free).
+pub type OutputTimeFn = dyn Fn(&Film) -> f64 + Send + Sync;
 
 /// Shortest interval between two previews, in seconds (powers of two aside).
 pub const PREVIEW_SECONDS: f64 = 0.25;

@@ -19,17 +19,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
 
-/// Called with (fraction done in [0,1], phase name). May be called from worker threads.
-pub type ProgressFn = dyn Fn(f32, &str) + Send + Sync;
-
-/// Called during a progressive render (`progressive`, a time budget, or `RenderMode::Sppm`)
-/// with the image so far and the passes it holds: after passes 1, 2, 4, 8, ... and at most
-/// every `driver::PREVIEW_SECONDS` between them. The Blender viewport refines through it.
-pub type PreviewFn = dyn Fn(&Film, u32) + Send + Sync;
-
-/// Seconds that writing out a film like this one will take (called once, with the film after
-/// the first camera pass of a budgeted render, whose last passes leave that much time free).
-pub type OutputTimeFn = dyn Fn(&Film) -> f64 + Send + Sync;
+pub use super::driver::{OutputTimeFn, PreviewFn, ProgressFn};
 
 pub struct RenderOutput {
     pub film: Film,
