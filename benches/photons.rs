@@ -10,9 +10,10 @@ use photonmap::io::exr::read_rgb_layers;
 use photonmap::photon::map::MapKind;
 use photonmap::photon::trace::{build_map, TraceParams};
 use photonmap::render::aov::Term;
-use photonmap::render::film::{Filter, Image};
+use photonmap::render::film::Image;
 use photonmap::render::photons::specular_targets;
-use photonmap::render::{PhotonSettings, RenderSettings, Renderer};
+use photonmap::render::settings::FilterName;
+use photonmap::render::{RenderSettings, Renderer};
 use photonmap::scene::Scene;
 use std::time::Instant;
 
@@ -141,9 +142,9 @@ fn main() {
         ("irradiance cache (a = 0.15)", true),
         ("every sample", false),
     ] {
-        let photons = PhotonSettings {
-            global: 1_000_000,
-            caustic: 1_000_000,
+        let photons = RenderSettings {
+            photons: 1_000_000,
+            caustic_photons: 1_000_000,
             final_gather_rays: 512,
             irradiance_cache: cache,
             ..Default::default()
@@ -151,9 +152,8 @@ fn main() {
         let settings = RenderSettings {
             spp: 16,
             seed: 5,
-            filter: Filter::Box,
-            photons,
-            ..Default::default()
+            filter: FilterName::Box,
+            ..photons
         };
         let out = Renderer::new(&scene)
             .settings(settings)

@@ -13,7 +13,7 @@
 
 use photonmap::photon::map::MapKind;
 use photonmap::photon::trace::{build_map, TraceParams};
-use photonmap::render::{Quality, Renderer};
+use photonmap::render::{Quality, RenderSettings, Renderer};
 use photonmap::scene::Scene;
 use std::time::Instant;
 
@@ -75,7 +75,7 @@ fn photon_pass(scene: &Scene, threads: usize) -> Vec<f64> {
 }
 
 fn whole_render(scene: &Scene, threads: usize) -> Vec<f64> {
-    let mut settings = Quality::Medium.settings();
+    let mut settings = RenderSettings::preset(Quality::Medium);
     settings.seed = 3;
     settings.threads = threads;
     let (t, c) = (Instant::now(), cpu_seconds());

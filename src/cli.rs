@@ -4,7 +4,7 @@
 //! What the commands do is `command`.
 
 use crate::error::{Error, Result};
-use crate::render::{RenderOptions, RenderSettings};
+use crate::render::RenderSettings;
 use clap::{Args, Parser, Subcommand};
 use std::path::{Path, PathBuf};
 
@@ -17,6 +17,25 @@ use std::path::{Path, PathBuf};
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
+}
+
+impl Cli {
+    /// Parses a command line (the program name first), as clap does; the render command's
+    /// preset settings that are not given take the `--quality` preset's values.
+    pub fn parse_args<I, T>(args: I) -> std::result::Result<Cli, clap::Error>
+    where
+        I: IntoIterator<Item = T>,
+        T: Into<std::ffi::OsString> + Clone,
+    {
+        use clap::parser::ValueSource;
+        let m = <Cli as clap::CommandFactory>::command().try_get_matches_from(args)?;
+        let mut cli = <Cli as clap::FromArgMatches>::from_arg_matches(&m)?;
+        if let (Command::Render(a), Some(("render", sub))) = (&mut cli.command, m.subcommand()) {
+            a.options
+                .apply_preset(|name| sub.value_source(name) == Some(ValueSource::CommandLine));
+        }
+        Ok(cli)
+    }
 }
 
 // Parsed once per command: boxing the render arguments would only complicate every match.
@@ -76,7 +95,7 @@ pub struct RenderArgs {
     pub height: Option<u32>,
     /// The render settings (`render::options`, one schema with Python and Blender).
     #[command(flatten)]
-    pub options: RenderOptions,
+    pub options: RenderSettings,
     /// USD: camera prim path to render through (default: the first camera found).
     #[arg(long, value_name = "PRIM")]
     pub camera: Option<String>,
@@ -232,7 +251,7 @@ pub fn frame_path(path: &Path, frame: f64) -> PathBuf {
 impl RenderArgs {
     /// The arguments with every default, as `render -o OUT` would give them (for the Python API).
     pub fn defaults() -> RenderArgs {
-        match Cli::try_parse_from(["photonmap", "render", "-o", "out.exr"]) {
+        match Cli::parse_args(["photonmap", "render", "-o", "out.exr"]) {
             Ok(Cli {
                 command: Command::Render(a),
             }) => a,
@@ -262,7 +281,7 @@ impl RenderArgs {
 
     /// The preset, with every explicit flag applied over it.
     pub fn settings(&self) -> RenderSettings {
-        let mut s = self.options.settings();
+        let mut s = self.options.clone();
         s.pass_range = self.pass_range;
         s
     }
@@ -356,6 +375,6 @@ mod tests {
     fn defaults_match_the_flags() {
         let a = RenderArgs::defaults();
         assert_eq!(a.options.quality, crate::render::Quality::Medium);
-        assert_eq!(a.settings().spp, crate::render::Quality::Medium.spp());
+        assert_eq!(a.settings(), crate::render::RenderSettings::default());
     }
 }

@@ -191,9 +191,9 @@ fn base() -> RenderSettings {
         threads: 0,
         ..Default::default()
     };
-    s.photons.global = 100_000;
-    s.photons.caustic = 20_000;
-    s.photons.final_gather_rays = 64;
+    s.photons = 100_000;
+    s.caustic_photons = 20_000;
+    s.final_gather_rays = 64;
     s.memory_limit = None;
     s
 }
@@ -202,7 +202,7 @@ fn base() -> RenderSettings {
 fn cancel_during_the_photon_pass() {
     let mut s = base();
     // Five million photons: seconds of tracing, then the kd-tree.
-    s.photons.global = 5_000_000;
+    s.photons = 5_000_000;
     cancel_during("photons", s);
 }
 
@@ -210,9 +210,9 @@ fn cancel_during_the_photon_pass() {
 fn cancel_during_the_irradiance_cache_fill() {
     let mut s = base();
     // Thousands of records of 4096 gather rays each.
-    s.photons.irradiance_cache = true;
-    s.photons.final_gather_rays = 4096;
-    s.photons.cache_tolerance = 0.05;
+    s.irradiance_cache = true;
+    s.final_gather_rays = 4096;
+    s.cache_tolerance = 0.05;
     cancel_during("irradiance cache", s);
 }
 
@@ -221,8 +221,8 @@ fn cancel_during_the_camera_pass() {
     let mut s = base();
     // Final gathering at every sample, no cache: a long camera pass, and seconds per image
     // row (the flag must be read more often than once a row).
-    s.photons.irradiance_cache = false;
-    s.photons.final_gather_rays = 1024;
+    s.irradiance_cache = false;
+    s.final_gather_rays = 1024;
     s.spp = 16;
     cancel_during("render", s);
 }

@@ -32,12 +32,15 @@ fn settings(spp: u32, aovs: AovRequest) -> RenderSettings {
         seed: 3,
         threads: 2,
         adaptive_sampling: false,
-        aovs,
+        denoising_data: aovs.denoising_data,
+        denoise: aovs.denoise,
+        cryptomatte: aovs.cryptomatte,
+        cryptomatte_levels: aovs.cryptomatte_levels,
         ..RenderSettings::default()
     };
-    s.photons.global = 2000;
-    s.photons.caustic = 2000;
-    s.photons.final_gather_rays = 16;
+    s.photons = 2000;
+    s.caustic_photons = 2000;
+    s.final_gather_rays = 16;
     s
 }
 
@@ -232,7 +235,7 @@ fn a_cryptomatte_matte_is_the_objects_coverage() {
             ..AovRequest::default()
         },
     );
-    s.filter = photonmap::render::film::Filter::Box;
+    s.filter = photonmap::render::settings::FilterName::Box;
     let out = render_settings(&d, s);
     let film = &out.film;
     assert_eq!(film.cryptomatte["CryptoObject"], vec!["backdrop", "card"]);
@@ -283,7 +286,7 @@ fn a_matte_shifted_by_a_third_of_a_pixel_is_caught() {
             ..AovRequest::default()
         },
     );
-    s.filter = photonmap::render::film::Filter::Box;
+    s.filter = photonmap::render::settings::FilterName::Box;
     let out = render_settings(&d, s);
     let card = matte(&out.film, "CryptoObject", "card");
     let shifted = |x: usize, y: usize| {

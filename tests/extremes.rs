@@ -14,9 +14,10 @@ use glam::Vec3;
 use photonmap::cli::{Cli, Command};
 use photonmap::geometry::shapes;
 use photonmap::render::aov::Term;
-use photonmap::render::film::Filter;
+use photonmap::render::settings::Bytes;
+use photonmap::render::settings::FilterName;
 use photonmap::render::settings::{BYTES_PER_PHOTON, BYTES_PER_TRIANGLE};
-use photonmap::render::{PhotonSettings, Quality, RenderOutput, RenderSettings, Renderer};
+use photonmap::render::{Quality, RenderOutput, RenderSettings, Renderer};
 use photonmap::scene::desc::*;
 use photonmap::scene::{Scene, SceneDesc};
 use photonmap::Error;
@@ -31,15 +32,12 @@ fn small_settings(seed: u64) -> RenderSettings {
         spp: 2,
         seed,
         threads: 0,
-        filter: Filter::Box,
-        photons: PhotonSettings {
-            global: 4_000,
-            caustic: 2_000,
-            volume: 2_000,
-            final_gather_rays: 16,
-            gather: 50,
-            ..Default::default()
-        },
+        filter: FilterName::Box,
+        photons: 4_000,
+        caustic_photons: 2_000,
+        volume_photons: 2_000,
+        final_gather_rays: 16,
+        gather: 50,
         ..Default::default()
     }
 }
@@ -439,7 +437,7 @@ fn extreme_glass_ior_changes_only_the_glass() {
 fn closed_white_box_of_albedo_one_terminates() {
     let desc = closed_box(1.0, [0.0, 0.5, 0.0]);
     let mut s = small_settings(7);
-    s.photons.max_bounces = 64;
+    s.max_bounces = 64;
     let t0 = std::time::Instant::now();
     let out = run(&desc, s);
     firewall("albedo 1 box", &out, 0);
@@ -521,9 +519,9 @@ fn one_and_ten_photons_terminate() {
     for n in [1usize, 10] {
         let settings = |seed| {
             let mut s = small_settings(seed);
-            s.photons.global = n;
-            s.photons.caustic = n;
-            s.photons.volume = n;
+            s.photons = n;
+            s.caustic_photons = n;
+            s.volume_photons = n;
             s
         };
         // The twin: the same scene with the usual maps, through the same comparison.
@@ -546,7 +544,7 @@ fn one_and_ten_photons_terminate() {
 #[test]
 fn extreme_gather_sizes_and_radii_stay_finite() {
     let desc = small(load_scene("fog_glass"));
-    type Tweak = fn(&mut PhotonSettings);
+    type Tweak = fn(&mut RenderSettings);
     let cases: [(&str, Tweak); 4] = [
         ("gather 1", |p| p.gather = 1),
         ("gather 10000", |p| p.gather = 10_000),
@@ -556,7 +554,7 @@ fn extreme_gather_sizes_and_radii_stay_finite() {
     for (label, tweak) in cases {
         let settings = |seed| {
             let mut s = small_settings(seed);
-            tweak(&mut s.photons);
+            tweak(&mut s);
             s
         };
         let r = against_twin_settings(
@@ -748,7 +746,7 @@ fn camera_inside_a_closed_box_lit_from_outside_sees_black() {
     // The leak is the search reaching across the edges: with a radius far below the
     // distance from the edge to the nearest gather point it is gone.
     let mut s = small_settings(23);
-    s.photons.radius = Some(1e-4);
+    s.radius = Some(1e-4);
     let out = run(&thin, s);
     firewall("camera in closed thin box, radius 1e-4", &out, 0);
     assert_eq!(mean(&out, Term::Indirect), 0.0, "thin box, radius 1e-4");
@@ -1078,7 +1076,7 @@ fn glass_fog_and_irradiance_cache_are_deterministic() {
     let settings = |threads| RenderSettings {
         seed: 31,
         threads,
-        ..Quality::Draft.settings()
+        ..RenderSettings::preset(Quality::Draft)
     };
     let a = run(&desc, settings(1));
     let b = run(&desc, settings(2));
@@ -1117,8 +1115,8 @@ fn memory_limit_fails_fast_with_the_estimate() {
     let desc = small(load_scene("cornell_diffuse"));
     let scene = Scene::build(&desc).unwrap();
     let mut s = small_settings(37);
-    s.photons.global = 100_000_000;
-    s.memory_limit = Some(1 << 30);
+    s.photons = 100_000_000;
+    s.memory_limit = Some(Bytes(1 << 30));
     let phases: Arc<Mutex<Vec<String>>> = Arc::default();
     let sink = phases.clone();
     let r =
@@ -1162,21 +1160,21 @@ fn memory_limit_fails_fast_with_the_estimate() {
 
     // Maps that will not be built are not counted: no caustic map without specular
     // surfaces, no volume map without media, no global map without indirect light.
-    s.photons.caustic = 100_000_000;
-    s.photons.volume = 100_000_000;
-    s.photons.final_gather_rays = 0;
+    s.caustic_photons = 100_000_000;
+    s.volume_photons = 100_000_000;
+    s.final_gather_rays = 0;
     let est = Renderer::new(&scene).settings(s).memory_estimate();
     assert_eq!(est.photons, 0);
 
     // Every map that will be built is counted: glass and fog build all three.
     let fog = Scene::build(&small(load_scene("fog_glass"))).unwrap();
     let mut s = small_settings(37);
-    (s.photons.global, s.photons.caustic, s.photons.volume) = (1000, 300, 200);
+    (s.photons, s.caustic_photons, s.volume_photons) = (1000, 300, 200);
     let est = Renderer::new(&fog).settings(s.clone()).memory_estimate();
     assert_eq!(est.photon_bytes, 20 * 1500);
     // Within the limit the render runs, and the stats report the figures.
     assert_eq!(est.peak_bytes, est.total_bytes);
-    s.memory_limit = Some(est.peak_bytes);
+    s.memory_limit = Some(Bytes(est.peak_bytes));
     let out = run(&small(load_scene("fog_glass")), s);
     let json = serde_json::to_value(&out.stats).unwrap();
     assert_eq!(json["bytes_per_photon"], 20);
@@ -1214,7 +1212,7 @@ fn memory_limit_flag_parses_sizes() {
         Some(8 << 30)
     );
     assert_eq!(
-        parse("512M").unwrap().settings().memory_limit,
+        parse("512M").unwrap().settings().memory_limit_bytes(),
         Some(512 << 20)
     );
     assert_eq!(
@@ -1234,7 +1232,7 @@ fn memory_limit_flag_parses_sizes() {
     }
     let default = photonmap::cli::RenderArgs::defaults()
         .settings()
-        .memory_limit;
+        .memory_limit_bytes();
     if std::path::Path::new("/proc/meminfo").exists() {
         assert!(default.is_some_and(|b| b > 0), "{default:?}");
     }
@@ -1245,7 +1243,7 @@ fn memory_limit_flag_parses_sizes() {
     let mut a = parse("1G").unwrap();
     a.scene = Some(scene);
     a.output = out.clone();
-    a.options.photons = Some(100_000_000);
+    a.options.photons = 100_000_000;
     a.quiet = true;
     let e = photonmap::command::run_render(&a, photonmap::command::Frontend::default())
         .expect_err("over the limit");

@@ -8,8 +8,9 @@
 use photonmap::io::scene_json;
 use photonmap::photon::trace::BATCH;
 use photonmap::render::aov::Term;
-use photonmap::render::film::Filter;
-use photonmap::render::{PhotonSettings, RenderOutput, RenderSettings, Renderer};
+use photonmap::render::settings::Bytes;
+use photonmap::render::settings::FilterName;
+use photonmap::render::{RenderOutput, RenderSettings, Renderer};
 use photonmap::scene::desc::FilmDesc;
 use photonmap::scene::{Scene, SceneDesc};
 use std::path::PathBuf;
@@ -21,17 +22,14 @@ fn tiny_settings() -> RenderSettings {
         seed: 7,
         threads: 1,
         max_specular_depth: 4,
-        filter: Filter::Box,
-        photons: PhotonSettings {
-            global: 100,
-            caustic: 100,
-            volume: 100,
-            gather: 16,
-            final_gather_rays: 4,
-            max_bounces: 16,
-            ..Default::default()
-        },
-        memory_limit: Some(256 << 20),
+        filter: FilterName::Box,
+        photons: 100,
+        caustic_photons: 100,
+        volume_photons: 100,
+        gather: 16,
+        final_gather_rays: 4,
+        max_bounces: 16,
+        memory_limit: Some(Bytes(256 << 20)),
         ..Default::default()
     }
 }

@@ -13,8 +13,8 @@ mod common;
 use common::*;
 use glam::Vec3;
 use photonmap::geometry::shapes;
-use photonmap::render::film::Filter;
-use photonmap::render::{PhotonSettings, RenderOutput, RenderSettings};
+use photonmap::render::settings::FilterName;
+use photonmap::render::{RenderOutput, RenderSettings};
 use photonmap::scene::SceneDesc;
 
 const SIZE: usize = 32;
@@ -53,13 +53,10 @@ fn settings(seed: u64) -> RenderSettings {
     RenderSettings {
         spp: 64,
         seed,
-        filter: Filter::Box,
-        photons: PhotonSettings {
-            global: 0,
-            caustic: 0,
-            volume: 0,
-            ..Default::default()
-        },
+        filter: FilterName::Box,
+        photons: 0,
+        caustic_photons: 0,
+        volume_photons: 0,
         ..Default::default()
     }
 }

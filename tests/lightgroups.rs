@@ -57,15 +57,15 @@ fn settings(seed: u64, mode: RenderMode) -> RenderSettings {
         mode,
         ..RenderSettings::default()
     };
-    s.photons.global = 40_000;
-    s.photons.caustic = 0;
-    s.photons.final_gather_rays = 64;
+    s.photons = 40_000;
+    s.caustic_photons = 0;
+    s.final_gather_rays = 64;
     if mode == RenderMode::Sppm {
         // Progressive photon mapping is consistent, not unbiased: the bias of its radius
         // (which differs when the other group's photons share the map) fades with the
         // passes; at 24 a group was 1.2% darker than its light alone, at 96 within noise.
         s.spp = 96;
-        s.photons.global = 20_000;
+        s.photons = 20_000;
     }
     s
 }

@@ -7,8 +7,8 @@ use glam::{Vec2, Vec3};
 use photonmap::geometry::shapes;
 use photonmap::media::HenyeyGreenstein;
 use photonmap::render::aov::Term;
-use photonmap::render::film::Filter;
-use photonmap::render::{PhotonSettings, RenderSettings};
+use photonmap::render::settings::FilterName;
+use photonmap::render::RenderSettings;
 use photonmap::sampling::chi2::{assert_chi2, Chi2Config};
 use photonmap::scene::desc::*;
 use photonmap::scene::SceneDesc;
@@ -106,8 +106,8 @@ fn slab_scene(sigma_a: f32, sigma_s: f32) -> SceneDesc {
 
 fn render_single_scattering(desc: &SceneDesc, spp: u32) -> photonmap::render::RenderOutput {
     // No volume photons: the volume term is single scattering only.
-    let photons = PhotonSettings {
-        volume: 0,
+    let photons = RenderSettings {
+        volume_photons: 0,
         ..Default::default()
     };
     render_settings(
@@ -115,9 +115,8 @@ fn render_single_scattering(desc: &SceneDesc, spp: u32) -> photonmap::render::Re
         RenderSettings {
             spp,
             seed: 3,
-            filter: Filter::Box,
-            photons,
-            ..Default::default()
+            filter: FilterName::Box,
+            ..photons
         },
     )
 }
@@ -387,15 +386,12 @@ fn volume_points_match_the_k_nearest_march() {
             RenderSettings {
                 spp: 8,
                 seed,
-                filter: Filter::Box,
+                filter: FilterName::Box,
                 adaptive_sampling: false,
-                photons: PhotonSettings {
-                    global: 50_000,
-                    caustic: 50_000,
-                    volume: 100_000,
-                    volume_points: points,
-                    ..Default::default()
-                },
+                photons: 50_000,
+                caustic_photons: 50_000,
+                volume_photons: 100_000,
+                volume_points: points,
                 ..Default::default()
             },
         )

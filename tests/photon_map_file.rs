@@ -7,10 +7,11 @@ mod common;
 use common::*;
 use photonmap::command::{render_request, RenderRequest};
 use photonmap::render::driver::Rect;
-use photonmap::render::film::{Film, Filter};
+use photonmap::render::film::Film;
 use photonmap::render::map_file::{self, MapSet, OnMismatch};
+use photonmap::render::settings::FilterName;
 use photonmap::render::tile::{self, TileOutput, TileStage};
-use photonmap::render::{PhotonSettings, RenderOutput, RenderSettings, Renderer};
+use photonmap::render::{RenderOutput, RenderSettings, Renderer};
 use photonmap::scene::{Scene, SceneDesc};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -27,14 +28,11 @@ fn settings(threads: usize) -> RenderSettings {
         spp: 4,
         seed: 11,
         threads,
-        filter: Filter::Box,
-        photons: PhotonSettings {
-            global: 4_000,
-            caustic: 2_000,
-            volume: 2_000,
-            final_gather_rays: 16,
-            ..Default::default()
-        },
+        filter: FilterName::Box,
+        photons: 4_000,
+        caustic_photons: 2_000,
+        volume_photons: 2_000,
+        final_gather_rays: 16,
         ..Default::default()
     }
 }
@@ -82,14 +80,14 @@ fn a_saved_set_renders_the_same_bits() {
         }
         let path = tmp(&format!("{}.pmaps", name.replace(' ', "_")));
         let mut s = settings(2);
-        s.photon_map_files.save = Some(path.clone());
+        s.save_photon_maps = Some(path.clone());
         let first = run(&desc, s, None);
         let st = first.stats.photon_map_reuse.as_ref().unwrap();
         assert_eq!((st.maps.as_str(), st.cache.as_str()), ("built", "filled"));
         assert_eq!(st.saved_to.as_deref(), Some(path.to_str().unwrap()));
 
         let mut s = settings(1);
-        s.photon_map_files.load = Some(path.clone());
+        s.load_photon_maps = Some(path.clone());
         let again = run(&desc, s, None);
         assert!(
             bits(&again.film) == bits(&first.film),
@@ -110,7 +108,7 @@ fn a_saved_set_renders_the_same_bits() {
         // Another view: the cache is extended for it, deterministically.
         let other = moved(&desc, 0.05);
         let mut s = settings(2);
-        s.photon_map_files.load = Some(path.clone());
+        s.load_photon_maps = Some(path.clone());
         let a = run(&other, s.clone(), None);
         s.threads = 1;
         let b = run(&other, s, None);
@@ -128,7 +126,7 @@ fn a_set_of_another_scene_is_an_error_naming_what_differs() {
     let desc = small("cornell_spheres");
     let path = tmp("key.pmaps");
     let mut s = settings(0);
-    s.photon_map_files.save = Some(path.clone());
+    s.save_photon_maps = Some(path.clone());
     run(&desc, s, None);
     let set = MapSet::from_bytes(&std::fs::read(&path).unwrap(), &path).unwrap();
 
@@ -154,7 +152,7 @@ fn a_set_of_another_scene_is_an_error_naming_what_differs() {
         .to_string();
     assert!(e.contains("seed differ"), "{e}");
     let mut more = base.clone();
-    more.photons.global += 1;
+    more.photons += 1;
     let e = map_file::check_key(&set, &key(&desc, &more), "k")
         .unwrap_err()
         .to_string();
@@ -168,7 +166,7 @@ fn a_set_of_another_scene_is_an_error_naming_what_differs() {
 
     // Through a render: an error naming the setting, or a rebuild when asked.
     let mut s = settings(0);
-    s.photon_map_files.load = Some(path.clone());
+    s.load_photon_maps = Some(path.clone());
     let e = render_request(RenderRequest::new(&brighter, s.clone()))
         .err()
         .expect("a mismatched key is an error")
@@ -177,7 +175,7 @@ fn a_set_of_another_scene_is_an_error_naming_what_differs() {
         e.contains("`load_photon_maps`") && e.contains("lights differ"),
         "{e}"
     );
-    s.photon_map_files.on_mismatch = OnMismatch::Rebuild;
+    s.photon_maps_mismatch = OnMismatch::Rebuild;
     let out = render_request(RenderRequest::new(&brighter, s)).unwrap();
     let st = out.stats.photon_map_reuse.unwrap();
     assert_eq!(st.maps, "built");
@@ -191,7 +189,7 @@ fn damaged_files_are_clear_errors() {
     let desc = small("cornell_spheres");
     let path = tmp("damaged.pmaps");
     let mut s = settings(0);
-    s.photon_map_files.save = Some(path.clone());
+    s.save_photon_maps = Some(path.clone());
     run(&desc, s, None);
     let good = std::fs::read(&path).unwrap();
     let parts = map_file::key_parts(&desc, &settings(0));
@@ -238,7 +236,7 @@ fn maps_are_saved_in_the_jensen_mode_only() {
     let desc = small("cornell_diffuse");
     let mut s = settings(0);
     s.mode = photonmap::render::settings::RenderMode::Pppm;
-    s.photon_map_files.save = Some(tmp("p.pmaps"));
+    s.save_photon_maps = Some(tmp("p.pmaps"));
     let e = render_request(RenderRequest::new(&desc, s))
         .err()
         .unwrap()
@@ -248,7 +246,7 @@ fn maps_are_saved_in_the_jensen_mode_only() {
         "{e}"
     );
     let mut s = settings(0);
-    s.photon_map_files.load = Some(tmp("p.pmaps"));
+    s.load_photon_maps = Some(tmp("p.pmaps"));
     s.time_budget = Some(5.0);
     let e = render_request(RenderRequest::new(&desc, s))
         .err()

@@ -7,9 +7,10 @@ mod common;
 use common::{load_scene, render_settings};
 use photonmap::cli::{Cli, Command};
 use photonmap::render::aov::Term;
-use photonmap::render::film::{Filter, Image};
+use photonmap::render::film::Image;
+use photonmap::render::settings::{Bytes, FilterName, PhotonPower};
 use photonmap::render::settings::{BYTES_PER_PHOTON, BYTES_PER_PHOTON_F32};
-use photonmap::render::{PhotonSettings, RenderOutput, RenderSettings, Renderer};
+use photonmap::render::{RenderOutput, RenderSettings, Renderer};
 use photonmap::scene::{Scene, SceneDesc};
 
 fn small_spheres() -> SceneDesc {
@@ -24,13 +25,14 @@ fn settings(f32_power: bool) -> RenderSettings {
         spp: 4,
         seed: 5,
         threads: 2,
-        filter: Filter::Box,
-        photons: PhotonSettings {
-            global: 30_000,
-            caustic: 20_000,
-            final_gather_rays: 64,
-            f32_power,
-            ..Default::default()
+        filter: FilterName::Box,
+        photons: 30_000,
+        caustic_photons: 20_000,
+        final_gather_rays: 64,
+        photon_power: if f32_power {
+            PhotonPower::F32
+        } else {
+            PhotonPower::Rgbe
         },
         ..Default::default()
     }
@@ -114,8 +116,8 @@ fn memory_estimate_follows_the_photon_size() {
     assert_eq!(BYTES_PER_PHOTON_F32, 28);
     for (f32_power, size) in [(false, 20), (true, 28)] {
         let mut s = settings(f32_power);
-        s.photons.global = 1_000_000;
-        assert_eq!(s.photons.bytes_per_photon(), size);
+        s.photons = 1_000_000;
+        assert_eq!(s.bytes_per_photon(), size);
         let est = Renderer::new(&scene).settings(s.clone()).memory_estimate();
         // No specular surfaces, no media: the global map only.
         assert_eq!(est.photons, 1_000_000);
@@ -124,7 +126,7 @@ fn memory_estimate_follows_the_photon_size() {
         // as they are read) and the kd-tree is balanced in place: the peak is the map. A
         // limit one byte under the peak fails, naming the record size.
         assert_eq!(est.peak_bytes, est.total_bytes);
-        s.memory_limit = Some(est.peak_bytes - 1);
+        s.memory_limit = Some(Bytes(est.peak_bytes - 1));
         let e = Renderer::new(&scene)
             .settings(s)
             .render()
@@ -146,7 +148,7 @@ fn cli_photon_power_flag() {
             .chain(extra)
             .copied();
         Cli::try_parse_from(argv).map(|c| match c.command {
-            Command::Render(a) => a.settings().photons.f32_power,
+            Command::Render(a) => a.settings().f32_power(),
             Command::Merge(_) => unreachable!("`render` parses as the render command"),
         })
     };

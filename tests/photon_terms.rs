@@ -7,8 +7,8 @@ use photonmap::geometry::shapes;
 use photonmap::photon::map::MapKind;
 use photonmap::photon::trace::{build_map, TraceParams};
 use photonmap::render::aov::Term;
-use photonmap::render::film::Filter;
-use photonmap::render::{PhotonSettings, RenderSettings};
+use photonmap::render::settings::FilterName;
+use photonmap::render::RenderSettings;
 use photonmap::scene::desc::*;
 use photonmap::scene::{Scene, SceneDesc};
 
@@ -29,7 +29,7 @@ fn mesh_desc(m: &photonmap::geometry::MeshGeom, name: &str, material: u32) -> Me
 fn render_with(
     desc: &SceneDesc,
     spp: u32,
-    photons: PhotonSettings,
+    photons: RenderSettings,
     seed: u64,
 ) -> photonmap::render::RenderOutput {
     render_settings(
@@ -37,9 +37,8 @@ fn render_with(
         RenderSettings {
             spp,
             seed,
-            filter: Filter::Box,
-            photons,
-            ..Default::default()
+            filter: FilterName::Box,
+            ..photons
         },
     )
 }
@@ -75,8 +74,8 @@ fn white_furnace_indirect_matches_kd_over_one_minus_kd() {
             }],
             ..Default::default()
         };
-        let photons = PhotonSettings {
-            global: 100_000,
+        let photons = RenderSettings {
+            photons: 100_000,
             max_bounces: 100_000,
             final_gather_rays: 512,
             ..Default::default()

@@ -6,10 +6,11 @@
 mod common;
 use common::*;
 use photonmap::io::exr::read_rgb_layers;
-use photonmap::render::film::{Film, Filter, Image};
+use photonmap::render::film::{Film, Image};
 use photonmap::render::partial::Partial;
+use photonmap::render::settings::FilterName;
 use photonmap::render::settings::RenderMode;
-use photonmap::render::{PhotonSettings, RenderSettings, Renderer};
+use photonmap::render::{RenderSettings, Renderer};
 use photonmap::scene::{Scene, SceneDesc};
 use std::path::Path;
 
@@ -19,11 +20,8 @@ fn settings(passes: u32, photons: usize, seed: u64, threads: usize) -> RenderSet
         seed,
         threads,
         mode: RenderMode::Pppm,
-        filter: Filter::Box,
-        photons: PhotonSettings {
-            global: photons,
-            ..Default::default()
-        },
+        filter: FilterName::Box,
+        photons: photons,
         ..Default::default()
     }
 }
@@ -253,21 +251,21 @@ fn compositing_passes_are_refused_by_name() {
     let desc = small_scene("cornell_spheres");
     let scene = Scene::build(&desc).unwrap();
     let mut s = settings(2, 1000, 1, 1);
-    s.aovs.denoising_data = true;
+    s.denoising_data = true;
     let e = Renderer::new(&scene)
         .settings(s.clone())
         .render()
         .err()
         .expect("refused");
     assert!(e.to_string().contains("denoising_data"), "{e}");
-    s.aovs.denoising_data = false;
-    s.aovs.cryptomatte = Cryptomatte::Object;
+    s.denoising_data = false;
+    s.cryptomatte = Cryptomatte::Object;
     let e = Renderer::new(&scene)
         .settings(s.clone())
         .render()
         .err()
         .expect("refused");
     assert!(e.to_string().contains("cryptomatte"), "{e}");
-    s.aovs.cryptomatte = Cryptomatte::Off;
+    s.cryptomatte = Cryptomatte::Off;
     assert!(Renderer::new(&scene).settings(s).render().is_ok());
 }

@@ -3,6 +3,7 @@
 mod common;
 use common::*;
 use photonmap::render::aov::{Term, TermMask};
+use photonmap::render::settings::FilterName;
 
 /// The default scene (glass and mirror spheres, the light in view) in a thin world fog, with a
 /// block of a subsurface material on the floor: every term of the sum is non-zero.
@@ -247,14 +248,13 @@ fn block_stats(
 /// rate under 10^-3 for Gaussian block means.
 #[test]
 fn terms_rendered_alone_sum_to_the_full_render() {
-    use photonmap::render::film::Filter;
     let desc = every_term_scene();
     let settings = |terms: TermMask| photonmap::render::RenderSettings {
         spp: 16,
         seed: 7,
         threads: 0,
         terms,
-        filter: Filter::Box,
+        filter: FilterName::Box,
         adaptive_sampling: false,
         ..Default::default()
     };
@@ -371,7 +371,7 @@ fn a_light_hidden_from_the_camera_still_lights_the_scene() {
                 spp,
                 seed,
                 threads,
-                filter: photonmap::render::film::Filter::Box,
+                filter: photonmap::render::settings::FilterName::Box,
                 adaptive_sampling: false,
                 ..Default::default()
             },
@@ -399,10 +399,10 @@ fn stats_record_the_settings() {
     desc.film.width = 16;
     desc.film.height = 12;
     let scene = photonmap::scene::Scene::build(&desc).expect("scene builds");
-    let mut settings = photonmap::render::Quality::Draft.settings();
+    let mut settings = photonmap::render::RenderSettings::preset(photonmap::render::Quality::Draft);
     settings.seed = 7;
     settings.spp = 2;
-    settings.photons.gather = 33;
+    settings.gather = 33;
     settings.terms = TermMask::NONE.with(Term::Direct).with(Term::Caustic);
     let out = photonmap::render::Renderer::new(&scene)
         .settings(settings)
@@ -412,8 +412,8 @@ fn stats_record_the_settings() {
     let s = &json["settings"];
     assert_eq!(s["seed"], 7);
     assert_eq!(s["spp"], 2);
-    assert_eq!(s["photons"]["gather"], 33);
-    assert_eq!(s["photons"]["global"], 50_000);
+    assert_eq!(s["gather"], 33);
+    assert_eq!(s["photons"], 50_000);
     assert_eq!(s["filter"], "gaussian");
     assert_eq!(s["mode"], "jensen");
     assert_eq!(s["terms"], serde_json::json!(["direct", "caustic"]));
@@ -428,10 +428,10 @@ fn both_modes_say_the_same_about_skipped_terms() {
     desc.film.height = 8;
     let scene = photonmap::scene::Scene::build(&desc).expect("scene builds");
     let reasons = |mode| {
-        let mut s = photonmap::render::Quality::Draft.settings();
+        let mut s = photonmap::render::RenderSettings::preset(photonmap::render::Quality::Draft);
         s.spp = 1;
         s.mode = mode;
-        s.photons.global = 2000;
+        s.photons = 2000;
         let out = photonmap::render::Renderer::new(&scene)
             .settings(s)
             .render()

@@ -5,9 +5,10 @@
 mod common;
 use common::*;
 use photonmap::io::exr::read_rgb_layers;
-use photonmap::render::film::{Filter, Image};
+use photonmap::render::film::Image;
+use photonmap::render::settings::FilterName;
 use photonmap::render::settings::RenderMode;
-use photonmap::render::{PhotonSettings, RenderOutput, RenderSettings};
+use photonmap::render::{RenderOutput, RenderSettings};
 
 const SCENE: &str = "cornell_spheres";
 const REFERENCE: &str = "cornell_spheres_full";
@@ -37,11 +38,8 @@ fn sppm(passes: u32, photons: usize, seed: u64) -> RenderOutput {
             spp: passes,
             seed,
             mode: RenderMode::Sppm,
-            filter: Filter::Box,
-            photons: PhotonSettings {
-                global: photons,
-                ..Default::default()
-            },
+            filter: FilterName::Box,
+            photons: photons,
             ..Default::default()
         },
     )
@@ -200,10 +198,7 @@ fn progressive_mode_is_deterministic_across_threads() {
                 seed: 9,
                 threads,
                 mode: RenderMode::Sppm,
-                photons: PhotonSettings {
-                    global: 5_000,
-                    ..Default::default()
-                },
+                photons: 5_000,
                 ..Default::default()
             },
         )
@@ -237,10 +232,7 @@ fn progressive_mode_is_deterministic_across_threads() {
         spp: 6,
         seed: 9,
         mode: RenderMode::Sppm,
-        photons: PhotonSettings {
-            global: 5_000,
-            ..Default::default()
-        },
+        photons: 5_000,
         ..Default::default()
     };
     let c = photonmap::render::Renderer::new(&scene)

@@ -8,8 +8,8 @@ use common::*;
 use glam::Vec3;
 use photonmap::geometry::shapes;
 use photonmap::render::aov::Term;
-use photonmap::render::film::Filter;
-use photonmap::render::{PhotonSettings, RenderOutput, RenderSettings};
+use photonmap::render::settings::FilterName;
+use photonmap::render::{RenderOutput, RenderSettings};
 use photonmap::scene::SceneDesc;
 
 /// A sphere of radius 1 at the origin, seen whole by a camera on +z, of a Principled material
@@ -64,12 +64,9 @@ fn settings(spp: u32, seed: u64, threads: usize) -> RenderSettings {
         spp,
         seed,
         threads,
-        filter: Filter::Box,
-        photons: PhotonSettings {
-            global: 50_000,
-            caustic: 20_000,
-            ..Default::default()
-        },
+        filter: FilterName::Box,
+        photons: 50_000,
+        caustic_photons: 20_000,
         ..Default::default()
     }
 }
@@ -100,8 +97,8 @@ fn disk_mean(out: &RenderOutput, term: Option<Term>) -> Vec3 {
 /// Settings of the furnace: no photon maps (nothing in a furnace stores them).
 fn furnace_settings(seed: u64) -> RenderSettings {
     let mut st = settings(16, seed, 0);
-    st.photons.global = 0;
-    st.photons.caustic = 0;
+    st.photons = 0;
+    st.caustic_photons = 0;
     st
 }
 
@@ -308,7 +305,7 @@ fn light_through_a_plate_reaches_the_floor_as_in_cycles() {
         let each: Vec<f32> = (1..=4u64)
             .map(|seed| {
                 let mut s = settings(16, seed, 0);
-                s.photons.global = 200_000;
+                s.photons = 200_000;
                 region_mean(&render_settings(desc, s), rows.clone(), 14..34)
             })
             .collect();

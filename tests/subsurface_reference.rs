@@ -14,8 +14,9 @@
 mod common;
 use common::compare::pixel_compare;
 use common::*;
-use photonmap::render::film::{Filter, Image};
-use photonmap::render::{PhotonSettings, RenderSettings};
+use photonmap::render::film::Image;
+use photonmap::render::settings::FilterName;
+use photonmap::render::RenderSettings;
 use photonmap::scene::SceneDesc;
 
 /// Four batches of 64 spp (seeds 300..303). Nothing else in the scene: no photon maps.
@@ -27,12 +28,9 @@ fn batches(desc: &SceneDesc) -> Vec<Image> {
                 RenderSettings {
                     spp: 64,
                     seed: 300 + seed,
-                    filter: Filter::Box,
-                    photons: PhotonSettings {
-                        global: 0,
-                        caustic: 0,
-                        ..Default::default()
-                    },
+                    filter: FilterName::Box,
+                    photons: 0,
+                    caustic_photons: 0,
                     ..Default::default()
                 },
             );

@@ -130,7 +130,7 @@ fn assert_finite(out: &RenderOutput) {
 fn budget_stops_at_the_deadline_and_scales_the_plan() {
     let _g = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     let scene = scene_64();
-    let preset = RenderSettings::default().photons;
+    let preset = RenderSettings::default();
     let mut plans: Vec<BudgetStats> = Vec::new();
     for budget in [1.0, 2.0, 4.0] {
         let (out, reports) = render(&scene, budgeted(budget, 7, 0), "render");
@@ -153,7 +153,7 @@ fn budget_stops_at_the_deadline_and_scales_the_plan() {
         let parts = bs.calibration_seconds + sec["photons"] + sec["irradiance_cache"];
         assert_stopped_at_the_deadline(&bs, &reports, parts);
         // One scale factor for every map: the preset's caustic/global ratio, to rounding.
-        let ratio = preset.caustic as f64 / preset.global as f64;
+        let ratio = preset.caustic_photons as f64 / preset.photons as f64;
         if bs.photons_caustic > MIN_PHOTONS && bs.photons_global > MIN_PHOTONS {
             let off = (bs.photons_caustic as f64 - ratio * bs.photons_global as f64).abs();
             assert!(
@@ -212,10 +212,10 @@ fn recorded_plan_reproduces_the_image_bit_for_bit() {
         gather_rays_per_sample: Some(bs.gather_rays_per_sample),
         ..Default::default()
     };
-    explicit.photons.global = bs.photons_global;
-    explicit.photons.caustic = bs.photons_caustic;
-    explicit.photons.volume = bs.photons_volume;
-    explicit.photons.final_gather_rays = bs.final_gather_rays;
+    explicit.photons = bs.photons_global;
+    explicit.caustic_photons = bs.photons_caustic;
+    explicit.volume_photons = bs.photons_volume;
+    explicit.final_gather_rays = bs.final_gather_rays;
     let (b, _) = render(&scene, explicit, "render");
     assert!(b.stats.time_budget.is_none());
     assert_eq!(a.stats.spp, b.stats.spp);
@@ -260,10 +260,7 @@ fn progressive_mode_stops_at_the_deadline_and_replays() {
         spp,
         time_budget: budget,
         mode: photonmap::render::settings::RenderMode::Sppm,
-        photons: photonmap::render::PhotonSettings {
-            global: 10_000,
-            ..Default::default()
-        },
+        photons: 10_000,
         ..Default::default()
     };
     let mut passes = Vec::new();

@@ -2,12 +2,12 @@
 //! The user-facing `photonmap` command (Python package) takes the same arguments and runs the
 //! same command (`photonmap::command`).
 
-use clap::Parser;
 use photonmap::cli::{Cli, Command};
 use photonmap::command::{self, report, Frontend};
 
 fn main() {
-    match Cli::parse().command {
+    let cli = Cli::parse_args(std::env::args_os()).unwrap_or_else(|e| e.exit());
+    match cli.command {
         Command::Merge(m) => match command::run_merge(&m) {
             Ok(p) if !m.quiet => eprintln!("{}", report::merge_summary(&m, &p)),
             Ok(_) => {}

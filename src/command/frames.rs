@@ -205,7 +205,7 @@ impl FrameReuse {
                 && args.frame_photon_maps == FrameMaps::Reuse
                 && s.mode == RenderMode::Jensen
                 && s.time_budget.is_none()
-                && s.photon_map_files.load.is_none(),
+                && s.photon_map_files().load.is_none(),
             first: None,
         }
     }

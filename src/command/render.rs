@@ -60,7 +60,7 @@ pub fn render_request(req: RenderRequest) -> Result<RenderOutput> {
         maps_only,
     } = req;
     map_file::check_settings(&settings)?;
-    let files = settings.photon_map_files.clone();
+    let files = settings.photon_map_files();
     // Keys hash the whole scene: computed only where they are used.
     let keyed = match settings.mode {
         RenderMode::Pppm => true,
@@ -98,7 +98,7 @@ pub fn render_request(req: RenderRequest) -> Result<RenderOutput> {
     }
     let scene = Scene::build_cancellable(desc, cancel.as_deref())?;
     let build_s = t0.elapsed().as_secs_f64();
-    if let Some(b) = settings.time_budget.filter(|b| *b > 0.0) {
+    if let Some(b) = settings.budget_seconds() {
         settings.time_budget = Some((b - build_s).max(1e-3));
     }
     let save = files

@@ -10,7 +10,6 @@ use crate::cli::{Cli, Command, MergeArgs};
 use crate::command::{self, report, Denoiser, Failure, Frontend, LoadedScene, SceneRequest};
 use crate::error::Error;
 use crate::render::RenderOutput;
-use clap::Parser;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 use std::cell::RefCell;
@@ -35,7 +34,7 @@ pub(super) fn run_cli(
     usd_loader: Option<Bound<'_, PyAny>>,
     denoiser: Option<Bound<'_, PyAny>>,
 ) -> PyResult<i32> {
-    let cli = match Cli::try_parse_from(std::iter::once("photonmap".to_string()).chain(argv)) {
+    let cli = match Cli::parse_args(std::iter::once("photonmap".to_string()).chain(argv)) {
         Ok(c) => c,
         Err(e) => {
             let _ = e.print();

@@ -21,7 +21,6 @@ use crate::render::map_file::{self, MapSet};
 use crate::render::tile::{self, TileOutput, TileStage};
 use crate::render::{RenderOutput, RenderSettings, Renderer};
 use crate::scene::Scene;
-use clap::Parser;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
@@ -100,7 +99,7 @@ impl Job {
     /// line raises ValueError with clap's message.
     #[new]
     fn new(argv: Vec<String>) -> PyResult<Self> {
-        let cli = Cli::try_parse_from(std::iter::once("photonmap".to_string()).chain(argv))
+        let cli = Cli::parse_args(std::iter::once("photonmap".to_string()).chain(argv))
             .map_err(|e| PyValueError::new_err(e.render().to_string()))?;
         match cli.command {
             Command::Render(mut args) => {

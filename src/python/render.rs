@@ -173,11 +173,10 @@ pub(super) fn render<'py>(
     cancel: Option<&CancelToken>,
     pass_range: Option<(u32, u32)>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let options = crate::render::RenderOptions::from_json(settings).map_err(to_py)?;
+    let mut settings = crate::render::RenderSettings::from_json(settings).map_err(to_py)?;
     let flag = cancel
         .map(|c| c.flag.clone())
         .unwrap_or_else(|| Arc::new(AtomicBool::new(false)));
-    let mut settings = options.settings();
     if let Some((a, b)) = pass_range {
         if settings.mode != crate::render::settings::RenderMode::Pppm || a >= b {
             return Err(PyValueError::new_err(format!(

@@ -3,7 +3,7 @@
 
 use super::to_py;
 use crate::render::aov::AovSpec;
-use crate::render::{Quality, RenderOptions};
+use crate::render::{Quality, RenderSettings};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -17,13 +17,13 @@ pub(super) fn preset(name: &str) -> PyResult<String> {
             "unknown quality `{name}` (expected draft, medium, high or final)"
         ))
     })?;
-    Ok(RenderOptions::preset_json(q).to_string())
+    Ok(RenderSettings::preset_json(q).to_string())
 }
 
-/// The render settings' schema as JSON (`RenderOptions::schema`).
+/// The render settings' schema as JSON (`RenderSettings::schema`).
 #[pyfunction]
 pub(super) fn settings_schema() -> String {
-    RenderOptions::schema().to_string()
+    RenderSettings::schema().to_string()
 }
 
 /// A spec of the AOV list as a dict: `name`, `pass_name`, `kind`, `channels`, `chan_id`,
@@ -56,10 +56,9 @@ pub(super) fn aov_specs<'py>(
     settings: &str,
     light_groups: Vec<String>,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
-    let options = RenderOptions::from_json(settings).map_err(to_py)?;
-    options
-        .settings()
-        .aovs
+    RenderSettings::from_json(settings)
+        .map_err(to_py)?
+        .aovs()
         .aovs(&crate::render::aov::light_group_names(&light_groups))
         .iter()
         .map(|spec| spec_dict(py, spec))

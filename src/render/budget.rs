@@ -209,19 +209,18 @@ impl Renderer<'_> {
     ) -> Result<RenderSettings> {
         let mut s = self.settings.clone();
         let t = Instant::now();
-        let p = &s.photons;
         let targets = [
-            (need[0], p.global),
-            (need[1], p.caustic),
-            (need[2], p.volume),
+            (need[0], s.photons),
+            (need[1], s.caustic_photons),
+            (need[2], s.volume_photons),
         ];
         let preset_total: usize = targets.iter().filter(|(n, _)| *n).map(|(_, c)| *c).sum();
         let mut scale = 1.0;
         if preset_total > 0 && !self.scene.lights.is_empty() {
-            let mut cal = p.clone();
-            cal.global = scale_count(p.global, CALIBRATION_FRACTION);
-            cal.caustic = scale_count(p.caustic, CALIBRATION_FRACTION);
-            cal.volume = scale_count(p.volume, CALIBRATION_FRACTION);
+            let mut cal = s.clone();
+            cal.photons = scale_count(s.photons, CALIBRATION_FRACTION);
+            cal.caustic_photons = scale_count(s.caustic_photons, CALIBRATION_FRACTION);
+            cal.volume_photons = scale_count(s.volume_photons, CALIBRATION_FRACTION);
             let (cal_maps, cal_stats) = photons::build(
                 self.scene,
                 &cal,
@@ -244,11 +243,11 @@ impl Renderer<'_> {
             // Irradiance cache: fill it with the calibration maps and a few gather rays to
             // count the records and time a gather ray.
             let mut cache_preset = 0.0;
-            let fg = s.photons.final_gather_rays;
-            if need[0] && s.photons.irradiance_cache && cal_maps.global.is_some() && fg > 0 {
+            let fg = s.final_gather_rays;
+            if need[0] && s.irradiance_cache && cal_maps.global.is_some() && fg > 0 {
                 let tc = Instant::now();
                 let mut cal_settings = s.clone();
-                cal_settings.photons.final_gather_rays = CALIBRATION_GATHER_RAYS;
+                cal_settings.final_gather_rays = CALIBRATION_GATHER_RAYS;
                 let settings = EyeSettings {
                     terms: s.terms,
                     max_specular_depth: s.max_specular_depth,
@@ -261,7 +260,7 @@ impl Renderer<'_> {
                 let secs = tc.elapsed().as_secs_f64();
                 stats.calibration_cache_records = cache.len() as u64;
                 cache_preset =
-                    secs * fg as f64 / CALIBRATION_GATHER_RAYS as f64 * log_ratio(p.global as f64);
+                    secs * fg as f64 / CALIBRATION_GATHER_RAYS as f64 * log_ratio(s.photons as f64);
             }
             let photon_preset =
                 stats.seconds_per_photon * preset_photons * log_ratio(preset_photons);
@@ -273,36 +272,35 @@ impl Renderer<'_> {
             if scale > 1.0 && photon_preset > 0.0 {
                 scale = ((room - cache_preset) / photon_preset).max(1.0);
             }
-            if let Some(limit) = s.memory_limit {
+            if let Some(limit) = s.memory_limit_bytes() {
                 let bvh = self.scene.triangle_count as u64 * BYTES_PER_TRIANGLE;
-                let record = s.photons.bytes_per_photon();
+                let record = s.bytes_per_photon();
                 let fit = limit.saturating_sub(bvh) / record;
                 scale = scale.min(fit as f64 / preset_photons);
             }
         }
         let spp_equivalent = (s.spp as f64 * scale).max(1.0);
-        let p = &mut s.photons;
-        p.global = scale_count(p.global, scale);
-        p.caustic = scale_count(p.caustic, scale);
-        p.volume = scale_count(p.volume, scale);
-        if p.final_gather_rays > 0 {
-            p.final_gather_rays =
-                ((p.final_gather_rays as f64 * scale.min(1.0)).round() as u32).max(MIN_GATHER_RAYS);
+        s.photons = scale_count(s.photons, scale);
+        s.caustic_photons = scale_count(s.caustic_photons, scale);
+        s.volume_photons = scale_count(s.volume_photons, scale);
+        if s.final_gather_rays > 0 {
+            s.final_gather_rays =
+                ((s.final_gather_rays as f64 * scale.min(1.0)).round() as u32).max(MIN_GATHER_RAYS);
         }
         s.progressive = true;
         let gather = s
             .gather_rays_per_sample
-            .unwrap_or(match p.final_gather_rays {
+            .unwrap_or(match s.final_gather_rays {
                 0 => 0,
                 n => ((n as f64 / spp_equivalent).ceil() as u32).max(4),
             });
         s.gather_rays_per_sample = Some(gather);
         stats.calibration_seconds = t.elapsed().as_secs_f64();
-        stats.photons_global = p.global;
-        stats.photons_caustic = p.caustic;
-        stats.photons_volume = p.volume;
+        stats.photons_global = s.photons;
+        stats.photons_caustic = s.caustic_photons;
+        stats.photons_volume = s.volume_photons;
         stats.gather_rays_per_sample = gather;
-        stats.final_gather_rays = p.final_gather_rays;
+        stats.final_gather_rays = s.final_gather_rays;
         Ok(s)
     }
 }

@@ -90,7 +90,7 @@ pub fn fill(
     progress: &(dyn Fn(f32) + Sync),
     cancelled: &(dyn Fn() -> bool + Sync),
 ) -> Result<IrradianceCache> {
-    let a = s.photons.cache_tolerance.max(1e-3);
+    let a = s.cache_tolerance.max(1e-3);
     let cache = IrradianceCache::new(a, 0.05 * ctx.scene.radius);
     extend(ctx, s, cache, progress, cancelled)
 }
@@ -108,10 +108,10 @@ pub fn extend(
 ) -> Result<IrradianceCache> {
     let scene = ctx.scene;
     let (w, h) = (scene.width, scene.height);
-    let a = s.photons.cache_tolerance.max(1e-3);
+    let a = s.cache_tolerance.max(1e-3);
     let r_cap = 0.25 * scene.radius / a;
     let pixel_angle = scene.camera.pixel_angle();
-    let rays = s.photons.final_gather_rays.max(1);
+    let rays = s.final_gather_rays.max(1);
     let strides: Vec<usize> = [32usize, 16, 8, 4, 2, 1].into_iter().collect();
     progress(0.0);
     for (round, &stride) in strides.iter().enumerate() {

@@ -110,7 +110,7 @@ pub struct AovLayout {
 impl AovLayout {
     /// The layout of a render of `scene` with `settings`; `light_groups` are the scene's.
     pub fn new(scene: &Scene, settings: &RenderSettings, light_groups: &[String]) -> AovLayout {
-        let req = &settings.aovs;
+        let req = &settings.aovs();
         let specs: Vec<AovSpec> = req.aovs(light_groups).into_iter().skip(1).collect();
         let index = |name: &str| specs.iter().position(|a| a.name == name);
         let guides = index(super::aov::ALBEDO_AOV).map(|i| (scene.camera.world_to_camera(), i));
@@ -330,11 +330,11 @@ pub fn channel_count(kind: AovKind) -> usize {
 /// tiles) is asked for compositing AOVs, which those pieces do not carry; it names the
 /// setting (or the scene's light groups).
 pub fn require_none(scene: &Scene, s: &RenderSettings, what: &str) -> crate::error::Result<()> {
-    let asked = if s.aovs.denoise {
+    let asked = if s.aovs().denoise {
         Some("denoise")
-    } else if s.aovs.denoising_data {
+    } else if s.aovs().denoising_data {
         Some("denoising_data")
-    } else if s.aovs.cryptomatte != super::aov::Cryptomatte::Off {
+    } else if s.aovs().cryptomatte != super::aov::Cryptomatte::Off {
         Some("cryptomatte")
     } else if !scene.light_groups.is_empty() {
         Some("lightgroups")

@@ -167,7 +167,7 @@ pub struct Passes<X, A = Sums> {
 /// The driver: what it reads from the render.
 pub struct CameraPass<'a> {
     pub scene: &'a Scene,
-    pub filter: &'a Filter,
+    pub filter: Filter,
     pub seed: u64,
     /// The phase name in progress reports.
     pub phase: &'static str,
@@ -183,7 +183,7 @@ pub struct CameraPass<'a> {
 }
 
 impl<'a> CameraPass<'a> {
-    pub fn new(scene: &'a Scene, filter: &'a Filter, seed: u64, phase: &'static str) -> Self {
+    pub fn new(scene: &'a Scene, filter: Filter, seed: u64, phase: &'static str) -> Self {
         CameraPass {
             scene,
             filter,
@@ -235,7 +235,7 @@ impl<'a> CameraPass<'a> {
     ) {
         let mut own = own;
         let rng = own.as_mut().unwrap_or(&mut px.rng);
-        let ray = eye::camera_ray(self.scene, self.filter, x, y, u, rng);
+        let ray = eye::camera_ray(self.scene, &self.filter, x, y, u, rng);
         let (l, further) = it.sample(pass, ray, rng, &mut px.extra, k, scratch, aovs);
         self.aovs.add(&mut px.aovs, aovs);
         let dropped = px.sums.add(k, &l, further);

@@ -87,7 +87,7 @@ fn bits(film: &Film) -> Vec<u32> {
 fn films_are_bit_identical_for_any_thread_count() {
     let scene = scene();
     let filter = Filter::gaussian(0.5);
-    let driver = CameraPass::new(&scene, &filter, 3, "render");
+    let driver = CameraPass::new(&scene, filter.clone(), 3, "render");
     let one = in_pool(1, || driver.stratified(&mut Toy::new(), 7, None).unwrap().0);
     let two = in_pool(2, || driver.stratified(&mut Toy::new(), 7, None).unwrap().0);
     assert_eq!(bits(&one), bits(&two));
@@ -99,7 +99,7 @@ fn films_are_bit_identical_for_any_thread_count() {
     });
     assert_eq!(bits(&p1.unwrap().film), bits(&p2.unwrap().film));
     // Another seed gives another image.
-    let other = CameraPass::new(&scene, &filter, 4, "render");
+    let other = CameraPass::new(&scene, filter.clone(), 4, "render");
     assert_ne!(
         bits(&one),
         bits(&other.stratified(&mut Toy::new(), 7, None).unwrap().0)
@@ -113,7 +113,7 @@ fn the_image_after_k_passes_does_not_depend_on_the_passes_that_follow() {
     let previews = std::sync::Arc::new(Mutex::new(Vec::<(u32, Vec<u32>)>::new()));
     let sink = previews.clone();
     let keep = move |f: &Film, k: u32| sink.lock().unwrap().push((k, bits(f)));
-    let mut driver = CameraPass::new(&scene, &filter, 9, "render");
+    let mut driver = CameraPass::new(&scene, filter.clone(), 9, "render");
     driver.preview = Some(&keep);
     let mut toy = Toy::new();
     let out = driver
@@ -130,7 +130,7 @@ fn the_image_after_k_passes_does_not_depend_on_the_passes_that_follow() {
     for k in [1, 2, 4, 8] {
         assert!(ks.contains(&k), "preview after pass {k}: {ks:?}");
     }
-    let quiet = CameraPass::new(&scene, &filter, 9, "render");
+    let quiet = CameraPass::new(&scene, filter.clone(), 9, "render");
     for (k, preview) in previews.iter().filter(|(k, _)| [1, 4].contains(k)) {
         let alone = quiet
             .progressive(&mut Toy::new(), Schedule::Passes(*k), 0)
@@ -143,7 +143,7 @@ fn the_image_after_k_passes_does_not_depend_on_the_passes_that_follow() {
 fn the_firewall_drops_non_finite_terms_and_counts_them() {
     let scene = scene();
     let filter = Filter::gaussian(0.5);
-    let driver = CameraPass::new(&scene, &filter, 1, "render");
+    let driver = CameraPass::new(&scene, filter.clone(), 1, "render");
     let mut toy = Toy::new();
     toy.nan_every = 2;
     let film = driver.stratified(&mut toy, 4, None).unwrap().0;
@@ -168,7 +168,7 @@ fn the_firewall_drops_non_finite_terms_and_counts_them() {
 fn the_further_share_enters_the_error_not_the_eye_terms() {
     let scene = scene();
     let filter = Filter::gaussian(0.5);
-    let driver = CameraPass::new(&scene, &filter, 1, "render");
+    let driver = CameraPass::new(&scene, filter.clone(), 1, "render");
     let base = driver
         .progressive(&mut Toy::new(), Schedule::Passes(8), 0)
         .unwrap();
@@ -256,7 +256,7 @@ fn cancelling_ends_either_loop_with_cancelled() {
     let scene = scene();
     let filter = Filter::gaussian(0.5);
     let flag = AtomicBool::new(true);
-    let mut driver = CameraPass::new(&scene, &filter, 1, "render");
+    let mut driver = CameraPass::new(&scene, filter.clone(), 1, "render");
     driver.cancel = Some(&flag);
     assert!(matches!(
         driver.stratified(&mut Toy::new(), 4, None).map(|r| r.0),
@@ -272,7 +272,7 @@ fn cancelling_ends_either_loop_with_cancelled() {
 fn a_deadline_runs_at_least_one_pass_and_stops() {
     let scene = scene();
     let filter = Filter::gaussian(0.5);
-    let driver = CameraPass::new(&scene, &filter, 1, "render");
+    let driver = CameraPass::new(&scene, filter.clone(), 1, "render");
     let start = Instant::now();
     let past = Schedule::Deadline {
         start,
@@ -339,7 +339,7 @@ fn wide_scene(w: usize, h: usize) -> Scene {
 fn adaptive_rounds_are_deterministic_and_counted() {
     let scene = wide_scene(24, 16);
     let filter = Filter::Box;
-    let driver = CameraPass::new(&scene, &filter, 5, "render");
+    let driver = CameraPass::new(&scene, filter.clone(), 5, "render");
     let a = Some(Adaptive {
         threshold: 0.5,
         max_factor: 4,
@@ -392,7 +392,7 @@ fn adaptive_sampling_is_unbiased_on_a_rare_bright_path() {
 
     let scene = wide_scene(w, h);
     let filter = Filter::Box;
-    let driver = CameraPass::new(&scene, &filter, 11, "render");
+    let driver = CameraPass::new(&scene, filter.clone(), 11, "render");
     let (film, stats) = driver
         .stratified(&mut Rare { p, value }, spp, Some(a))
         .unwrap();

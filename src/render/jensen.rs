@@ -72,13 +72,13 @@ fn eye_settings(s: &RenderSettings) -> EyeSettings {
     EyeSettings {
         terms: s.terms,
         max_specular_depth: s.max_specular_depth,
-        final_gather_rays: s.photons.final_gather_rays,
-        gather_rays_per_sample: s.gather_rays_per_sample.unwrap_or(
-            match s.photons.final_gather_rays {
+        final_gather_rays: s.final_gather_rays,
+        gather_rays_per_sample: s
+            .gather_rays_per_sample
+            .unwrap_or(match s.final_gather_rays {
                 0 => 0,
                 n => n.div_ceil(s.spp).max(4),
-            },
-        ),
+            }),
     }
 }
 
@@ -111,7 +111,7 @@ impl Renderer<'_> {
     fn prepare_jensen(&self) -> Result<Prepared<'_>> {
         let mut seconds = BTreeMap::new();
         let need = self.needed_maps();
-        let budget_seconds = self.settings.time_budget.filter(|b| *b > 0.0);
+        let budget_seconds = self.settings.budget_seconds();
         let mut budget_stats = budget_seconds.map(BudgetStats::for_budget);
         let settings = match (budget_seconds, budget_stats.as_mut()) {
             (Some(b), Some(bs)) => {
@@ -143,13 +143,13 @@ impl Renderer<'_> {
             None => {
                 self.report(0.0, "photons");
                 let (mut maps, mut stats) =
-                    photons::build(self.scene, &s.photons, s.seed, need, self.cancel());
+                    photons::build(self.scene, s, s.seed, need, self.cancel());
                 if self.is_cancelled() {
                     return Err(Error::Cancelled);
                 }
                 photons::build_volume_points(
                     self.scene,
-                    &s.photons,
+                    s,
                     &mut maps,
                     &mut stats,
                     s.seed,
@@ -189,7 +189,7 @@ impl Renderer<'_> {
             .and_then(|r| r.cache.as_ref().map(|c| (c, r.cache_view)));
         let progress = |f| self.report(f, "irradiance cache");
         let cancelled = || self.is_cancelled();
-        let (cache, how) = if s.photons.irradiance_cache && need[0] && maps.global.is_some() {
+        let (cache, how) = if s.irradiance_cache && need[0] && maps.global.is_some() {
             match given {
                 Some((c, v)) if Some(v) == view => (Some(Cow::Borrowed(c)), "reused"),
                 Some((c, _)) => (
@@ -302,7 +302,7 @@ impl Renderer<'_> {
         let s: &RenderSettings = &p.settings;
         let maps = self.maps_of(&p);
         let ctx = self.eye_ctx(s, maps, p.cache.as_deref(), eye_settings(s));
-        let budget_seconds = s.time_budget.filter(|b| *b > 0.0);
+        let budget_seconds = s.budget_seconds();
 
         // Second pass: camera rays.
         let t2 = Instant::now();

@@ -262,7 +262,7 @@ impl MapSet {
 /// a fresh map every pass) and no time budget when loading (the budget plans the photon
 /// counts, so the key, from this machine's speed).
 pub fn check_settings(s: &RenderSettings) -> Result<()> {
-    let f = &s.photon_map_files;
+    let f = &s.photon_map_files();
     let setting = if f.load.is_some() {
         "load_photon_maps"
     } else if f.save.is_some() {

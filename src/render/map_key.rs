@@ -1,9 +1,8 @@
 //! The keys of photon maps and of renders.
 //!
 //! **The key.** A set is keyed by a hash (64-bit FNV-1a, [`keys`]) of the geometry (meshes,
-//! instances), materials and textures, lights and environment (and light groups), media, the photon settings
-//! (counts, gather, radius, final gathering and cache, bounces, power encoding, mode, terms,
-//! specular depth), the seed and the version of the renderer and of the file format. Not the
+//! instances), materials and textures, lights and environment (and light groups), media, the
+//! settings (every one but those of [`NOT_IN_IMAGE`] and [`NOT_IN_MAPS`]), the seed and the version of the renderer and of the file format. Not the
 //! camera nor the film. Each part's own hash is stored too, so that a mismatch says what
 //! differs. Using a set under another key is an error (`map_file::check_key`), never a silently wrong
 //! image; `photon_maps_mismatch rebuild` builds the maps again instead.
@@ -154,18 +153,46 @@ pub fn key_parts(desc: &SceneDesc, s: &RenderSettings) -> KeyParts {
             json(h, &desc.media);
             json(h, &desc.world_medium);
         }),
-        photon_settings: part(&|h| {
-            json(h, &s.photons);
-            json(h, &(s.mode, s.terms, s.max_specular_depth));
-        }),
+        photon_settings: part(&|h| json(h, &without(s, &[&NOT_IN_IMAGE, &NOT_IN_MAPS, &["seed"]]))),
         seed: part(&|h| h.u64(s.seed)),
     }
 }
 
 /// The settings that do not change the image, left out of the render key: the threads, the
-/// memory limit, where photon maps are saved or loaded, and which block of pppm passes a
-/// process renders (blocks of one render differ in it, and merge).
-pub const NOT_IN_IMAGE: [&str; 4] = ["threads", "memory_limit", "photon_map_files", "pass_range"];
+/// memory limit, where photon maps are saved or loaded, which block of pppm passes a process
+/// renders (blocks of one render differ in it, and merge), and the quality preset's name (its
+/// values are the fields it set).
+pub const NOT_IN_IMAGE: [&str; 7] = [
+    "quality",
+    "threads",
+    "memory_limit",
+    "save_photon_maps",
+    "load_photon_maps",
+    "photon_maps_mismatch",
+    "pass_range",
+];
+
+/// The settings that change the camera pass only, left out of the photon-map key besides
+/// [`NOT_IN_IMAGE`] (the seed has its own part): the photon maps and the irradiance cache of
+/// one scene serve views rendered with other samples, filters, AOVs, and the progressive
+/// modes' radii (which never read a map file). Every other setting, a new one too, is in
+/// the key: a map file is never used under settings it was not built with.
+pub const NOT_IN_MAPS: [&str; 14] = [
+    "spp",
+    "adaptive_sampling",
+    "noise_threshold",
+    "max_spp",
+    "filter",
+    "progressive",
+    "gather_rays_per_sample",
+    "alpha",
+    "initial_photons",
+    "initial_radius",
+    "denoising_data",
+    "denoise",
+    "cryptomatte",
+    "cryptomatte_levels",
+];
 
 /// The keys of a render of `desc` with `s` (see [`super::RenderKeys`]). The render key hashes
 /// every setting but [`NOT_IN_IMAGE`], as the settings serialise: a new setting is in it.
@@ -177,7 +204,7 @@ pub fn keys(desc: &SceneDesc, s: &RenderSettings) -> super::RenderKeys {
     let mut r = Fnv64::default();
     r.u64(maps);
     r.u64(view);
-    json(&mut r, &image_settings(s));
+    json(&mut r, &without(s, &[&NOT_IN_IMAGE]));
     super::RenderKeys {
         maps,
         view,
@@ -185,12 +212,12 @@ pub fn keys(desc: &SceneDesc, s: &RenderSettings) -> super::RenderKeys {
     }
 }
 
-/// The settings as JSON without [`NOT_IN_IMAGE`].
-fn image_settings(s: &RenderSettings) -> serde_json::Value {
+/// The settings as JSON without the names in `lists`.
+fn without(s: &RenderSettings, lists: &[&[&str]]) -> serde_json::Value {
     let mut v = serde_json::to_value(s).unwrap_or_else(|e| unreachable!("settings serialise: {e}"));
     if let Some(map) = v.as_object_mut() {
-        for k in NOT_IN_IMAGE {
-            map.remove(k);
+        for k in lists.iter().flat_map(|l| l.iter()) {
+            map.remove(*k);
         }
     }
     v
@@ -199,75 +226,42 @@ fn image_settings(s: &RenderSettings) -> serde_json::Value {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::aov::{Term, TermMask};
 
-    /// Every setting that changes the image changes the render key; the threads, the memory
-    /// limit, the map files and the block of passes do not.
+    /// The engine's own settings (no keyword sets them) are in both keys, the block of pppm
+    /// passes in neither. The schema's settings are checked one by one in
+    /// `settings::tests::every_setting_round_trips_and_is_in_the_keys`.
     #[test]
-    fn the_render_key_covers_every_setting_that_changes_the_image() {
+    fn the_internal_settings_are_in_the_keys() {
         let desc = crate::scene::default_scene();
         let base = RenderSettings::default();
-        let key = |s: &RenderSettings| keys(&desc, s).render;
-        let k0 = key(&base);
-        let all = serde_json::to_value(&base).unwrap();
-        for k in NOT_IN_IMAGE {
-            assert!(all.get(k).is_some(), "{k} is a setting");
-        }
-        let changed: Vec<(&str, RenderSettings)> = vec![
-            (
-                "spp",
-                RenderSettings {
-                    spp: 9,
-                    ..base.clone()
-                },
-            ),
-            (
-                "noise_threshold",
-                RenderSettings {
-                    noise_threshold: 0.3,
-                    ..base.clone()
-                },
-            ),
-            (
-                "initial_photons",
-                RenderSettings {
-                    initial_photons: 7,
-                    ..base.clone()
-                },
-            ),
-            (
-                "initial_radius",
-                RenderSettings {
-                    initial_radius: Some(0.1),
-                    ..base.clone()
-                },
-            ),
-            (
-                "gather_rays_per_sample",
-                RenderSettings {
-                    gather_rays_per_sample: Some(3),
-                    ..base.clone()
-                },
-            ),
-            (
-                "progressive",
-                RenderSettings {
-                    progressive: true,
-                    ..base.clone()
-                },
-            ),
+        let k0 = keys(&desc, &base);
+        let changed = [
+            RenderSettings {
+                volume_points: false,
+                ..base.clone()
+            },
+            RenderSettings {
+                max_bounces: 3,
+                ..base.clone()
+            },
+            RenderSettings {
+                max_emitted_factor: 2,
+                ..base.clone()
+            },
+            RenderSettings {
+                terms: TermMask::NONE.with(Term::Direct),
+                ..base.clone()
+            },
         ];
-        for (what, s) in &changed {
-            assert_ne!(key(s), k0, "{what}");
+        for s in &changed {
+            let k = keys(&desc, s);
+            assert!(k.render != k0.render && k.maps != k0.maps, "{s:?}");
         }
-        let mut photons = base.clone();
-        photons.photons.volume_points = false;
-        assert_ne!(key(&photons), k0, "photons.volume_points");
-        let same = RenderSettings {
-            threads: 3,
-            memory_limit: Some(1 << 30),
+        let block = RenderSettings {
             pass_range: Some((2, 5)),
             ..base.clone()
         };
-        assert_eq!(key(&same), k0);
+        assert_eq!(keys(&desc, &block).render, k0.render);
     }
 }

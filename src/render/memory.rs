@@ -33,17 +33,18 @@ impl Renderer<'_> {
     /// The memory the photon maps (stored targets of every map that will be built, at
     /// `PhotonSettings::bytes_per_photon`) and the BVH (`BYTES_PER_TRIANGLE`) take.
     pub fn memory_estimate(&self) -> MemoryEstimate {
-        let p = &self.settings.photons;
+        let p = &self.settings;
         let [need_global, need_caustic, need_volume] = self.needed_maps();
         let built: Vec<u64> = if self.scene.lights.is_empty() {
             Vec::new()
         } else {
-            let caustic =
-                need_caustic && p.caustic > 0 && !photons::specular_targets(self.scene).is_empty();
+            let caustic = need_caustic
+                && p.caustic_photons > 0
+                && !photons::specular_targets(self.scene).is_empty();
             [
-                (need_global, p.global),
-                (caustic, p.caustic),
-                (need_volume, p.volume),
+                (need_global, p.photons),
+                (caustic, p.caustic_photons),
+                (need_volume, p.volume_photons),
             ]
             .iter()
             .filter(|(b, _)| *b)
@@ -52,7 +53,7 @@ impl Renderer<'_> {
         };
         let photons = built.iter().fold(0u64, |acc, n| acc.saturating_add(*n));
         let global = if need_global && !self.scene.lights.is_empty() {
-            p.global as u64
+            p.photons as u64
         } else {
             0
         };

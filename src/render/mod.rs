@@ -17,7 +17,6 @@ pub mod map_file;
 pub mod map_key;
 mod map_records;
 mod memory;
-pub mod options;
 pub mod partial;
 pub mod photons;
 pub mod pppm;
@@ -32,7 +31,6 @@ pub mod tile;
 pub mod work;
 
 pub use memory::MemoryEstimate;
-pub use options::RenderOptions;
 pub use renderer::{OutputTimeFn, PreviewFn, ProgressFn, RenderKeys, RenderOutput, Renderer};
-pub use settings::{PhotonSettings, Quality, RenderSettings};
+pub use settings::{Quality, RenderSettings};
 pub use stats::{RenderStats, SkippedTerm};

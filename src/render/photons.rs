@@ -5,7 +5,7 @@ use crate::lights::Target;
 use crate::photon::map::{MapKind, PhotonMap};
 use crate::photon::trace::{build_map, TraceParams};
 use crate::photon::volume_points::VolumePointMap;
-use crate::render::settings::PhotonSettings;
+use crate::render::settings::RenderSettings;
 use crate::scene::Scene;
 use serde::Serialize;
 use std::sync::atomic::AtomicBool;
@@ -109,7 +109,7 @@ fn debug_panic_hook() {
 /// `need` says which maps the render reads: global, caustic, volume.
 pub fn build(
     scene: &Scene,
-    s: &PhotonSettings,
+    s: &RenderSettings,
     seed: u64,
     need: [bool; 3],
     cancel: Option<&AtomicBool>,
@@ -121,7 +121,7 @@ pub fn build(
 /// irradiance (which only final gathering reads).
 pub fn build_with(
     scene: &Scene,
-    s: &PhotonSettings,
+    s: &RenderSettings,
     seed: u64,
     need: [bool; 3],
     cancel: Option<&AtomicBool>,
@@ -176,7 +176,7 @@ pub fn build_with(
             seed,
             targets,
             cancel,
-            f32_power: s.f32_power,
+            f32_power: s.f32_power(),
             irradiance: (kind == MapKind::Global && irradiance_points).then_some((
                 s.gather,
                 max_r * max_r,
@@ -205,7 +205,7 @@ pub fn build_with(
     let global = run(
         MapKind::Global,
         need_global,
-        s.global,
+        s.photons,
         &[],
         Some("indirect light is not rendered".into()),
     );
@@ -217,7 +217,7 @@ pub fn build_with(
     let caustic = run(
         MapKind::Caustic,
         need_caustic && !targets.is_empty(),
-        s.caustic,
+        s.caustic_photons,
         &targets,
         Some(caustic_reason.into()),
     );
@@ -229,7 +229,7 @@ pub fn build_with(
     let volume = run(
         MapKind::Volume,
         need_volume && scene.has_media(),
-        s.volume,
+        s.volume_photons,
         &[],
         Some(volume_reason.into()),
     );
@@ -254,7 +254,7 @@ const VOLUME_POINT_SUPPORT_RAYS: u32 = 32;
 /// point `i`'s support rays draw from `Rng::new(seed ^ SALT, i)`.
 pub fn build_volume_points(
     scene: &Scene,
-    s: &PhotonSettings,
+    s: &RenderSettings,
     maps: &mut PhotonMaps,
     stats: &mut [MapStats],
     seed: u64,

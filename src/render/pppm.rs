@@ -182,7 +182,7 @@ impl Renderer<'_> {
         let s = &self.settings;
         let (maps, _) = photons::build_with(
             self.scene,
-            &s.photons,
+            s,
             pass_seed(s.seed, 0),
             [true, false, false],
             self.cancel(),
@@ -216,7 +216,7 @@ impl Renderer<'_> {
                     let mut rng = Rng::derive(s.seed, TAG_RADIUS, i as u64);
                     let ray = eye::camera_ray(
                         self.scene,
-                        &s.filter,
+                        &s.pixel_filter(),
                         i % w,
                         i / w,
                         glam::Vec2::splat(0.5),
@@ -273,7 +273,7 @@ impl Renderer<'_> {
             seed: s.seed,
             alpha: s.alpha,
             initial_radius: r1,
-            photons_per_pass: s.photons.global as u64,
+            photons_per_pass: s.photons as u64,
             total_passes: total,
             key,
         };
@@ -301,8 +301,7 @@ impl Renderer<'_> {
             partials: 1,
         };
         partial.maps = t.maps;
-        partial.options = serde_json::to_string(&super::options::RenderOptions::from_settings(s))
-            .unwrap_or_default();
+        partial.options = s.options_json().to_string();
         Ok(partial)
     }
 
@@ -354,8 +353,8 @@ impl Renderer<'_> {
                     planned_seconds: start.elapsed().as_secs_f64(),
                     seconds_per_pass: (partial.tally.photon_seconds + partial.tally.camera_seconds)
                         / partial.passes().max(1) as f64,
-                    photons_global: s.photons.global,
-                    photons_volume: s.photons.volume,
+                    photons_global: s.photons,
+                    photons_volume: s.volume_photons,
                     ..super::budget::BudgetStats::for_budget(b)
                 }
                 .finish(start.elapsed().as_secs_f64()),

@@ -152,7 +152,7 @@ impl<R: Radii> Integrator for Progressive<'_, R> {
         let tp = Instant::now();
         let (maps, map_stats) = photons::build_with(
             r.scene,
-            &s.photons,
+            s,
             seed,
             self.need,
             r.cancel(),

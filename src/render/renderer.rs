@@ -155,7 +155,7 @@ impl<'a> Renderer<'a> {
         s: &'r RenderSettings,
         phase: &'static str,
     ) -> CameraPass<'r> {
-        let mut driver = CameraPass::new(self.scene, &s.filter, s.seed, phase);
+        let mut driver = CameraPass::new(self.scene, s.pixel_filter(), s.seed, phase);
         driver.progress = self.progress.as_deref();
         driver.cancel = self.cancel();
         driver.preview = self.preview.as_deref();
@@ -205,7 +205,7 @@ impl<'a> Renderer<'a> {
             let terms = s.terms.contains(Term::Caustic) || s.terms.contains(Term::Indirect);
             return [terms, false, need_volume];
         }
-        let need_global = s.terms.contains(Term::Indirect) && s.photons.final_gather_rays > 0;
+        let need_global = s.terms.contains(Term::Indirect) && s.final_gather_rays > 0;
         let need_caustic = s.terms.contains(Term::Caustic);
         [need_global, need_caustic, need_volume]
     }
@@ -227,7 +227,7 @@ impl<'a> Renderer<'a> {
             });
         }
         let estimate = self.memory_estimate();
-        if let Some(limit) = s.memory_limit {
+        if let Some(limit) = s.memory_limit_bytes() {
             if estimate.peak_bytes > limit {
                 return Err(Error::InvalidSetting {
                     setting: "memory_limit".into(),
@@ -238,7 +238,7 @@ impl<'a> Renderer<'a> {
                          bytes; store fewer photons or raise the limit",
                         estimate.peak_bytes,
                         estimate.photons,
-                        s.photons.bytes_per_photon(),
+                        s.bytes_per_photon(),
                         estimate.photon_bytes,
                         estimate.irradiance_bytes,
                         estimate.triangles,

@@ -168,7 +168,7 @@ impl Renderer<'_> {
         start: Instant,
     ) -> Result<RenderOutput> {
         let s = &self.settings;
-        let budget_seconds = s.time_budget.filter(|b| *b > 0.0);
+        let budget_seconds = s.budget_seconds();
         let driver = self.camera_pass(s, "progressive");
         let radii = Shrinking {
             settings: s,
@@ -181,7 +181,7 @@ impl Renderer<'_> {
         let mut stats = SppmStats {
             passes: out.passes,
             alpha: s.alpha,
-            photons_per_pass: s.photons.global as u64,
+            photons_per_pass: s.photons as u64,
             photons_emitted: t.photons_emitted,
             photon_seconds: t.photon_seconds,
             camera_seconds: t.camera_seconds,
@@ -207,8 +207,8 @@ impl Renderer<'_> {
                 passes: out.passes,
                 spp: out.passes,
                 seconds_per_pass: out.seconds_per_pass,
-                photons_global: s.photons.global,
-                photons_volume: s.photons.volume,
+                photons_global: s.photons,
+                photons_volume: s.volume_photons,
                 ..BudgetStats::for_budget(b)
             }
             .finish(start.elapsed().as_secs_f64())

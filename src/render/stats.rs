@@ -6,12 +6,12 @@ use super::adaptive::AdaptiveStats;
 use super::aov::Term;
 use super::budget::BudgetStats;
 use super::memory::MemoryEstimate;
-use super::options::RenderOptions;
 use super::partial::Partial;
 use super::photons::{self, MapStats, PhotonMaps};
 use super::pppm::{pass_radius2, PppmStats};
 use super::renderer::Renderer;
-use super::settings::{RenderMode, RenderSettings, BYTES_PER_TRIANGLE};
+use super::settings::RenderSettings;
+use super::settings::{RenderMode, BYTES_PER_TRIANGLE};
 use super::sppm::SppmStats;
 use crate::error::{Error, Result};
 use serde::Serialize;
@@ -92,7 +92,7 @@ pub struct RenderStats {
     /// The same settings as the render keywords and flags name them (`render::options`):
     /// `photonmap.render(scene, **stats["options"])` renders the same image (a budgeted
     /// render is replayed from its plan, `time_budget`).
-    pub options: RenderOptions,
+    pub options: serde_json::Value,
     /// The figures these stats do not know, which the stats JSON gives as `null`: in the stats
     /// of a merged pppm image, [`RenderStats::SCENE_FIGURES`].
     #[serde(skip)]
@@ -140,7 +140,7 @@ impl Renderer<'_> {
                     (Term::Indirect, Some(m)) if m.global.is_none() => {
                         "no global photon map (see photon_maps)"
                     }
-                    (Term::Indirect, Some(_)) if s.photons.final_gather_rays == 0 => {
+                    (Term::Indirect, Some(_)) if s.final_gather_rays == 0 => {
                         "final gathering disabled (0 rays)"
                     }
                     (Term::Caustic, Some(m)) if m.caustic.is_none() => {
@@ -201,7 +201,7 @@ impl RenderStats {
         let photon_bytes: u64 = p.maps.iter().map(|m| m.memory_bytes).sum();
         RenderStats {
             settings: s.clone(),
-            options: RenderOptions::from_settings(s),
+            options: s.options_json(),
             version: env!("CARGO_PKG_VERSION"),
             seed: s.seed,
             width: p.width,
@@ -223,7 +223,7 @@ impl RenderStats {
             non_finite_samples: p.non_finite_samples,
             memory_bytes: Self::film_memory_bytes(p.width, p.height) + photon_bytes,
             memory_estimate: p.estimate,
-            bytes_per_photon: s.photons.bytes_per_photon(),
+            bytes_per_photon: s.bytes_per_photon(),
             bytes_per_triangle: BYTES_PER_TRIANGLE,
             time_budget: p.time_budget,
             mode: p.mode,
@@ -240,12 +240,11 @@ impl RenderStats {
     /// the latest block's: the render's last pass); the figures of the scene and the machine
     /// ([`Self::SCENE_FIGURES`]) are unknown.
     pub fn of_partial(p: &Partial) -> Result<RenderStats> {
-        let options: RenderOptions = serde_json::from_str(&p.options).map_err(|e| {
+        let settings = RenderSettings::from_json(&p.options).map_err(|e| {
             Error::Internal(format!(
                 "the partial sums' render options are not readable: {e}"
             ))
         })?;
-        let settings = options.settings();
         let t = &p.tally;
         let mut seconds = BTreeMap::new();
         seconds.insert("photons".to_string(), t.photon_seconds);
@@ -305,7 +304,7 @@ mod tests {
     use crate::io::scene_json;
     use crate::render::aov::{Term, TermMask};
     use crate::render::settings::{RenderMode, RenderSettings};
-    use crate::render::{RenderOptions, RenderStats, Renderer};
+    use crate::render::{RenderStats, Renderer};
     use crate::scene::{Scene, SceneDesc};
 
     fn scene(name: &str) -> Scene {
@@ -325,10 +324,10 @@ mod tests {
             seed: 5,
             ..RenderSettings::default()
         };
-        s.photons.global = 2_000;
-        s.photons.caustic = 1_000;
-        s.photons.volume = 1_000;
-        s.photons.final_gather_rays = 8;
+        s.photons = 2_000;
+        s.caustic_photons = 1_000;
+        s.volume_photons = 1_000;
+        s.final_gather_rays = 8;
         s
     }
 
@@ -360,7 +359,7 @@ mod tests {
         }
         let mut s = small();
         s.terms = TermMask::ALL.without(Term::Direct);
-        s.photons.final_gather_rays = 0;
+        s.final_gather_rays = 0;
         let st = stats(&diffuse, s);
         assert_eq!(
             reason(&st, Term::Direct),
@@ -404,9 +403,10 @@ mod tests {
                 (mode == RenderMode::Sppm).then_some(3)
             );
             assert_eq!(st.irradiance_cache_records > 0, mode == RenderMode::Jensen);
-            // The recorded options give back the settings.
-            assert_eq!(st.options.settings().spp, 3);
-            assert_eq!(st.options, RenderOptions::from_settings(&st.settings));
+            // The recorded options give back the settings, the engine's own aside.
+            let again = RenderSettings::from_json(&st.options.to_string()).unwrap();
+            assert_eq!(again.spp, 3);
+            assert_eq!(again.options_json(), st.settings.options_json());
         }
     }
 }

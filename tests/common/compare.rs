@@ -10,8 +10,9 @@
 use super::*;
 use photonmap::io::exr::read_rgb_layers;
 use photonmap::render::aov::{Term, TermMask};
-use photonmap::render::film::{Filter, Image};
-use photonmap::render::{PhotonSettings, RenderOutput, RenderSettings};
+use photonmap::render::film::Image;
+use photonmap::render::settings::FilterName;
+use photonmap::render::{RenderOutput, RenderSettings};
 use photonmap::scene::SceneDesc;
 
 /// Per-term factors applied when summing a render's terms (none: every term x 1).
@@ -101,7 +102,7 @@ pub fn surface_batches(desc: &SceneDesc, terms: &[Term], spp: u32, scale: Scale)
 fn render_media(
     desc: &SceneDesc,
     spp: u32,
-    photons: PhotonSettings,
+    photons: RenderSettings,
     terms: TermMask,
     seed: u64,
 ) -> RenderOutput {
@@ -111,9 +112,8 @@ fn render_media(
             spp,
             seed,
             terms,
-            filter: Filter::Box,
-            photons,
-            ..Default::default()
+            filter: FilterName::Box,
+            ..photons
         },
     )
 }
@@ -123,8 +123,8 @@ fn render_media(
 pub fn single_scattering_batches(desc: &SceneDesc, scale: Scale) -> Vec<Image> {
     let terms = [Term::Direct, Term::Volume, Term::Emission];
     let mask = terms.iter().fold(TermMask::NONE, |m, t| m.with(*t));
-    let photons = PhotonSettings {
-        volume: 0,
+    let photons = RenderSettings {
+        volume_photons: 0,
         ..Default::default()
     };
     (0..4)
@@ -205,10 +205,10 @@ pub fn media_full_each(
     scene: &str,
     scales: &[Scale],
 ) -> Vec<MediaResult> {
-    let photons = PhotonSettings {
-        global: 200_000,
-        volume: 200_000,
-        caustic: 200_000,
+    let photons = RenderSettings {
+        photons: 200_000,
+        volume_photons: 200_000,
+        caustic_photons: 200_000,
         final_gather_rays: 256,
         ..Default::default()
     };
@@ -510,10 +510,10 @@ pub fn media_blocks_each(
     scene: &str,
     scales: &[Scale],
 ) -> Vec<MediaBlocks> {
-    let photons = PhotonSettings {
-        global: 200_000,
-        volume: 200_000,
-        caustic: 200_000,
+    let photons = RenderSettings {
+        photons: 200_000,
+        volume_photons: 200_000,
+        caustic_photons: 200_000,
         final_gather_rays: 256,
         ..Default::default()
     };
@@ -576,9 +576,9 @@ pub fn full_gi_limit(reference: &str) -> f64 {
 /// photon maps' and the irradiance cache's errors, shared by every sample; the reference's
 /// from its stderr EXR).
 pub fn full_gi(desc: &SceneDesc, reference: &str, n: usize, scale: Scale) -> (f64, f64) {
-    let photons = PhotonSettings {
-        global: n,
-        caustic: n,
+    let photons = RenderSettings {
+        photons: n,
+        caustic_photons: n,
         final_gather_rays: 1024,
         cache_tolerance: 0.1,
         ..Default::default()
@@ -588,9 +588,8 @@ pub fn full_gi(desc: &SceneDesc, reference: &str, n: usize, scale: Scale) -> (f6
         RenderSettings {
             spp: 16,
             seed: 11,
-            filter: Filter::Box,
-            photons,
-            ..Default::default()
+            filter: FilterName::Box,
+            ..photons
         },
     );
     let ours = scaled_sum(&out, &Term::ALL, scale);

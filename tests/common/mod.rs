@@ -3,7 +3,8 @@
 
 use photonmap::io::scene_json;
 use photonmap::render::aov::{Term, TermMask};
-use photonmap::render::film::{Filter, Image};
+use photonmap::render::film::Image;
+use photonmap::render::settings::FilterName;
 use photonmap::render::{RenderOutput, RenderSettings, Renderer};
 use photonmap::scene::{Scene, SceneDesc};
 use std::path::PathBuf;
@@ -82,7 +83,7 @@ pub fn render_terms(
         seed,
         threads,
         terms,
-        filter: Filter::Box,
+        filter: FilterName::Box,
         ..Default::default()
     };
     Renderer::new(&scene)

@@ -45,10 +45,9 @@ impl MarchSettings {
     pub fn for_render(s: &crate::render::RenderSettings, scene: &Scene, max_r2: f32) -> Self {
         MarchSettings {
             step: s
-                .photons
                 .volume_step
                 .unwrap_or(scene.radius * DEFAULT_STEP_FRACTION),
-            gather: s.photons.gather,
+            gather: s.gather,
             max_r2,
         }
     }

@@ -481,7 +481,7 @@ mod tests {
     use super::*;
     use crate::render::photons;
     use crate::render::terms::testing;
-    use crate::render::PhotonSettings;
+    use crate::render::RenderSettings;
 
     /// A floor and a wall of Blender's default Principled BSDF under a point light, and the
     /// global map of its light.
@@ -497,8 +497,8 @@ mod tests {
             "lights": [{"type": "point", "name": "bulb", "position": [0, 0, 1.5],
                         "power": 100.0}],
         }));
-        let s = PhotonSettings {
-            global: 20_000,
+        let s = RenderSettings {
+            photons: 20_000,
             ..Default::default()
         };
         let (maps, _) = photons::build(&sc, &s, 5, [true, false, false], None);

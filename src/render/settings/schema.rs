@@ -1,11 +1,11 @@
 //! The schema's vocabulary: what kind of value a setting takes, its choices, its range and
 //! panel ([`Spec`]), and the value types of the settings that are not plain numbers.
 
+use super::{parse_bytes, Quality, RenderMode};
 pub use crate::render::aov::Cryptomatte;
 use crate::render::budget::check_budget;
 use crate::render::film::Filter;
 use crate::render::map_file::OnMismatch;
-use crate::render::settings::{parse_bytes, Quality, RenderMode};
 use clap::ValueEnum;
 use serde::{Deserialize, Serialize};
 
@@ -157,6 +157,16 @@ pub enum PhotonPower {
     Rgbe,
     /// Float: 28-byte photons, the power unquantised.
     F32,
+}
+
+impl PhotonPower {
+    /// The encoding's name: `rgbe` or `f32`.
+    pub fn name(self) -> &'static str {
+        match self {
+            PhotonPower::Rgbe => "rgbe",
+            PhotonPower::F32 => "f32",
+        }
+    }
 }
 
 /// A byte count, read from an integer or from a size such as `512M` or `8G`.

@@ -1,52 +1,68 @@
-//! The render settings as users give them, and their one schema: the `render` command's flags,
-//! the Python `render` keywords and the Blender add-on's properties all come from the fields of
-//! [`RenderOptions`].
+//! The render settings: one struct, [`RenderSettings`], which is the schema users set and what
+//! the engine reads. The `render` command's flags, the Python `render` keywords and the
+//! Blender add-on's properties all come from its fields.
 //!
-//! Each field carries its documentation (the doc comment: the flag's help, the keyword's and the
-//! property's description), its default (the clap attribute, which is also what serde and
-//! Python fill in), and its range, label, unit and panel (the `schema` attribute). The engine
-//! reads them as `RenderSettings`, mapped both ways in `convert.rs` (CONTRIBUTING.md, "Adding a
-//! setting", lists the edits a new setting takes).
+//! Each schema field carries its documentation (the doc comment: the flag's help, the
+//! keyword's and the property's description), its default (the clap attribute, which is also
+//! what serde and Python fill in, and the `medium` preset's value), and its range, label, unit
+//! and panel (the `schema` attribute). The internal fields are the engine's and the tests'
+//! (the term mask, photon bounces, the block of pppm passes): no flag, keyword or property sets
+//! them.
 //!
-//! An option that is not given (Python `None`, Blender's 0 or empty field for an optional one)
-//! takes its default: for the preset fields (`preset: true`) the quality preset's value.
+//! A quality preset ([`RenderSettings::preset`], `presets.rs`) is a value of the struct. A
+//! preset field (`preset: true`) that the user does not give takes the chosen preset's value;
+//! every other field keeps its default. Adding a setting is one field here plus its use
+//! (CONTRIBUTING.md, "Adding a setting").
 
 use crate::error::{Error, Result};
+use crate::render::aov::{AovRequest, TermMask};
 use crate::render::budget::check_budget;
 use crate::render::film::Filter;
-use crate::render::map_file::OnMismatch;
-use crate::render::settings::{
-    available_memory, Quality, RenderMode, RenderSettings, CRYPTOMATTE_LEVELS, MAX_SPECULAR_DEPTH,
-    SPPM_ALPHA, SPPM_INITIAL_PHOTONS,
-};
+use crate::render::map_file::{MapFiles, OnMismatch};
 use clap::{Args, FromArgMatches};
 use serde::{Deserialize, Serialize};
 
-mod convert;
+mod presets;
 mod schema;
+mod sizes;
+pub use presets::*;
 pub use schema::*;
+pub use sizes::*;
 
-macro_rules! render_options {
-    ($(
-        $(#[doc = $doc:literal])+
-        #[arg($($arg:tt)*)]
-        #[schema($($key:ident: $value:expr),* $(,)?)]
-        pub $name:ident: $ty:ty,
-    )*) => {
-        /// The render settings as the command line, Python and Blender take them (see the
-        /// module's documentation).
+macro_rules! render_settings {
+    (
+        schema {$(
+            $(#[doc = $doc:literal])+
+            #[arg($($arg:tt)*)]
+            #[schema($($key:ident: $value:expr),* $(,)?)]
+            pub $name:ident: $ty:ty,
+        )*}
+        internal {$(
+            $(#[doc = $idoc:literal])+
+            #[arg($($iarg:tt)*)]
+            pub $iname:ident: $ity:ty,
+        )*}
+    ) => {
+        /// Everything a render is asked to do (see the module's documentation). The stats of
+        /// a render record it (`settings`).
         #[derive(Args, Clone, Debug, PartialEq, Serialize, Deserialize)]
         #[serde(deny_unknown_fields, default)]
-        pub struct RenderOptions {
+        pub struct RenderSettings {
             $(
                 $(#[doc = $doc])+
                 #[arg($($arg)*)]
                 pub $name: $ty,
             )*
+            $(
+                $(#[doc = $idoc])+
+                #[arg($($iarg)*)]
+                #[serde(skip_deserializing)]
+                pub $iname: $ity,
+            )*
         }
 
-        impl RenderOptions {
-            /// Every setting, in the order of the fields.
+        impl RenderSettings {
+            /// Every setting of the schema, in the order of the fields.
             pub fn fields() -> Vec<Field> {
                 vec![$(
                     Field {
@@ -63,6 +79,14 @@ macro_rules! render_options {
             /// Each numeric setting's value, by name.
             fn numbers(&self) -> Vec<(&'static str, Option<f64>)> {
                 vec![$((stringify!($name), OptionValue::number(&self.$name)),)*]
+            }
+
+            /// Sets the schema field `name` to `from`'s value.
+            fn take(&mut self, from: &RenderSettings, name: &str) {
+                match name {
+                    $(stringify!($name) => self.$name = from.$name.clone(),)*
+                    _ => unreachable!("`{name}` is a schema field"),
+                }
             }
         }
     };
@@ -85,7 +109,8 @@ fn join_doc(lines: &[&str]) -> String {
     out.trim().to_string()
 }
 
-render_options! {
+render_settings! {
+    schema {
     /// Quality preset: draft, medium, high or final. It sets the samples, photon counts and
     /// final gathering that are not given.
     #[arg(long, value_enum, default_value_t = Quality::Medium)]
@@ -120,27 +145,27 @@ render_options! {
              modes: &[RenderMode::Pppm])]
     pub initial_radius: Option<f32>,
     /// Camera samples per pixel (default: the preset's).
-    #[arg(long)]
+    #[arg(long, default_value_t = 32)]
     #[schema(label: "Samples", min: Some(1.0), soft_max: Some(4096.0), preset: true)]
-    pub spp: Option<u32>,
+    pub spp: u32,
     /// Adaptive sampling, on or off: after `spp` samples, pixels whose neighbours are noisier
     /// than `noise_threshold` take more, in rounds of `spp`, up to `max_spp` (default: the
     /// preset's, on).
-    #[arg(long, value_name = "on|off", value_parser = parse_on_off)]
+    #[arg(long, value_name = "on|off", value_parser = parse_on_off, default_value_t = true, action = clap::ArgAction::Set)]
     #[schema(label: "Adaptive Sampling", preset: true)]
-    pub adaptive_sampling: Option<bool>,
+    pub adaptive_sampling: bool,
     /// Adaptive sampling's noise threshold: standard error over the square root of the mean
     /// times the image's brightness. Smaller is less noisy and slower (default: the preset's).
-    #[arg(long)]
+    #[arg(long, default_value_t = 0.2)]
     #[schema(label: "Noise Threshold", min: Some(0.0), min_open: true, soft_max: Some(1.0),
              preset: true, requires: Some("adaptive_sampling"))]
-    pub noise_threshold: Option<f32>,
+    pub noise_threshold: f32,
     /// Adaptive sampling: the most camera samples a pixel takes, in whole rounds of `spp`
     /// (default: the preset's, 16 x its `spp`).
-    #[arg(long)]
+    #[arg(long, default_value_t = 512)]
     #[schema(label: "Max Samples", min: Some(1.0), soft_max: Some(16384.0), preset: true,
              requires: Some("adaptive_sampling"))]
-    pub max_spp: Option<u32>,
+    pub max_spp: u32,
     /// Seconds the whole render should take (photon pass, irradiance cache, camera pass);
     /// photon counts and camera passes are planned to fill it, and the plan is written to the
     /// stats (`time_budget`). 0 = off.
@@ -171,27 +196,27 @@ render_options! {
     #[schema(label: "Threads")]
     pub threads: usize,
     /// Photons to store in the global map (default: the preset's).
-    #[arg(long)]
+    #[arg(long, default_value_t = 100_000)]
     #[schema(label: "Photons", group: Group::Photons, min: Some(0.0), preset: true)]
-    pub photons: Option<usize>,
+    pub photons: usize,
     /// Photons to store in the caustic map (default: the preset's).
-    #[arg(long)]
+    #[arg(long, default_value_t = 50_000)]
     #[schema(label: "Caustic Photons", group: Group::Photons, min: Some(0.0), preset: true)]
-    pub caustic_photons: Option<usize>,
+    pub caustic_photons: usize,
     /// Photons to store in the volume map, for scenes with participating media (default: the
     /// preset's).
-    #[arg(long)]
+    #[arg(long, default_value_t = 50_000)]
     #[schema(label: "Volume Photons", group: Group::Photons, min: Some(0.0), preset: true)]
-    pub volume_photons: Option<usize>,
+    pub volume_photons: usize,
     /// Ray-marching step through media, in scene units (default: from the scene size).
     #[arg(long)]
     #[schema(label: "Volume Step", group: Group::Photons, min: Some(0.0), min_open: true,
              unit: Some("distance"))]
     pub volume_step: Option<f32>,
     /// Photons per radiance estimate (k nearest).
-    #[arg(long)]
+    #[arg(long, default_value_t = 50)]
     #[schema(label: "Gather", group: Group::Photons, min: Some(1.0), preset: true)]
-    pub gather: Option<usize>,
+    pub gather: usize,
     /// Largest photon search radius, in scene units (default: from the scene size).
     #[arg(long)]
     #[schema(label: "Radius", group: Group::Photons, min: Some(0.0), min_open: true,
@@ -204,20 +229,20 @@ render_options! {
     pub photon_power: PhotonPower,
     /// Final-gathering rays per irradiance-cache record, and per pixel elsewhere (default:
     /// the preset's).
-    #[arg(long)]
+    #[arg(long, default_value_t = 128)]
     #[schema(label: "Final Gather Rays", group: Group::Gathering, min: Some(0.0), preset: true)]
-    pub final_gather_rays: Option<u32>,
+    pub final_gather_rays: u32,
     /// Irradiance caching for final gathering (Ward's cache): on or off (default: the
     /// preset's).
-    #[arg(long, value_name = "on|off", value_parser = parse_on_off)]
+    #[arg(long, value_name = "on|off", value_parser = parse_on_off, default_value_t = true, action = clap::ArgAction::Set)]
     #[schema(label: "Irradiance Cache", group: Group::Gathering, preset: true)]
-    pub irradiance_cache: Option<bool>,
+    pub irradiance_cache: bool,
     /// Irradiance-cache error tolerance (Ward's a; smaller is more accurate and slower;
     /// default: the preset's).
-    #[arg(long)]
+    #[arg(long, default_value_t = 0.1)]
     #[schema(label: "Cache Tolerance", group: Group::Gathering, min: Some(0.0), min_open: true,
              soft_max: Some(1.0), preset: true, requires: Some("irradiance_cache"))]
-    pub cache_tolerance: Option<f32>,
+    pub cache_tolerance: f32,
     /// Final-gathering rays per camera sample where the irradiance cache does not apply
     /// (default: final_gather_rays / spp, at least 4).
     #[arg(long)]
@@ -271,26 +296,62 @@ render_options! {
     #[schema(label: "Cryptomatte Levels", group: Group::Passes, min: Some(1.0),
              max: Some(16.0))]
     pub cryptomatte_levels: u32,
+    }
+    internal {
+        /// The terms rendered (all but in comparisons of single terms).
+        #[arg(skip = TermMask::ALL)]
+        pub terms: TermMask,
+        /// Largest number of bounces a photon makes (Russian roulette ends most paths
+        /// earlier).
+        #[arg(skip = 64u32)]
+        pub max_bounces: u32,
+        /// Photons emitted at most per stored photon requested, so that a scene that stores
+        /// nothing still ends.
+        #[arg(skip = 20usize)]
+        pub max_emitted_factor: usize,
+        /// Precompute the volume map's radiance at every fourth photon for isotropic media
+        /// (`photon::volume_points`) and read it in the march; off, every march step runs the
+        /// k-nearest estimate (for comparisons).
+        #[arg(skip = true)]
+        pub volume_points: bool,
+        /// pppm: render only passes `[first, end)` (a block of a render split into several;
+        /// the command's `--pass-range`).
+        #[arg(skip)]
+        pub pass_range: Option<(u32, u32)>,
+    }
 }
 
 /// The progressive modes.
 const PROGRESSIVE: &[RenderMode] = &[RenderMode::Sppm, RenderMode::Pppm];
 
-impl Default for RenderOptions {
-    /// The clap defaults: the same values the flags, the keywords and the properties start at.
+/// The `medium` preset: the fields' defaults, the values the flags, the keywords and the
+/// properties start at.
+impl Default for RenderSettings {
     fn default() -> Self {
-        let cmd = RenderOptions::augment_args(clap::Command::new("photonmap").no_binary_name(true));
+        let cmd =
+            RenderSettings::augment_args(clap::Command::new("photonmap").no_binary_name(true));
         let m = cmd
             .try_get_matches_from(Vec::<String>::new())
             .unwrap_or_else(|e| unreachable!("the defaults parse: {e}"));
-        RenderOptions::from_arg_matches(&m).unwrap_or_else(|e| unreachable!("{e}"))
+        RenderSettings::from_arg_matches(&m).unwrap_or_else(|e| unreachable!("{e}"))
     }
 }
 
-impl RenderOptions {
-    /// Reads options from a JSON object of keywords. A `null` value is the default; an unknown
-    /// keyword or a bad value is an error that names it.
-    pub fn from_json(text: &str) -> Result<RenderOptions> {
+impl RenderSettings {
+    /// The preset fields that were not `given` take the value of the `quality` preset.
+    pub fn apply_preset(&mut self, given: impl Fn(&str) -> bool) {
+        let preset = RenderSettings::preset(self.quality);
+        for f in Self::fields() {
+            if f.spec.preset && !given(f.name) {
+                self.take(&preset, f.name);
+            }
+        }
+    }
+
+    /// Reads settings from a JSON object of keywords. A `null` value is the default; a preset
+    /// field not given takes the `quality` preset's value; an unknown keyword or a bad value
+    /// is an error that names it.
+    pub fn from_json(text: &str) -> Result<RenderSettings> {
         let bad = |setting: &str, message: String| Error::InvalidSetting {
             setting: setting.into(),
             message,
@@ -314,13 +375,15 @@ impl RenderOptions {
             }
             // One key at a time, so that a bad value's error names its setting.
             let one = serde_json::Value::Object([(k.clone(), v.clone())].into_iter().collect());
-            serde_json::from_value::<RenderOptions>(one).map_err(|e| bad(&k, strip_serde(e)))?;
+            serde_json::from_value::<RenderSettings>(one).map_err(|e| bad(&k, strip_serde(e)))?;
             given.insert(k, v);
         }
-        let options: RenderOptions = serde_json::from_value(serde_json::Value::Object(given))
+        let names_given: Vec<String> = given.keys().cloned().collect();
+        let mut s: RenderSettings = serde_json::from_value(serde_json::Value::Object(given))
             .map_err(|e| bad("settings", e.to_string()))?;
-        options.validate()?;
-        Ok(options)
+        s.apply_preset(|name| names_given.iter().any(|g| g == name));
+        s.validate()?;
+        Ok(s)
     }
 
     /// Checks every value against its range in the schema; the error names the setting.
@@ -350,7 +413,7 @@ impl RenderOptions {
     /// flag, label, documentation, type (and choices), default (a preset field's is the
     /// default preset's value), range, unit, group and the mode or switch it applies under.
     pub fn schema() -> serde_json::Value {
-        let defaults = RenderOptions::preset(Quality::Medium).to_json();
+        let defaults = RenderSettings::default().to_json();
         let fields: Vec<serde_json::Value> = Self::fields()
             .into_iter()
             .map(|f| {
@@ -379,23 +442,87 @@ impl RenderOptions {
         serde_json::Value::Array(fields)
     }
 
-    /// The options as JSON, each `f32` written as its shortest decimal (0.1, not the
+    /// The settings as JSON, each `f32` written as its shortest decimal (0.1, not the
     /// 0.100000001 of widening it to `f64`).
     pub fn to_json(&self) -> serde_json::Value {
         serde_json::to_string(self)
             .and_then(|t| serde_json::from_str(&t))
-            .unwrap_or_else(|e| unreachable!("options serialise: {e}"))
+            .unwrap_or_else(|e| unreachable!("settings serialise: {e}"))
     }
 
-    /// The preset fields of `quality`'s options, by name (Python's `preset()`).
+    /// The schema fields as JSON, named as the keywords: `photonmap.render(scene, **this)`
+    /// and `from_json` give these settings again (the internal fields aside).
+    pub fn options_json(&self) -> serde_json::Value {
+        let all = self.to_json();
+        let map = Self::fields()
+            .into_iter()
+            .map(|f| (f.name.to_string(), all[f.name].clone()))
+            .collect();
+        serde_json::Value::Object(map)
+    }
+
+    /// The preset fields of `quality`'s settings, by name (Python's `preset()`).
     pub fn preset_json(quality: Quality) -> serde_json::Value {
-        let all = RenderOptions::preset(quality).to_json();
+        let all = RenderSettings::preset(quality).to_json();
         let map = Self::fields()
             .into_iter()
             .filter(|f| f.spec.preset)
             .map(|f| (f.name.to_string(), all[f.name].clone()))
             .collect();
         serde_json::Value::Object(map)
+    }
+}
+
+/// What the engine reads of the settings, as its own types.
+impl RenderSettings {
+    /// The pixel reconstruction filter.
+    pub fn pixel_filter(&self) -> Filter {
+        self.filter.filter()
+    }
+
+    /// The memory limit in bytes: the one given, or the available memory (MemAvailable);
+    /// `None` where neither is known.
+    pub fn memory_limit_bytes(&self) -> Option<u64> {
+        self.memory_limit.map(|b| b.0).or_else(available_memory)
+    }
+
+    /// The time budget in seconds, `None` when off (not given, or 0).
+    pub fn budget_seconds(&self) -> Option<f64> {
+        self.time_budget.filter(|b| *b > 0.0)
+    }
+
+    /// Photon power as `f32` (28-byte photons) rather than RGBE (20 bytes).
+    pub fn f32_power(&self) -> bool {
+        self.photon_power == PhotonPower::F32
+    }
+
+    /// Bytes per stored photon: [`BYTES_PER_PHOTON`] or [`BYTES_PER_PHOTON_F32`].
+    pub fn bytes_per_photon(&self) -> u64 {
+        if self.f32_power() {
+            BYTES_PER_PHOTON_F32
+        } else {
+            BYTES_PER_PHOTON
+        }
+    }
+
+    /// Where photon maps are saved and loaded (an empty path is none).
+    pub fn photon_map_files(&self) -> MapFiles {
+        let path = |p: &Option<std::path::PathBuf>| p.clone().filter(|p| !p.as_os_str().is_empty());
+        MapFiles {
+            save: path(&self.save_photon_maps),
+            load: path(&self.load_photon_maps),
+            on_mismatch: self.photon_maps_mismatch,
+        }
+    }
+
+    /// The optional AOVs asked for.
+    pub fn aovs(&self) -> AovRequest {
+        AovRequest {
+            denoising_data: self.denoising_data,
+            denoise: self.denoise,
+            cryptomatte: self.cryptomatte,
+            cryptomatte_levels: self.cryptomatte_levels,
+        }
     }
 }
 
