@@ -6,7 +6,7 @@
 
 Run it with a Python that has the `photonmap` package installed (scripts/test.sh makes one in
 .venv-test). The schema is the core's (`photonmap.settings_schema()`, i.e.
-`RenderOptions::schema()` in src/render/options/mod.rs) and the presets' values are
+`RenderSettings::schema()` in src/render/settings/mod.rs) and the presets' values are
 `photonmap.preset(name)`: the command-line flags, the `photonmap.render` keywords and the
 Blender add-on's properties are all built from the same schema, so this page describes the
 three at once. Change a setting's documentation, default or range in the core, rebuild the
@@ -94,8 +94,8 @@ def _range(f: dict[str, Any]) -> str | None:
 def _flag(f: dict[str, Any]) -> str:
     kind = f["type"]
     if kind == "bool":
-        # An optional switch takes on/off (unset: the preset's); a plain one is a switch.
-        return f"`{f['flag']} on|off`" if f["optional"] else f"`{f['flag']}` (a switch)"
+        # A switch takes no value; the other booleans take on or off.
+        return f"`{f['flag']}` (a switch)" if f["switch"] else f"`{f['flag']} on|off`"
     if kind == "enum":
         return f"`{f['flag']} {'|'.join(c['name'] for c in f['choices'])}`"
     value = "SECONDS" if f["unit"] == "seconds" else VALUE_NAMES.get(kind, "VALUE")

@@ -3,8 +3,8 @@
 
 use arbitrary::{Arbitrary, Result, Unstructured};
 use photonmap::render::aov::Term;
-use photonmap::render::film::Filter;
-use photonmap::render::{PhotonSettings, RenderOutput, RenderSettings, Renderer};
+use photonmap::render::settings::{Bytes, FilterName};
+use photonmap::render::{RenderOutput, RenderSettings, Renderer};
 use photonmap::scene::desc::*;
 use photonmap::scene::{Scene, SceneDesc};
 
@@ -15,17 +15,14 @@ pub fn tiny_settings() -> RenderSettings {
         seed: 7,
         threads: 1,
         max_specular_depth: 4,
-        filter: Filter::Box,
-        photons: PhotonSettings {
-            global: 100,
-            caustic: 100,
-            volume: 100,
-            gather: 16,
-            final_gather_rays: 4,
-            max_bounces: 16,
-            ..Default::default()
-        },
-        memory_limit: Some(256 << 20),
+        filter: FilterName::Box,
+        photons: 100,
+        caustic_photons: 100,
+        volume_photons: 100,
+        gather: 16,
+        final_gather_rays: 4,
+        max_bounces: 16,
+        memory_limit: Some(Bytes(256 << 20)),
         ..Default::default()
     }
 }

@@ -112,7 +112,7 @@ pub enum EstimateFilter {
 
 /// The kd-tree of a map, over one of the two photon records: the 20-byte [`Photon`] with RGBE
 /// power (the default; Jensen 2001, §6.4), or the 28-byte [`PhotonF32`] with `f32` power
-/// (`PhotonSettings::f32_power`), which trades memory for the RGBE quantisation (≤ 1/256 of a
+/// (`photon_power f32`), which trades memory for the RGBE quantisation (≤ 1/256 of a
 /// photon's largest channel).
 ///
 /// The records hold each photon's power as traced, before the division by the photon paths

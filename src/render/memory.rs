@@ -12,7 +12,7 @@ use serde::Serialize;
 pub struct MemoryEstimate {
     /// Photons stored over every map that will be built.
     pub photons: u64,
-    /// `photons * PhotonSettings::bytes_per_photon()` (20 B RGBE, 28 B `f32` power).
+    /// `photons * RenderSettings::bytes_per_photon()` (20 B RGBE, 28 B `f32` power).
     pub photon_bytes: u64,
     pub triangles: u64,
     /// `triangles * BYTES_PER_TRIANGLE`.
@@ -31,7 +31,7 @@ pub struct MemoryEstimate {
 
 impl Renderer<'_> {
     /// The memory the photon maps (stored targets of every map that will be built, at
-    /// `PhotonSettings::bytes_per_photon`) and the BVH (`BYTES_PER_TRIANGLE`) take.
+    /// `RenderSettings::bytes_per_photon`) and the BVH (`BYTES_PER_TRIANGLE`) take.
     pub fn memory_estimate(&self) -> MemoryEstimate {
         let p = &self.settings;
         let [need_global, need_caustic, need_volume] = self.needed_maps();

@@ -107,9 +107,10 @@ def test_presets_are_what_the_core_renders_with(addon):
     # The stats record the settings the render used.
     got = out["stats"]["settings"]
     assert got["spp"] == p["spp"]
-    assert got["photons"]["global"] == p["photons"]
-    assert got["photons"]["gather"] == p["gather"]
-    assert got["photons"]["cache_tolerance"] == pytest.approx(p["cache_tolerance"])
+    assert got["quality"] == "draft"
+    for key in ("photons", "caustic_photons", "gather", "final_gather_rays"):
+        assert got[key] == p[key], key
+    assert got["cache_tolerance"] == pytest.approx(p["cache_tolerance"])
 
 
 def test_passes_in_the_result_and_in_multilayer_exr(photonmap_scene, addon, tmp_path, monkeypatch):

@@ -269,12 +269,15 @@ def test_keywords_arrive_in_the_recorded_settings():
                            cache_tolerance=0.3, max_specular_depth=3, filter="box",
                            photon_power="f32")
     s = out["stats"]["settings"]
-    p = s["photons"]
     assert (s["spp"], s["seed"], s["max_specular_depth"], s["filter"]) == (1, 5, 3, "box")
-    assert (p["global"], p["caustic"], p["volume"], p["gather"]) == (1000, 500, 300, 10)
-    assert p["radius"] == pytest.approx(0.1)
-    assert (p["final_gather_rays"], p["irradiance_cache"], p["f32_power"]) == (4, False, True)
-    assert p["cache_tolerance"] == pytest.approx(0.3)
+    assert (s["photons"], s["caustic_photons"], s["volume_photons"], s["gather"]) == (
+        1000, 500, 300, 10)
+    assert s["radius"] == pytest.approx(0.1)
+    assert (s["final_gather_rays"], s["irradiance_cache"], s["photon_power"]) == (
+        4, False, "f32")
+    assert s["cache_tolerance"] == pytest.approx(0.3)
+    # The settings recorded are the keywords' names and values: the options render again.
+    assert {k: s[k] for k in out["stats"]["options"]} == out["stats"]["options"]
     d = photonmap.defaults()
     plain = photonmap.render(photonmap.Scene.from_dict(numpy_scene()), quality="draft", spp=1)
     s = plain["stats"]["settings"]

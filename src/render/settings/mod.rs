@@ -410,16 +410,23 @@ impl RenderSettings {
     }
 
     /// The schema as JSON: one object per setting, in field order, with its name, command-line
-    /// flag, label, documentation, type (and choices), default (a preset field's is the
+    /// flag (and whether it is a switch, which takes no value), label, documentation, type (and choices), default (a preset field's is the
     /// default preset's value), range, unit, group and the mode or switch it applies under.
     pub fn schema() -> serde_json::Value {
         let defaults = RenderSettings::default().to_json();
+        let cmd = RenderSettings::augment_args(clap::Command::new("photonmap"));
+        let switch = |name: &str| {
+            cmd.get_arguments()
+                .find(|a| a.get_id() == name)
+                .is_some_and(|a| !a.get_action().takes_values())
+        };
         let fields: Vec<serde_json::Value> = Self::fields()
             .into_iter()
             .map(|f| {
                 serde_json::json!({
                     "name": f.name,
                     "flag": format!("--{}", f.name.replace('_', "-")),
+                    "switch": switch(f.name),
                     "label": f.spec.label,
                     "doc": f.doc,
                     "type": f.kind,

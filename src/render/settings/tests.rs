@@ -215,4 +215,6 @@ fn the_schema_lists_every_field_once_with_its_default() {
     assert_eq!(get("radius")["unit"], "distance");
     assert!(get("spp")["preset"].as_bool().unwrap());
     assert!(list.iter().all(|f| f["name"] != "terms"));
+    assert_eq!(get("progressive")["switch"], true);
+    assert_eq!(get("adaptive_sampling")["switch"], false);
 }
