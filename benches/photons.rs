@@ -6,7 +6,7 @@
 //!
 //! Run: `cargo bench --bench photons` (`-- --one-core`: the photon pass on one thread only).
 
-use photonmap::io::exr::read_rgb_layers;
+use photonmap::command::exr::read_rgb_layers;
 use photonmap::photon::map::MapKind;
 use photonmap::photon::trace::{build_map, TraceParams};
 use photonmap::render::aov::Term;

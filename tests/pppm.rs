@@ -5,7 +5,7 @@
 
 mod common;
 use common::*;
-use photonmap::io::exr::read_rgb_layers;
+use photonmap::command::exr::read_rgb_layers;
 use photonmap::render::film::{Film, Image};
 use photonmap::render::partial::Partial;
 use photonmap::render::settings::FilterName;

@@ -319,8 +319,8 @@ fn terms_rendered_alone_sum_to_the_full_render() {
 #[test]
 fn written_exr_holds_the_film() {
     use photonmap::cli::RenderArgs;
+    use photonmap::command::exr::read_rgb_layers;
     use photonmap::command::output::write_outputs;
-    use photonmap::io::exr::read_rgb_layers;
     let desc = every_term_scene();
     let out = render(&desc, 2, 7, 0);
     let dir = std::env::temp_dir().join(format!("photonmap-exr-{}", std::process::id()));

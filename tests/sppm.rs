@@ -4,7 +4,7 @@
 
 mod common;
 use common::*;
-use photonmap::io::exr::read_rgb_layers;
+use photonmap::command::exr::read_rgb_layers;
 use photonmap::render::film::Image;
 use photonmap::render::settings::FilterName;
 use photonmap::render::settings::RenderMode;

@@ -184,7 +184,7 @@ fn settings_within(
 fn output_time(args: &RenderArgs) -> Arc<OutputTimeFn> {
     let png = args.png.is_some();
     Arc::new(move |film: &crate::render::film::Film| {
-        crate::io::exr::estimate_write_seconds(film) * if png { 1.2 } else { 1.0 }
+        super::exr::estimate_write_seconds(film) * if png { 1.2 } else { 1.0 }
     })
 }
 

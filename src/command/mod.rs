@@ -6,12 +6,15 @@
 //! - `frames`: the render command, every frame of it, with what a front end brings to it;
 //! - `merge`: merging the partial sums of blocks of pppm passes;
 //! - `output`: writing the EXR, the PNG preview, the stats JSON, partial sums, photon maps;
+//! - `exr`, `png`: the image files (multilayer EXR, written and read; the sRGB PNG preview);
 //! - `report`: the stats JSON (of a render, a merge, or a frame's tiles) and summary lines;
 //! - `progress`: the progress bar.
 
+pub mod exr;
 pub mod frames;
 pub mod merge;
 pub mod output;
+pub mod png;
 pub mod progress;
 pub mod render;
 pub mod report;

@@ -4,9 +4,10 @@
 //! a temporary name and renamed over its own, so no partial file ever has the final name.
 
 use super::report;
+use super::{exr, png};
 use crate::cli::RenderArgs;
 use crate::error::{Error, Result};
-use crate::io::{self, container};
+use crate::io::container;
 use crate::render::film::Film;
 use crate::render::RenderOutput;
 use serde_json::Value;
@@ -89,7 +90,7 @@ pub fn exr_metadata(stats: &Value) -> BTreeMap<String, String> {
 pub fn write_exr(path: &Path, film: &Film, stats: &Value) -> Result<()> {
     let meta = exr_metadata(stats);
     container::with_temp_path(path, |tmp| {
-        io::exr::write_multilayer(tmp, film, &meta).map_err(|e| match e {
+        exr::write_multilayer(tmp, film, &meta).map_err(|e| match e {
             Error::Io { message, .. } => Error::io(path, message),
             other => other,
         })
@@ -98,7 +99,7 @@ pub fn write_exr(path: &Path, film: &Film, stats: &Value) -> Result<()> {
 
 /// Writes the sRGB PNG preview of `film`'s beauty, atomically.
 pub fn write_png(path: &Path, film: &Film) -> Result<()> {
-    container::with_temp_path(path, |tmp| io::png::write_png(tmp, &film.combined(), 1.0))
+    container::with_temp_path(path, |tmp| png::write_png(tmp, &film.combined(), 1.0))
 }
 
 /// Writes stats JSON, pretty-printed, atomically.

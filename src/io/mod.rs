@@ -1,6 +1,5 @@
-//! Reading and writing: the JSON scene form, EXR and PNG images, and the container of the
-//! renderer's own binary files (saved photon maps, partial sums of progressive passes).
+//! Reading and writing below the renderer: the JSON scene form and the container of the
+//! renderer's own binary files (saved photon maps, partial sums of progressive passes). The
+//! images a render writes (EXR, PNG) are the command's (`command::exr`, `command::png`).
 pub mod container;
-pub mod exr;
-pub mod png;
 pub mod scene_json;

@@ -13,6 +13,13 @@ use crate::error::{Error, Result};
 use crate::io::container::{self, Kind, Reader, Writer};
 use std::path::Path;
 
+/// The squared radius of pass `k` (0-based): r_1² · (k+1)^(α−1) (K&Z 2011, eq. 15), in f64
+/// and rounded once, so that it is the same number on every machine.
+pub fn pass_radius2(r1: f32, alpha: f32, k: u32) -> f32 {
+    let i = k as f64 + 1.0;
+    ((r1 as f64) * (r1 as f64) * i.powf(alpha as f64 - 1.0)) as f32
+}
+
 /// The partial-sum file (`.ppart`): a container of this kind.
 pub const PARTIAL_FILE: Kind = Kind {
     magic: *b"PMPART\0\n",

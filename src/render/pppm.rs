@@ -45,56 +45,23 @@ use super::driver::Schedule;
 use super::eye::{self, EyeCtx, EyeSettings, VisiblePoint};
 use super::film::TermRadiance;
 use super::memory::MemoryEstimate;
-use super::partial::{Partial, PartialHeader, Tally};
+use super::partial::{pass_radius2, Partial, PartialHeader, Tally};
 use super::photons::{self};
 use super::progressive::{self, Progressive, ProgressivePass, Radii};
 use super::renderer::{RenderOutput, Renderer};
 use super::settings::RenderMode;
-use super::stats::StatsParts;
+use super::stats::{PppmStats, StatsParts};
 use crate::error::{Error, Result};
 use crate::math::{is_finite3, Spectrum, PI};
 use crate::photon::map::PhotonMap;
 use crate::photon::KnnScratch;
 use crate::sampling::{mix64, Rng};
-use serde::Serialize;
 use std::collections::BTreeMap;
 use std::time::Instant;
 
 /// The seed of pass `k` of a render seeded with `seed`.
 pub fn pass_seed(seed: u64, k: u32) -> u64 {
     mix64(seed ^ mix64(0x5050_504D_0000_0000 ^ k as u64))
-}
-
-/// The squared radius of pass `k` (0-based): r_1² · (k+1)^(α−1) (K&Z 2011, eq. 15), in f64
-/// and rounded once, so that it is the same number on every machine.
-pub fn pass_radius2(r1: f32, alpha: f32, k: u32) -> f32 {
-    let i = k as f64 + 1.0;
-    ((r1 as f64) * (r1 as f64) * i.powf(alpha as f64 - 1.0)) as f32
-}
-
-/// What a progressive (pppm) render did.
-#[derive(Clone, Debug, Default, Serialize)]
-pub struct PppmStats {
-    /// Passes in the image.
-    pub passes: u32,
-    /// The passes rendered, as half-open ranges `[first, end)` (one for a whole render, one
-    /// per block in a merge).
-    pub pass_ranges: Vec<(u32, u32)>,
-    pub alpha: f32,
-    /// The first pass's radius r_1, and whether it was computed or given.
-    pub initial_radius: f32,
-    pub initial_radius_source: String,
-    /// The last pass's radius.
-    pub final_radius: f32,
-    /// Photons stored per pass (the target; the last batch may overshoot it).
-    pub photons_per_pass: u64,
-    /// Photon paths emitted over all passes.
-    pub photons_emitted: u64,
-    /// Seconds in the photon passes and in the camera passes, summed over the blocks.
-    pub photon_seconds: f64,
-    pub camera_seconds: f64,
-    /// Partial sums merged into this image (1 for a render in one piece).
-    pub partials: u32,
 }
 
 /// The photon terms of pass `k` at the visible points, over the disk of squared radius `r2`:

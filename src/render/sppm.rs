@@ -48,32 +48,14 @@ use super::photons::PhotonMaps;
 use super::progressive::{self, Progressive, ProgressivePass, Radii};
 use super::renderer::{RenderOutput, Renderer};
 use super::settings::{RenderMode, RenderSettings};
-use super::stats::StatsParts;
+use super::stats::{SppmStats, StatsParts};
 use crate::error::Result;
 use crate::math::{is_finite3, Spectrum, PI};
 use crate::photon::map::{group_of, PhotonMap};
 use crate::photon::KnnScratch;
 use crate::sampling::mix64;
-use serde::Serialize;
 use std::collections::BTreeMap;
 use std::time::Instant;
-
-/// What a progressive render did.
-#[derive(Clone, Debug, Default, Serialize)]
-pub struct SppmStats {
-    pub passes: u32,
-    pub alpha: f32,
-    /// Photons stored per pass (the target; the last batch may overshoot it).
-    pub photons_per_pass: u64,
-    /// Photon paths emitted over all passes.
-    pub photons_emitted: u64,
-    /// Mean over pixels with a radius of the first and the final search radius.
-    pub mean_initial_radius: f64,
-    pub mean_final_radius: f64,
-    /// Seconds in the photon passes and in the camera passes with their gathering.
-    pub photon_seconds: f64,
-    pub camera_seconds: f64,
-}
 
 /// A pixel's progressive statistics, beside the driver's (whose `acc` sums the terms
 /// estimated at the eye over the passes).

@@ -6,16 +6,56 @@ use super::adaptive::AdaptiveStats;
 use super::aov::Term;
 use super::budget::BudgetStats;
 use super::memory::MemoryEstimate;
-use super::partial::Partial;
+use super::partial::{pass_radius2, Partial};
 use super::photons::{self, MapStats, PhotonMaps};
-use super::pppm::{pass_radius2, PppmStats};
 use super::renderer::Renderer;
 use super::settings::RenderSettings;
 use super::settings::{RenderMode, BYTES_PER_TRIANGLE};
-use super::sppm::SppmStats;
 use crate::error::{Error, Result};
 use serde::Serialize;
 use std::collections::BTreeMap;
+
+/// What a progressive render did.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct SppmStats {
+    pub passes: u32,
+    pub alpha: f32,
+    /// Photons stored per pass (the target; the last batch may overshoot it).
+    pub photons_per_pass: u64,
+    /// Photon paths emitted over all passes.
+    pub photons_emitted: u64,
+    /// Mean over pixels with a radius of the first and the final search radius.
+    pub mean_initial_radius: f64,
+    pub mean_final_radius: f64,
+    /// Seconds in the photon passes and in the camera passes with their gathering.
+    pub photon_seconds: f64,
+    pub camera_seconds: f64,
+}
+
+/// What a progressive (pppm) render did.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct PppmStats {
+    /// Passes in the image.
+    pub passes: u32,
+    /// The passes rendered, as half-open ranges `[first, end)` (one for a whole render, one
+    /// per block in a merge).
+    pub pass_ranges: Vec<(u32, u32)>,
+    pub alpha: f32,
+    /// The first pass's radius r_1, and whether it was computed or given.
+    pub initial_radius: f32,
+    pub initial_radius_source: String,
+    /// The last pass's radius.
+    pub final_radius: f32,
+    /// Photons stored per pass (the target; the last batch may overshoot it).
+    pub photons_per_pass: u64,
+    /// Photon paths emitted over all passes.
+    pub photons_emitted: u64,
+    /// Seconds in the photon passes and in the camera passes, summed over the blocks.
+    pub photon_seconds: f64,
+    pub camera_seconds: f64,
+    /// Partial sums merged into this image (1 for a render in one piece).
+    pub partials: u32,
+}
 
 /// Why a term is zero in this render.
 #[derive(Clone, Debug, Serialize)]
@@ -72,7 +112,7 @@ pub struct RenderStats {
     pub sppm: Option<SppmStats>,
     /// What a distributable progressive (pppm) render did; absent in the other modes.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub pppm: Option<super::pppm::PppmStats>,
+    pub pppm: Option<PppmStats>,
     /// Jensen's mode: where the photon maps and the irradiance cache came from (built,
     /// reused from an earlier frame, or loaded from a file) and where they were saved.
     #[serde(skip_serializing_if = "Option::is_none")]

@@ -8,7 +8,7 @@
 //! no scaling.
 
 use super::*;
-use photonmap::io::exr::read_rgb_layers;
+use photonmap::command::exr::read_rgb_layers;
 use photonmap::render::aov::{Term, TermMask};
 use photonmap::render::film::Image;
 use photonmap::render::settings::FilterName;
