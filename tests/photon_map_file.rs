@@ -6,10 +6,10 @@
 mod common;
 use common::*;
 use photonmap::command::{render_request, RenderRequest};
-use photonmap::render::driver::Rect;
 use photonmap::render::film::Film;
 use photonmap::render::map_file::{self, MapSet, OnMismatch};
 use photonmap::render::settings::FilterName;
+use photonmap::render::stratified::Rect;
 use photonmap::render::tile::{self, TileOutput, TileStage};
 use photonmap::render::{RenderOutput, RenderSettings, Renderer};
 use photonmap::scene::{Scene, SceneDesc};

@@ -7,7 +7,8 @@ mod common;
 
 use common::load_scene;
 use photonmap::render::aov::Term;
-use photonmap::render::budget::{deadline, BudgetStats, MIN_GATHER_RAYS, MIN_PHOTONS};
+use photonmap::render::budget::{BudgetStats, MIN_GATHER_RAYS, MIN_PHOTONS};
+use photonmap::render::driver::deadline;
 use photonmap::render::{ProgressFn, RenderOutput, RenderSettings, Renderer};
 use photonmap::scene::{Scene, SceneDesc};
 use std::sync::{Arc, Mutex};

@@ -17,6 +17,8 @@
 //! how long a pass took. Passes are added while the next one, at the measured time per
 //! pass, still fits in the budget less a margin.
 //!
+//! The deadline and its margin for writing the film are the driver's (`driver::deadline`).
+//!
 //! The plan depends on timing; it is recorded in the stats (`time_budget`) and a render with
 //! the same photon counts and `final_gather_rays`, `spp = passes`, `progressive = true` and the same
 //! `gather_rays_per_sample` is bit-identical to it.
@@ -79,11 +81,6 @@ pub const CALIBRATION_FRACTION: f64 = 0.02;
 
 /// Fewest photons stored per map in the calibration pass and in a budgeted plan.
 pub const MIN_PHOTONS: usize = 1_000;
-
-/// Seconds kept free at the end of the budget for writing out the film, as a fraction of
-/// the budget, plus a fixed part.
-pub const MARGIN_FRACTION: f64 = 0.01;
-pub const MARGIN_SECONDS: f64 = 0.005;
 
 /// What a budgeted render planned and what it did. `photons`, `spp` and
 /// `gather_rays_per_sample` reproduce the image with `progressive = true`.
@@ -149,35 +146,6 @@ impl BudgetStats {
     }
 }
 
-/// Seconds since the render's start by which the last camera pass under `budget_seconds`
-/// must end: the budget less the margin for writing the film out.
-pub fn deadline(budget_seconds: f64) -> f64 {
-    budget_seconds - MARGIN_FRACTION * budget_seconds - MARGIN_SECONDS
-}
-
-/// Point `i` of the Sobol (0,2)-sequence in 32-bit fixed point: the first coordinate is the
-/// van der Corput radical inverse, the second uses the Pascal-matrix generator.
-pub fn sobol02(i: u32) -> (u32, u32) {
-    let x = i.reverse_bits();
-    let mut y = 0u32;
-    let mut v = 1u32 << 31;
-    let mut i = i;
-    while i != 0 {
-        if i & 1 != 0 {
-            y ^= v;
-        }
-        i >>= 1;
-        v ^= v >> 1;
-    }
-    (x, y)
-}
-
-/// Fixed point to [0, 1).
-#[inline]
-pub fn to_unit(v: u32) -> f32 {
-    ((v >> 8) as f32) * (1.0 / (1u32 << 24) as f32)
-}
-
 /// Scales photon targets by `scale`, keeping their ratios; a map with a zero target stays
 /// at zero, others store at least `MIN_PHOTONS`.
 pub fn scale_count(n: usize, scale: f64) -> usize {
@@ -185,16 +153,6 @@ pub fn scale_count(n: usize, scale: f64) -> usize {
         return 0;
     }
     ((n as f64 * scale).round() as usize).max(MIN_PHOTONS)
-}
-
-/// Checks a budget value.
-pub fn check_budget(seconds: f64) -> Result<(), String> {
-    if !seconds.is_finite() || seconds < 0.0 {
-        return Err(format!(
-            "`{seconds}` is not a time budget: expected a finite number of seconds >= 0 (0 = off)"
-        ));
-    }
-    Ok(())
 }
 
 impl Renderer<'_> {
@@ -302,30 +260,5 @@ impl Renderer<'_> {
         stats.gather_rays_per_sample = gather;
         stats.final_gather_rays = s.final_gather_rays;
         Ok(s)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn sobol_prefixes_are_stratified() {
-        // Every power-of-two prefix of length 2^m puts one point in each elementary
-        // interval of area 2^-m, e.g. in each cell of the 2^a x 2^(m-a) grid.
-        for m in 0..=8u32 {
-            let n = 1u32 << m;
-            for a in 0..=m {
-                let mut seen = vec![false; n as usize];
-                for i in 0..n {
-                    let (x, y) = sobol02(i);
-                    let cx = if a == 0 { 0 } else { x >> (32 - a) };
-                    let cy = if m - a == 0 { 0 } else { y >> (32 - (m - a)) };
-                    let cell = (cx << (m - a)) | cy;
-                    assert!(!seen[cell as usize], "m={m} a={a} i={i}");
-                    seen[cell as usize] = true;
-                }
-            }
-        }
     }
 }

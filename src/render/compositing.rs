@@ -17,6 +17,7 @@ use super::aov::{
     AovKind, AovSpec, Term, CRYPTO_MATERIAL, CRYPTO_OBJECT, LIGHTGROUP_PREFIX, NOISY_SUFFIX,
 };
 use super::cryptomatte::{self, Coverage};
+use super::film::AovImage;
 use super::film::TermRadiance;
 use super::settings::RenderSettings;
 use crate::math::Spectrum;
@@ -81,14 +82,6 @@ struct CryptoType {
     ids: Vec<f32>,
     names: Vec<String>,
     first_image: usize,
-}
-
-/// One AOV image of a film: its spec and its pixels, the channels of each pixel together,
-/// rows top to bottom.
-#[derive(Clone, Debug, PartialEq)]
-pub struct AovImage {
-    pub spec: AovSpec,
-    pub data: Vec<f32>,
 }
 
 /// What the compositing AOVs of one render are, and where each goes in the film.

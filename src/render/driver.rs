@@ -11,12 +11,10 @@
 //! count, and after `k` passes it is the same however many follow.
 
 use super::accumulate::{Accumulator, Sums};
-use super::budget;
 use super::compositing::{AovLayout, PixelAovs, SampleAovs};
 use super::error_aov::Shifts;
 use super::eye;
 use super::film::{Film, Filter, TermRadiance};
-pub use super::stratified::{first_round_noise, Rect};
 use crate::error::{Error, Result};
 use crate::geometry::Ray;
 use crate::math::Spectrum;
@@ -133,6 +131,17 @@ pub trait Integrator: Sync {
     }
 }
 
+/// Seconds kept free at the end of the budget for writing out the film, as a fraction of
+/// the budget, plus a fixed part.
+pub const MARGIN_FRACTION: f64 = 0.01;
+pub const MARGIN_SECONDS: f64 = 0.005;
+
+/// Seconds since the render's start by which the last camera pass under `budget_seconds`
+/// must end: the budget less the margin for writing the film out.
+pub fn deadline(budget_seconds: f64) -> f64 {
+    budget_seconds - MARGIN_FRACTION * budget_seconds - MARGIN_SECONDS
+}
+
 /// When a progressive camera pass stops.
 #[derive(Clone, Copy, Debug)]
 pub enum Schedule {
@@ -149,7 +158,7 @@ impl Schedule {
         match time_budget {
             Some(b) => Schedule::Deadline {
                 start,
-                deadline: budget::deadline(b),
+                deadline: deadline(b),
             },
             None => Schedule::Passes(spp),
         }

@@ -45,11 +45,11 @@ impl Shifts {
     /// is stratified.
     pub fn point(&self, k: u32) -> Vec2 {
         let (r, j) = replicate_of(k);
-        let (sx, sy) = super::budget::sobol02(j);
+        let (sx, sy) = crate::sampling::sobol02(j);
         let (hx, hy) = self.0[r];
         Vec2::new(
-            super::budget::to_unit(sx ^ hx),
-            super::budget::to_unit(sy ^ hy),
+            crate::sampling::to_unit(sx ^ hx),
+            crate::sampling::to_unit(sy ^ hy),
         )
     }
 }

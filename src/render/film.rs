@@ -5,7 +5,6 @@
 //! thus independent, which keeps the output bit-identical whatever the thread count.
 
 use super::aov::{AovSpec, Term};
-pub use super::compositing::AovImage;
 use crate::math::Spectrum;
 use crate::sampling::Distribution1D;
 use glam::Vec2;
@@ -207,6 +206,14 @@ impl Film {
         }
         out
     }
+}
+
+/// One AOV image of a film: its spec and its pixels, the channels of each pixel together,
+/// rows top to bottom.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AovImage {
+    pub spec: AovSpec,
+    pub data: Vec<f32>,
 }
 
 #[cfg(test)]

@@ -21,40 +21,20 @@ use super::irradiance_cache::IrradianceCache;
 pub use super::map_key::{key_parts, keys, KeyParts, NOT_IN_IMAGE};
 use super::map_records::{read_map, read_record, write_map, write_record, RECORD_FLOATS};
 use super::photons::{MapStats, PhotonMaps};
+pub use super::settings::{MapFiles, OnMismatch};
 use super::settings::{RenderMode, RenderSettings};
 use crate::error::{Error, Result};
 use crate::io::container::{self, Kind, Reader, Writer};
 use crate::photon::volume_points::{VolumePoint, VolumePointMap};
-use serde::{Deserialize, Serialize};
-use std::path::{Path, PathBuf};
+use serde::Serialize;
+use std::path::Path;
 
 /// The photon-map file (`.pmaps`): a container of this kind.
 pub const MAP_FILE: Kind = Kind {
     magic: *b"PMAPS\0\r\n",
-    version: 3,
+    version: super::map_key::MAP_FILE_VERSION,
     what: "photon-map file",
 };
-
-/// What to do when loaded photon maps do not match the render.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
-#[serde(rename_all = "lowercase")]
-pub enum OnMismatch {
-    /// Error: stop with an error that says what differs.
-    #[default]
-    Error,
-    /// Rebuild: build the maps again (and save them where asked), noting why in the stats.
-    Rebuild,
-}
-
-/// Photon-map files of a render (Jensen's mode).
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
-pub struct MapFiles {
-    /// Save the photon maps and the irradiance cache to this file.
-    pub save: Option<PathBuf>,
-    /// Load them from this file instead of building them.
-    pub load: Option<PathBuf>,
-    pub on_mismatch: OnMismatch,
-}
 
 /// Jensen's photon maps and irradiance cache, as one render built them.
 pub struct MapSet {

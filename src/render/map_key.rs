@@ -11,6 +11,10 @@
 //! setting that changes the image.
 
 use super::settings::RenderSettings;
+
+/// The version of the photon-map file format (`map_file::MAP_FILE`): in the key, so that a
+/// file of another format is never read as this one.
+pub const MAP_FILE_VERSION: u32 = 3;
 use crate::io::container::Fnv64;
 use crate::scene::SceneDesc;
 use serde::Serialize;
@@ -96,7 +100,7 @@ pub fn key_parts(desc: &SceneDesc, s: &RenderSettings) -> KeyParts {
     KeyParts {
         version: part(&|h| {
             h.write(env!("CARGO_PKG_VERSION").as_bytes());
-            h.u64(super::map_file::MAP_FILE.version as u64);
+            h.u64(MAP_FILE_VERSION as u64);
         }),
         geometry: part(&|h| {
             h.u64(desc.meshes.len() as u64);

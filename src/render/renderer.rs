@@ -1,35 +1,20 @@
-//! The renderer builder: seed, threads, samples, progress callback and cancel flag.
+//! The renderer builder: the scene, the settings, progress callback and cancel flag, photon
+//! maps to reuse or keep; and what every mode asks of it (the camera pass, the eye context,
+//! progress, cancellation). `run.rs` renders with it; each mode's pipeline is its own file.
 //!
 //! Each pixel draws its random numbers from its own stream, derived from (seed, pixel index),
 //! and pixels are independent (see `driver`), so the output is bit-identical for any thread
-//! count. The modes are `jensen` and `sppm`.
+//! count.
 
 use super::aov::Term;
-use super::budget;
 use super::compositing::AovLayout;
 use super::driver::CameraPass;
-use super::film::Film;
-use super::memory::MemoryEstimate;
-use super::settings::RenderMode;
-use super::settings::{RenderSettings, BYTES_PER_TRIANGLE};
-use super::stats::RenderStats;
-use crate::error::{Error, Result};
+use super::settings::RenderSettings;
 use crate::scene::Scene;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
-use std::time::Instant;
 
 pub use super::driver::{OutputTimeFn, PreviewFn, ProgressFn};
-
-pub struct RenderOutput {
-    pub film: Film,
-    pub stats: RenderStats,
-    /// pppm: the passes' partial sums, to save or merge with other blocks.
-    pub partial: Option<Box<super::partial::Partial>>,
-    /// Jensen's mode, when asked for ([`Renderer::keep_photon_maps`]): the photon maps and
-    /// irradiance cache of the render, to reuse or save.
-    pub photon_maps: Option<std::sync::Arc<super::map_file::MapSet>>,
-}
 
 /// Hashes that identify what a render's photon maps and partial sums depend on (computed by
 /// the front end from the scene IR, `render::map_file::keys`).
@@ -208,63 +193,5 @@ impl<'a> Renderer<'a> {
         let need_global = s.terms.contains(Term::Indirect) && s.final_gather_rays > 0;
         let need_caustic = s.terms.contains(Term::Caustic);
         [need_global, need_caustic, need_volume]
-    }
-
-    pub fn render(mut self) -> Result<RenderOutput> {
-        let start = Instant::now();
-        self.aovs = AovLayout::new(self.scene, &self.settings, &self.scene.light_groups);
-        let s = &self.settings;
-        if let Some(b) = s.time_budget {
-            budget::check_budget(b).map_err(|message| Error::InvalidSetting {
-                setting: "time_budget".into(),
-                message,
-            })?;
-        }
-        if s.spp == 0 {
-            return Err(Error::InvalidSetting {
-                setting: "spp".into(),
-                message: "must be at least 1".into(),
-            });
-        }
-        let estimate = self.memory_estimate();
-        if let Some(limit) = s.memory_limit_bytes() {
-            if estimate.peak_bytes > limit {
-                return Err(Error::InvalidSetting {
-                    setting: "memory_limit".into(),
-                    message: format!(
-                        "the render needs an estimated {} bytes at its peak ({} photons x {} B \
-                         = {} B for the photon maps, {} B of precomputed irradiance, {} \
-                         triangles x {} B = {} B for the BVH), over the limit of {limit} \
-                         bytes; store fewer photons or raise the limit",
-                        estimate.peak_bytes,
-                        estimate.photons,
-                        s.bytes_per_photon(),
-                        estimate.photon_bytes,
-                        estimate.irradiance_bytes,
-                        estimate.triangles,
-                        BYTES_PER_TRIANGLE,
-                        estimate.bvh_bytes,
-                    ),
-                });
-            }
-        }
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(s.threads)
-            .build()
-            .map_err(|e| Error::Internal(format!("thread pool: {e}")))?;
-        pool.install(|| self.render_in_pool(pool.current_num_threads(), estimate, start))
-    }
-
-    fn render_in_pool(
-        &self,
-        threads: usize,
-        estimate: MemoryEstimate,
-        start: Instant,
-    ) -> Result<RenderOutput> {
-        match self.settings.mode {
-            RenderMode::Jensen => self.render_jensen(threads, estimate, start),
-            RenderMode::Sppm => self.render_sppm(threads, estimate, start),
-            RenderMode::Pppm => self.render_pppm(threads, estimate, start),
-        }
     }
 }

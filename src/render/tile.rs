@@ -17,12 +17,13 @@
 use super::accumulate::Sums;
 use super::adaptive::{self, Adaptive};
 use super::aov::Term;
-use super::driver::{Pixel, Rect};
+use super::driver::Pixel;
 use super::error_aov::{Replicates, REPLICATES};
 use super::film::{Film, TermRadiance};
 use super::renderer::Renderer;
 use super::settings::{RenderMode, RenderSettings};
 use super::stats::RenderStats;
+use super::stratified::Rect;
 use crate::error::{Error, Result};
 use crate::io::container::{Reader, Writer};
 use crate::math::Spectrum;

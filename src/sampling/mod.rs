@@ -2,7 +2,9 @@
 pub mod chi2;
 mod distribution;
 mod rng;
+mod sobol;
 pub mod warp;
 
 pub use distribution::{Distribution1D, Distribution2D};
 pub use rng::{mix64, Rng};
+pub use sobol::{sobol02, to_unit};

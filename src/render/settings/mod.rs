@@ -16,9 +16,7 @@
 
 use crate::error::{Error, Result};
 use crate::render::aov::{AovRequest, TermMask};
-use crate::render::budget::check_budget;
 use crate::render::film::Filter;
-use crate::render::map_file::{MapFiles, OnMismatch};
 use clap::{Args, FromArgMatches};
 use serde::{Deserialize, Serialize};
 

@@ -3,9 +3,7 @@
 
 use super::{parse_bytes, Quality, RenderMode};
 pub use crate::render::aov::Cryptomatte;
-use crate::render::budget::check_budget;
 use crate::render::film::Filter;
-use crate::render::map_file::OnMismatch;
 use clap::ValueEnum;
 use serde::{Deserialize, Serialize};
 
@@ -303,4 +301,35 @@ pub struct Field {
     pub choices: Vec<Choice>,
     pub optional: bool,
     pub spec: Spec,
+}
+
+/// Checks a time budget's value (`time_budget`).
+pub fn check_budget(seconds: f64) -> Result<(), String> {
+    if !seconds.is_finite() || seconds < 0.0 {
+        return Err(format!(
+            "`{seconds}` is not a time budget: expected a finite number of seconds >= 0 (0 = off)"
+        ));
+    }
+    Ok(())
+}
+
+/// What to do when loaded photon maps do not match the render.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum OnMismatch {
+    /// Error: stop with an error that says what differs.
+    #[default]
+    Error,
+    /// Rebuild: build the maps again (and save them where asked), noting why in the stats.
+    Rebuild,
+}
+
+/// Photon-map files of a render (Jensen's mode).
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct MapFiles {
+    /// Save the photon maps and the irradiance cache to this file.
+    pub save: Option<std::path::PathBuf>,
+    /// Load them from this file instead of building them.
+    pub load: Option<std::path::PathBuf>,
+    pub on_mismatch: OnMismatch,
 }
