@@ -298,6 +298,11 @@ impl Partial {
 
     /// The partial sum as the bytes of a `.ppart` file.
     pub fn to_bytes(&self) -> Vec<u8> {
+        self.encode(&serde_json::to_string(&self.maps).unwrap_or_default())
+    }
+
+    /// The file's bytes, with the photon-map stats written as `maps_json`.
+    fn encode(&self, maps_json: &str) -> Vec<u8> {
         let mut w = Writer::default();
         let h = &self.header;
         w.u32(h.width);
@@ -320,7 +325,7 @@ impl Partial {
         w.f64(t.camera_seconds);
         w.u32(t.partials);
         w.str(&self.options);
-        w.str(&serde_json::to_string(&self.maps).unwrap_or_default());
+        w.str(maps_json);
         for sums in [&self.terms, &self.replicates] {
             w.u64(sums.len() as u64);
             w.buf.reserve(sums.len() * 8);
@@ -515,5 +520,12 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("p.ppart: truncated partial-sum file"), "{e}");
+        // Map stats that do not read (a file written by something else, checksum and all)
+        // are a corrupt file, named, not a panic or stats made up.
+        let bad = p.encode(r#"[{"map": 3}]"#);
+        let e = Partial::from_bytes(&bad, Path::new("p.ppart"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("p.ppart: corrupt partial-sum file"), "{e}");
     }
 }
