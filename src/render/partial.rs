@@ -509,6 +509,9 @@ mod tests {
         p.options = "{\"seed\":1}".into();
         p.tally.photon_seconds = 1.5;
         let bytes = p.to_bytes();
+        // Map stats that do not read (a file written by something else, checksum and all)
+        // are a corrupt file, named, not a panic or stats made up.
+        let bad = p.encode(r#"[{"map": 3}]"#);
         let q = Partial::from_bytes(&bytes, Path::new("p.ppart")).unwrap();
         assert_eq!(q.header, p.header);
         assert_eq!(
@@ -520,9 +523,6 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("p.ppart: truncated partial-sum file"), "{e}");
-        // Map stats that do not read (a file written by something else, checksum and all)
-        // are a corrupt file, named, not a panic or stats made up.
-        let bad = p.encode(r#"[{"map": 3}]"#);
         let e = Partial::from_bytes(&bad, Path::new("p.ppart"))
             .unwrap_err()
             .to_string();
