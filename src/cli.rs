@@ -93,7 +93,7 @@ pub struct RenderArgs {
     /// Image height in pixels (default: keeps the scene's aspect ratio when only --width is given).
     #[arg(long)]
     pub height: Option<u32>,
-    /// The render settings (`render::options`, one schema with Python and Blender).
+    /// The render settings (`render::settings`, one schema with Python and Blender).
     #[command(flatten)]
     pub options: RenderSettings,
     /// USD: camera prim path to render through (default: the first camera found).

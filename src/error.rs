@@ -27,7 +27,7 @@ pub enum Error {
     /// line reports it by its flag ([`Error::for_cli`]).
     #[error("invalid render setting `{setting}`: {message}")]
     InvalidSetting { setting: String, message: String },
-    /// A setting the schema does not have (`render::options`); `known` lists those it has.
+    /// A setting the schema does not have (`render::settings`); `known` lists those it has.
     #[error("unknown render setting `{setting}` (the settings are: {known})")]
     UnknownSetting { setting: String, known: String },
     #[error("internal error: {0}")]

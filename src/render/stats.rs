@@ -129,9 +129,9 @@ pub struct RenderStats {
     pub denoise: Option<serde_json::Value>,
     /// The settings the render was given (a budgeted render's plan is under `time_budget`).
     pub settings: RenderSettings,
-    /// The same settings as the render keywords and flags name them (`render::options`):
-    /// `photonmap.render(scene, **stats["options"])` renders the same image (a budgeted
-    /// render is replayed from its plan, `time_budget`).
+    /// The same settings without the engine's own, as the keywords and flags take them
+    /// (`render::settings`): `photonmap.render(scene, **stats["options"])` renders the same
+    /// image (a budgeted render is replayed from its plan, `time_budget`).
     pub options: serde_json::Value,
     /// The figures these stats do not know, which the stats JSON gives as `null`: in the stats
     /// of a merged pppm image, [`RenderStats::SCENE_FIGURES`].
