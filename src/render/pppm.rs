@@ -176,6 +176,7 @@ impl Renderer<'_> {
             .flat_map(|y| (0..w).step_by(stride).map(move |x| y * w + x))
             .collect();
         let k = s.initial_photons.max(1);
+        let filter = s.pixel_filter();
         let mut r2s: Vec<f32> = pixels
             .par_iter()
             .map_init(
@@ -184,7 +185,7 @@ impl Renderer<'_> {
                     let mut rng = Rng::derive(s.seed, TAG_RADIUS, i as u64);
                     let ray = eye::camera_ray(
                         self.scene,
-                        &s.pixel_filter(),
+                        &filter,
                         i % w,
                         i / w,
                         glam::Vec2::splat(0.5),
