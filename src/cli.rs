@@ -320,7 +320,7 @@ impl RenderArgs {
                         .into(),
                 });
             }
-            if s.time_budget.is_some() || self.pass_range.is_some() {
+            if s.budget_seconds().is_some() || self.pass_range.is_some() {
                 return Err(Error::InvalidSetting {
                     setting: "photon_maps_only".into(),
                     message: "cannot be combined with --time-budget or --pass-range".into(),

@@ -204,7 +204,7 @@ impl FrameReuse {
             enabled: frames > 1
                 && args.frame_photon_maps == FrameMaps::Reuse
                 && s.mode == RenderMode::Jensen
-                && s.time_budget.is_none()
+                && s.budget_seconds().is_none()
                 && s.photon_map_files().load.is_none(),
             first: None,
         }

@@ -355,7 +355,7 @@ impl Renderer<'_> {
         estimate: MemoryEstimate,
     ) -> Result<TileOutput> {
         let s = &self.settings;
-        if s.time_budget.is_some() || s.progressive {
+        if s.budget_seconds().is_some() || s.progressive {
             return Err(Error::InvalidSetting {
                 setting: if s.progressive {
                     "progressive"

@@ -263,7 +263,7 @@ pub fn check_settings(s: &RenderSettings) -> Result<()> {
             ),
         });
     }
-    if f.load.is_some() && s.time_budget.is_some() {
+    if f.load.is_some() && s.budget_seconds().is_some() {
         return Err(Error::InvalidSetting {
             setting: "load_photon_maps".into(),
             message: "cannot be combined with time_budget, which plans the photon counts \

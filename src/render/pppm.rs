@@ -252,7 +252,7 @@ impl Renderer<'_> {
         // A block of passes (`pass_range`) is whole: the CLI refuses a time budget with it.
         let schedule = match s.pass_range {
             Some(_) => Schedule::Passes(count),
-            None => Schedule::of(s.time_budget, count, start),
+            None => Schedule::of(s.budget_seconds(), count, start),
         };
         let out = driver.progressive(&mut it, schedule, first)?;
         let mut partial = Partial::of_pixels(
@@ -298,7 +298,7 @@ impl Renderer<'_> {
         let radius_seconds = t0.elapsed().as_secs_f64();
         let (first, count) = match s.pass_range {
             Some((a, b)) => (a, b - a),
-            None if s.time_budget.is_some() => (0, u32::MAX),
+            None if s.budget_seconds().is_some() => (0, u32::MAX),
             None => (0, s.spp),
         };
         let key = self.keys.map_or(0, |k| k.render);
@@ -314,7 +314,7 @@ impl Renderer<'_> {
         out.stats
             .seconds
             .insert("initial_radius".into(), radius_seconds);
-        if let Some(b) = s.time_budget {
+        if let Some(b) = s.budget_seconds() {
             out.stats.time_budget = Some(
                 super::budget::BudgetStats {
                     passes: partial.passes(),

@@ -415,6 +415,33 @@ mod tests {
         assert_eq!(reason(&fog, Term::Volume), None, "{:?}", fog.skipped);
     }
 
+    /// A time budget of 0 is off in every mode (the flag's and the keyword's "0 = off"): the
+    /// same image and passes as no budget.
+    #[test]
+    fn a_zero_time_budget_is_no_budget() {
+        let sc = scene("cornell_spheres");
+        for mode in [RenderMode::Jensen, RenderMode::Sppm, RenderMode::Pppm] {
+            let render = |time_budget| {
+                Renderer::new(&sc)
+                    .settings(RenderSettings {
+                        mode,
+                        time_budget,
+                        ..small()
+                    })
+                    .render()
+                    .unwrap()
+            };
+            let (off, zero) = (render(None), render(Some(0.0)));
+            assert!(zero.stats.time_budget.is_none(), "{mode:?}");
+            assert_eq!(zero.stats.spp, off.stats.spp, "{mode:?}");
+            assert_eq!(
+                zero.film.combined().data,
+                off.film.combined().data,
+                "{mode:?}"
+            );
+        }
+    }
+
     #[test]
     fn counts_follow_the_render_in_both_modes() {
         let sc = scene("cornell_spheres");
