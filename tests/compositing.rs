@@ -1,7 +1,7 @@
 //! The compositing AOVs beside the terms: the denoising guides (`albedo`, `normal`) through
 //! mirrors and glass, and Cryptomatte mattes against each object's coverage.
 
-mod common;
+use crate::common;
 use common::*;
 use photonmap::render::aov::{AovRequest, Cryptomatte};
 use photonmap::render::film::Film;

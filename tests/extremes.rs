@@ -8,7 +8,7 @@
 //!
 //! Images are 16x16 with few samples and small photon maps, so that each test takes seconds.
 
-mod common;
+use crate::common;
 use common::*;
 use glam::Vec3;
 use photonmap::cli::{Cli, Command};

@@ -9,7 +9,7 @@
 //! factor a path that enters by refraction and leaves by transparency keeps it, and the
 //! sphere's centre came out 14% bright and its rim 8% dark at a Mix factor of 0.5.
 
-mod common;
+use crate::common;
 use common::*;
 use glam::Vec3;
 use photonmap::geometry::shapes;

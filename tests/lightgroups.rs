@@ -2,7 +2,7 @@
 //! the beauty, and each group's image matches a render with only that group's emitters on,
 //! within noise.
 
-mod common;
+use crate::common;
 use common::*;
 use photonmap::render::film::{Film, Image};
 use photonmap::render::settings::RenderMode;

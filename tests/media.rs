@@ -1,7 +1,7 @@
 //! Participating media: the phase function's sampling, a closed-form single-scattering value,
 //! the extremes of the extinction coefficient, and media-free scenes never marching.
 
-mod common;
+use crate::common;
 use common::*;
 use glam::{Vec2, Vec3};
 use photonmap::geometry::shapes;

@@ -14,7 +14,7 @@
 //!   multiply scattered glow well above Mitsuba's (fog_spot: 3 of 256 blocks, up to 1.22x,
 //!   t 15.2 against a critical 5.9; fog_glass with clear glass: 9 of 256, up to 1.70x).
 
-mod common;
+use crate::common;
 use common::compare::{
     media_blocks, media_full, pixel_compare, single_scattering_batches, t_critical,
 };

@@ -3,7 +3,7 @@
 //! of another scene, a truncated file or one of another version is a clear error; a frame
 //! rendered in tiles over one set is the frame rendered whole, to the bit.
 
-mod common;
+use crate::common;
 use common::*;
 use photonmap::command::{render_request, RenderRequest};
 use photonmap::render::film::Film;

@@ -2,7 +2,7 @@
 //! the same photons, the same image up to the RGBE quantisation, and memory that follows the
 //! record size in the stats, the estimate and the memory-limit check.
 
-mod common;
+use crate::common;
 
 use common::{load_scene, render_settings};
 use photonmap::cli::{Cli, Command};

@@ -1,7 +1,7 @@
 //! The photon terms: white furnace for `indirect`, energy of the stored photons, and the full
 //! global illumination against Mitsuba 3 references, converging as photons grow.
 
-mod common;
+use crate::common;
 use common::*;
 use photonmap::geometry::shapes;
 use photonmap::photon::map::MapKind;

@@ -3,7 +3,7 @@
 //! order of the merge; and the image converges to the path-traced reference as passes grow,
 //! as the per-pixel progressive mode (`sppm`) does.
 
-mod common;
+use crate::common;
 use common::*;
 use photonmap::command::exr::read_rgb_layers;
 use photonmap::render::film::{Film, Image};

@@ -8,7 +8,7 @@
 //! the noise floors of these renders, and fail the test. The mean image values must also
 //! agree within 1% (4 standard errors of the combined means are well under 0.5%).
 
-mod common;
+use crate::common;
 use common::compare::{pixel_compare, surface_batches};
 use common::*;
 use photonmap::render::aov::Term;

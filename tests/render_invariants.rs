@@ -1,6 +1,6 @@
 //! Invariants of a render: determinism across thread counts, the sum rule, zero terms.
 
-mod common;
+use crate::common;
 use common::*;
 use photonmap::render::aov::{Term, TermMask};
 use photonmap::render::settings::FilterName;
@@ -169,6 +169,71 @@ fn maps_are_built_only_when_needed() {
         "{global:?}"
     );
     assert!(out.stats.skipped.iter().any(|s| s.term == "indirect"));
+}
+
+/// A scene whose surfaces all only emit (the "values" scenes: an Emission plane filling the
+/// view) stores no photon: its global and caustic maps are not traced, and say why. Traced,
+/// the photon pass emitted `max_emitted_factor` times the photons asked for, all of them lost,
+/// which was 94% of such a render's time. The image is the one a render without photons makes.
+#[test]
+fn emitters_alone_trace_no_photons() {
+    use photonmap::scene::desc::{ColorInput, MaterialDesc};
+    let mut desc = load_scene("cornell_spheres");
+    desc.film.width = 16;
+    desc.film.height = 16;
+    for (i, m) in desc.materials.iter_mut().enumerate() {
+        *m = MaterialDesc::Emission {
+            name: format!("glow {i}"),
+            color: ColorInput::Value([0.2 + 0.1 * i as f32, 0.5, 0.3]),
+            strength: 1.0,
+        };
+    }
+    let out = render(&desc, 2, 3, 0);
+    for name in ["global", "caustic"] {
+        let m = out
+            .stats
+            .photon_maps
+            .iter()
+            .find(|m| m.map == name)
+            .unwrap();
+        assert!(
+            !m.built
+                && m.emitted == 0
+                && m.skipped_because
+                    .as_deref()
+                    .unwrap()
+                    .contains("no surface of the scene scatters"),
+            "{m:?}"
+        );
+    }
+    let scene = photonmap::scene::Scene::build(&desc).unwrap();
+    let none = photonmap::render::Renderer::new(&scene)
+        .settings(photonmap::render::RenderSettings {
+            spp: 2,
+            seed: 3,
+            photons: 0,
+            caustic_photons: 0,
+            filter: FilterName::Box,
+            ..Default::default()
+        })
+        .render()
+        .unwrap();
+    assert_eq!(out.film.combined().data, none.film.combined().data);
+    assert!(out.film.combined().mean().max_element() > 0.1);
+
+    // One scattering surface back, and the global map is traced again.
+    desc.materials[0] = MaterialDesc::Diffuse {
+        name: "white".into(),
+        color: ColorInput::Value([0.8; 3]),
+    };
+    let out = render(&desc, 1, 3, 0);
+    let g = out
+        .stats
+        .photon_maps
+        .iter()
+        .find(|m| m.map == "global")
+        .unwrap();
+    assert!(g.built && g.stored > 0, "{g:?}");
 }
 
 #[test]

@@ -12,7 +12,7 @@
 //!
 //! The corpus against Cycles has its own sensitivity tests (tests/blender/test_corpus.py).
 
-mod common;
+use crate::common;
 use common::compare::*;
 use common::*;
 use photonmap::render::aov::Term;

@@ -2,7 +2,7 @@
 //! caustic scene: consistency (error falls with passes, at the rate theory gives) and the
 //! calibration of the `error` AOV.
 
-mod common;
+use crate::common;
 use common::*;
 use photonmap::command::exr::read_rgb_layers;
 use photonmap::render::film::Image;

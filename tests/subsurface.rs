@@ -3,7 +3,7 @@
 //! sum rule and determinism, what runs without subsurface materials, and the warnings on bad
 //! input. The comparison with Cycles is in the parity corpus (`sss_*`).
 
-mod common;
+use crate::common;
 use common::*;
 use glam::Vec3;
 use photonmap::geometry::shapes;

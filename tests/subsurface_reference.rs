@@ -11,7 +11,7 @@
 //! triangles, seen on three faces). Per pixel, relMSE against the noise floors of both images
 //! and the image means, as for the other references (`common::compare::pixel_compare`).
 
-mod common;
+use crate::common;
 use common::compare::pixel_compare;
 use common::*;
 use photonmap::render::film::Image;

@@ -429,6 +429,16 @@ impl Material {
         }
     }
 
+    /// Whether light reaching the surface can leave it other than straight through, reflected
+    /// or transmitted by a lobe. Where no surface of a scene can, photons are never stored.
+    pub fn scatters(&self) -> bool {
+        match self {
+            Material::Emission { .. } | Material::Null { .. } => false,
+            Material::Graph(g) => g.scatters(),
+            _ => true,
+        }
+    }
+
     /// Whether a delta, near-specular or transmissive lobe is possible (the scene then needs a
     /// caustic map).
     pub fn has_specular(&self) -> bool {

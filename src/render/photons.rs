@@ -117,6 +117,22 @@ pub fn build(
     build_with(scene, s, seed, need, cancel, true)
 }
 
+/// Whether a surface of the scene can scatter light (`Material::scatters`): where none can, a
+/// photon leaving a light is never stored on a surface, and the global and caustic maps are not
+/// traced (a scene of emitters alone would emit `max_emitted_factor` times the photons asked
+/// for, all lost).
+fn surfaces_scatter(scene: &Scene) -> bool {
+    scene.accel.instances().iter().any(|inst| {
+        let mesh = scene.accel.mesh(inst.mesh);
+        mesh.material_ids.iter().any(|&m| {
+            scene
+                .materials
+                .get(m as usize)
+                .map_or(true, |m| m.scatters())
+        })
+    })
+}
+
 /// As [`build`]; `irradiance_points` false leaves out the global map's precomputed
 /// irradiance (which only final gathering reads).
 pub fn build_with(
@@ -132,6 +148,7 @@ pub fn build_with(
     let max_r = s.radius.unwrap_or(0.1 * scene.radius);
     let mut stats = Vec::new();
     let no_lights = scene.lights.is_empty();
+    let receives = surfaces_scatter(scene);
     let mut run = |kind: MapKind,
                    wanted: bool,
                    target: usize,
@@ -140,6 +157,8 @@ pub fn build_with(
      -> Option<PhotonMap> {
         let reason = if no_lights {
             Some("the scene has no lights".to_string())
+        } else if kind != MapKind::Volume && !receives {
+            Some("no surface of the scene scatters light (its materials only emit or let light through)".to_string())
         } else if !wanted {
             why_not
         } else if target == 0 {

@@ -32,7 +32,7 @@ def test_scene_matches_cycles(addon, name, record_property):
     from corpus import scenes
 
     setting = settings("ci", scenes.SCENES[name].tags)
-    outs = [render_addon.render_scene(name, setting, seed=s) for s in SEEDS]
+    outs = render_addon.render_seeds(name, setting, SEEDS)
     assert not outs[0]["errors"], outs[0]["errors"]
     res = compare.compare(name, tuple(o["combined"] for o in outs), refs.load(name))
     for key in ("pooled", "max_dev", "max_dev_sigma", "n_failed", "relmse", "relmse_tol"):

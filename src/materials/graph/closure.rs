@@ -285,6 +285,15 @@ pub fn leaf_emits(leaf: &Leaf, konst: &[bool], init: &[Vec3]) -> bool {
     }
 }
 
+/// Whether a leaf can scatter light: reflect it, or transmit it other than straight through.
+/// Emission, Transparent and Holdout cannot, nor Sheen while it renders black.
+pub fn leaf_scatters(leaf: &Leaf, _konst: &[bool], _init: &[Vec3]) -> bool {
+    !matches!(
+        leaf.kind,
+        LeafKind::Emission | LeafKind::Transparent | LeafKind::Holdout | LeafKind::Sheen
+    )
+}
+
 /// Whether a leaf can let light pass straight through.
 pub fn leaf_transparent(leaf: &Leaf, konst: &[bool], init: &[Vec3]) -> bool {
     match leaf.kind {

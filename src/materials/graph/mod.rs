@@ -61,6 +61,7 @@ pub struct ShaderGraph {
     emissive: bool,
     specular: bool,
     transparent: bool,
+    scatters: bool,
     /// Whether a node reads object space, the texture space or Object Info.
     pub needs_object: bool,
     /// Whether a tangent-space Normal Map reads the mesh's tangents.
@@ -114,6 +115,7 @@ impl ShaderGraph {
             emissive: any(closure::leaf_emits),
             specular: any(closure::leaf_has_specular),
             transparent: any(closure::leaf_transparent),
+            scatters: any(closure::leaf_scatters),
             needs_object,
             needs_tangents,
             tables,
@@ -140,6 +142,10 @@ impl ShaderGraph {
     }
     pub fn has_specular(&self) -> bool {
         self.specular
+    }
+    /// Whether a closure can scatter light (any but Emission, Transparent and Holdout).
+    pub fn scatters(&self) -> bool {
+        self.scatters
     }
     /// Whether light can pass straight through somewhere (Transparent BSDF, Alpha).
     pub fn can_pass(&self) -> bool {

@@ -82,6 +82,26 @@ def render_scene(name: str, setting: dict, seed: int = 1, build=None) -> dict:
     return out
 
 
+#: The corpus scenes' renders through the engine, by (scene, setting, seeds), kept for the pytest
+#: session, so that the corpus test and the node sensitivity cases' controls of the same scene
+#: share them (a render is deterministic for its seed and its IR).
+_AS_EXPORTED: dict = {}
+
+
+def render_seeds(name: str, setting: dict, seeds) -> list:
+    """``name`` rendered through the engine once per seed (``render_scene``): each render's
+    ``combined``, ``error``, ``seconds``, ``warnings`` and ``errors``. Kept for the session."""
+    key = (name, json.dumps(setting, sort_keys=True), tuple(seeds))
+    if key not in _AS_EXPORTED:
+        outs = []
+        for s in seeds:
+            out = render_scene(name, setting, seed=s)
+            outs.append({k: out[k] for k in ("combined", "error", "seconds", "warnings",
+                                             "errors")})
+        _AS_EXPORTED[key] = outs
+    return _AS_EXPORTED[key]
+
+
 def export_ir(name: str, build=None) -> tuple[dict, list]:
     """The add-on's IR of corpus scene ``name`` and its export warnings."""
     import bpy
