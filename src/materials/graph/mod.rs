@@ -143,7 +143,7 @@ impl ShaderGraph {
     pub fn has_specular(&self) -> bool {
         self.specular
     }
-    /// Whether a closure can scatter light (any but Emission, Transparent and Holdout).
+    /// Whether a closure can scatter light (`closure::leaf_scatters`).
     pub fn scatters(&self) -> bool {
         self.scatters
     }
