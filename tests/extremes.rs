@@ -317,6 +317,7 @@ fn closed_box(albedo: f32, light: [f32; 3]) -> SceneDesc {
         film: FilmDesc {
             width: 16,
             height: 16,
+            transparent: false,
         },
         meshes: vec![cuboid_mesh("box", Vec3::splat(-1.0), Vec3::splat(1.0), 0)],
         materials: vec![MaterialDesc::Diffuse {

@@ -39,6 +39,7 @@ fn tiny_render(label: &str, desc: &SceneDesc) -> Option<RenderOutput> {
     desc.film = FilmDesc {
         width: 8,
         height: 8,
+        transparent: false,
     };
     let scene = Scene::build(&desc).ok()?;
     let out = Renderer::new(&scene)

@@ -4,6 +4,7 @@
 
 mod common;
 
+mod alpha;
 mod bsdf_chi2;
 mod bsdf_furnace;
 mod bvh_robust;

@@ -81,6 +81,7 @@ fn slab_scene(sigma_a: f32, sigma_s: f32) -> SceneDesc {
         film: FilmDesc {
             width: 8,
             height: 8,
+            transparent: false,
         },
         materials: vec![MaterialDesc::Null {
             name: "boundary".into(),
@@ -154,6 +155,7 @@ fn extinction_extremes_stay_finite_thin_is_vacuum_dense_is_dark() {
         desc.film = FilmDesc {
             width: 24,
             height: 24,
+            transparent: false,
         };
         desc.media = vec![MediumDesc {
             name: "fog".into(),
@@ -192,6 +194,7 @@ fn extinction_extremes_stay_finite_thin_is_vacuum_dense_is_dark() {
     desc.film = FilmDesc {
         width: 24,
         height: 24,
+        transparent: false,
     };
     let vacuum = render(&desc, 64, 1, 0).film.term(Term::Direct).mean();
     desc.media = vec![MediumDesc {
@@ -221,6 +224,7 @@ fn media_free_scenes_build_no_volume_map() {
     desc.film = FilmDesc {
         width: 8,
         height: 8,
+        transparent: false,
     };
     let out = render(&desc, 1, 0, 0);
     let v = out
@@ -307,6 +311,7 @@ fn density_grid_photons_match_homogeneous_photons() {
     a.film = FilmDesc {
         width: 32,
         height: 32,
+        transparent: false,
     };
     let mut b = a.clone();
     // The fog box of fog_spot spans its first mesh with an interior medium; cover all of space

@@ -57,6 +57,7 @@ fn white_furnace_indirect_matches_kd_over_one_minus_kd() {
             film: FilmDesc {
                 width: 24,
                 height: 24,
+                transparent: false,
             },
             materials: vec![MaterialDesc::Diffuse {
                 name: "white".into(),
@@ -113,6 +114,7 @@ fn first_hit_power_equals_light_power() {
         film: FilmDesc {
             width: 8,
             height: 8,
+            transparent: false,
         },
         materials: vec![MaterialDesc::Diffuse {
             name: "white".into(),

@@ -34,6 +34,7 @@ pub fn tiny_render(desc: &SceneDesc) -> Option<RenderOutput> {
     desc.film = FilmDesc {
         width: 8,
         height: 8,
+        transparent: false,
     };
     let scene = Scene::build(&desc).ok()?;
     let out = Renderer::new(&scene).settings(tiny_settings()).render().ok()?;
@@ -631,6 +632,7 @@ impl FuzzScene {
             film: FilmDesc {
                 width: 8,
                 height: 8,
+                transparent: false,
             },
             meshes: self
                 .meshes

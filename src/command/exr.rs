@@ -52,6 +52,7 @@ pub fn estimate_write_seconds(film: &Film) -> f64 {
             dst.data.copy_from_slice(&src.data[..w * rows]);
         }
         s.error.data.copy_from_slice(&film.error.data[..w * rows]);
+        s.alpha.copy_from_slice(&film.alpha[..w * rows]);
         s.aovs = film
             .aovs
             .iter()
@@ -92,10 +93,7 @@ fn multilayer_image(
     for (c, n) in ["R", "G", "B"].iter().enumerate() {
         channels.push(channel((*n).to_string(), &combined, c));
     }
-    channels.push(AnyChannel::new(
-        "A",
-        FlatSamples::F32(vec![1.0; film.width * film.height]),
-    ));
+    channels.push(AnyChannel::new("A", FlatSamples::F32(film.alpha.clone())));
     for t in Term::ALL {
         for (c, n) in ["R", "G", "B"].iter().enumerate() {
             channels.push(channel(format!("{}.{n}", t.name()), film.term(t), c));

@@ -201,8 +201,8 @@ pub(super) fn render<'py>(
     Ok(d)
 }
 
-/// `{"width", "height", "terms": {name: bytes}, "error": bytes, "aovs": [...],
-/// "cryptomatte": json, "combined": bytes}`.
+/// `{"width", "height", "terms": {name: bytes}, "error": bytes, "alpha": bytes (one float
+/// per pixel), "aovs": [...], "cryptomatte": json, "combined": bytes}`.
 pub(super) fn film_dict<'py>(py: Python<'py>, film: &Film) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("width", film.width)?;
@@ -213,6 +213,8 @@ pub(super) fn film_dict<'py>(py: Python<'py>, film: &Film) -> PyResult<Bound<'py
     }
     d.set_item("terms", terms)?;
     d.set_item(crate::render::aov::ERROR_AOV, image_bytes(py, &film.error))?;
+    let alpha: Vec<u8> = film.alpha.iter().flat_map(|a| a.to_le_bytes()).collect();
+    d.set_item("alpha", PyBytes::new(py, &alpha))?;
     d.set_item("aovs", aov_list(py, film)?)?;
     d.set_item(
         "cryptomatte",

@@ -27,9 +27,14 @@ pub const REPLICATE_VALUES: usize = REPLICATES * 3;
 /// A pixel's sums over its samples.
 pub trait Accumulator: Default + Send + Sync {
     /// Adds sample `k`: the finite terms of `l`, and their total plus `further` (the sample's
-    /// share of the combined image kept elsewhere) to replicate `k mod R`. Returns how many
+    /// share of the combined image kept elsewhere) to replicate `k mod R`, and how much of
+    /// the sample is `transparent` (a transparent background or a Holdout). Returns how many
     /// terms were not finite (and were dropped).
-    fn add(&mut self, k: u32, l: &TermRadiance, further: Spectrum) -> usize;
+    fn add(&mut self, k: u32, l: &TermRadiance, further: Spectrum, transparent: f32) -> usize;
+
+    /// The pixel's alpha after `samples` samples: one minus the mean transparency, in [0, 1]
+    /// (as Cycles resolves its combined pass).
+    fn alpha(&self, samples: u32) -> f32;
 
     /// The mean of the terms over `samples` samples, and the standard error of the combined
     /// image from the replicates.
@@ -43,6 +48,8 @@ pub struct Sums {
     pub acc: TermRadiance,
     /// Batch means of each sample's value of the combined image (the `error` AOV).
     pub batches: Replicates,
+    /// Sum over samples of their transparency.
+    pub transparent: f32,
 }
 
 impl Sums {
@@ -57,8 +64,16 @@ impl Sums {
     }
 }
 
+/// One minus the mean transparency of `samples` samples, in [0, 1].
+fn alpha_of(transparent_sum: f64, samples: u32) -> f32 {
+    (1.0 - transparent_sum / samples.max(1) as f64).clamp(0.0, 1.0) as f32
+}
+
 impl Accumulator for Sums {
-    fn add(&mut self, k: u32, l: &TermRadiance, further: Spectrum) -> usize {
+    fn add(&mut self, k: u32, l: &TermRadiance, further: Spectrum, transparent: f32) -> usize {
+        if transparent.is_finite() {
+            self.transparent += transparent;
+        }
         let mut total = Spectrum::ZERO;
         let mut dropped = 0;
         for t in Term::ALL {
@@ -72,6 +87,10 @@ impl Accumulator for Sums {
         }
         self.batches.add(k, total + further);
         dropped
+    }
+
+    fn alpha(&self, samples: u32) -> f32 {
+        alpha_of(self.transparent as f64, samples)
     }
 
     fn resolve(&self, samples: u32) -> (TermRadiance, Spectrum) {
@@ -91,6 +110,8 @@ pub struct FixedSums {
     pub replicates: [i64; REPLICATE_VALUES],
     /// Samples added per replicate.
     pub counts: [u32; REPLICATES],
+    /// The samples' transparency.
+    pub transparent: i64,
 }
 
 impl Default for FixedSums {
@@ -99,12 +120,16 @@ impl Default for FixedSums {
             terms: [0; TERM_VALUES],
             replicates: [0; REPLICATE_VALUES],
             counts: [0; REPLICATES],
+            transparent: 0,
         }
     }
 }
 
 impl Accumulator for FixedSums {
-    fn add(&mut self, k: u32, l: &TermRadiance, further: Spectrum) -> usize {
+    fn add(&mut self, k: u32, l: &TermRadiance, further: Spectrum, transparent: f32) -> usize {
+        if transparent.is_finite() {
+            self.transparent = self.transparent.wrapping_add(quantize(transparent));
+        }
         let mut combined = [0i64; 3];
         let mut dropped = 0;
         for t in Term::ALL {
@@ -132,6 +157,10 @@ impl Accumulator for FixedSums {
         }
         self.counts[r] += 1;
         dropped
+    }
+
+    fn alpha(&self, samples: u32) -> f32 {
+        fixed_alpha(self.transparent, samples)
     }
 
     fn resolve(&self, samples: u32) -> (TermRadiance, Spectrum) {
@@ -162,6 +191,11 @@ pub fn fixed_means(sums: &[i64], samples: u32) -> TermRadiance {
         );
     }
     v
+}
+
+/// A pixel's alpha from the fixed-point sum of its samples' transparency.
+pub fn fixed_alpha(transparent: i64, samples: u32) -> f32 {
+    alpha_of(transparent as f64 / FIXED_ONE, samples)
 }
 
 /// Standard error of a pixel's mean from its replicates' fixed-point sums (`sums`: RGB per
@@ -207,7 +241,11 @@ mod tests {
             } else {
                 Spectrum::new(1.0, 2.0, 0.5)
             };
-            let (da, db) = (a.add(k, &l, Spectrum::ZERO), b.add(k, &l, Spectrum::ZERO));
+            let t = 0.125 * (k % 3) as f32;
+            let (da, db) = (
+                a.add(k, &l, Spectrum::ZERO, t),
+                b.add(k, &l, Spectrum::ZERO, t),
+            );
             assert_eq!(da, db);
             assert_eq!(da, usize::from(k == 3));
         }
@@ -217,5 +255,9 @@ mod tests {
         }
         assert!((ea - eb).abs().max_element() < 1e-5);
         assert!(ea.max_element() > 0.0);
+        // Transparency 0, 1/8, 1/4, 0, ... over 8 samples: 1 - 1.125/8.
+        assert_eq!(a.alpha(8), 1.0 - 1.125 / 8.0);
+        assert_eq!(b.alpha(8), 1.0 - 1.125 / 8.0);
+        assert_eq!(Sums::default().alpha(0), 1.0);
     }
 }

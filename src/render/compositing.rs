@@ -47,6 +47,9 @@ pub struct SampleAovs {
     /// With light groups, each group's share of the sample's radiance (one entry per group;
     /// empty without groups).
     pub groups: Vec<Spectrum>,
+    /// How much of the sample sees a transparent background or a Holdout (always recorded;
+    /// the film's alpha is one minus its mean, see `accumulate::Accumulator`).
+    pub transparent: f32,
 }
 
 impl SampleAovs {
@@ -54,6 +57,7 @@ impl SampleAovs {
         self.guides = None;
         self.first_hit = None;
         self.groups.iter_mut().for_each(|g| *g = Spectrum::ZERO);
+        self.transparent = 0.0;
     }
 }
 

@@ -246,8 +246,9 @@ impl<'a> CameraPass<'a> {
         let rng = own.as_mut().unwrap_or(&mut px.rng);
         let ray = eye::camera_ray(self.scene, &self.filter, x, y, u, rng);
         let (l, further) = it.sample(pass, ray, rng, &mut px.extra, k, scratch, aovs);
+        let transparent = std::mem::take(&mut aovs.transparent);
         self.aovs.add(&mut px.aovs, aovs);
-        let dropped = px.sums.add(k, &l, further);
+        let dropped = px.sums.add(k, &l, further, transparent);
         if dropped > 0 {
             self.non_finite.fetch_add(dropped, Ordering::Relaxed);
         }
@@ -288,6 +289,7 @@ impl<'a> CameraPass<'a> {
         let (v, err) = it.resolve(px, samples);
         film.set_pixel(i % w, i / w, &v);
         film.error.data[i] = err.to_array();
+        film.alpha[i] = px.sums.alpha(samples);
         self.aovs
             .resolve(&px.aovs, samples, &v, &mut film.aovs, i, |g| {
                 it.resolve_groups(px, samples, g)

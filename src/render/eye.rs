@@ -86,6 +86,11 @@ impl VisiblePoint {
     }
 }
 
+/// The mean of a colour's channels.
+fn average(s: Spectrum) -> f32 {
+    (s.x + s.y + s.z) / 3.0
+}
+
 /// Radiance along `ray`, per term. Non-finite estimates are dropped (counted by the caller).
 /// What the path gives the compositing AOVs that `aovs` asks for goes into it.
 pub fn trace(
@@ -137,6 +142,9 @@ pub fn trace_split(
     let mut path = RayPath::CAMERA_RAY;
     let want_first_hit = aovs.want_first_hit;
     let (rec_guides, first_hit) = (&mut aovs.guides, &mut aovs.first_hit);
+    // How much of the sample the camera sees through to a transparent background or a
+    // Holdout (Cycles' `transparent`; the pixel's alpha is one minus its mean).
+    let transparent = &mut aovs.transparent;
     // With light groups, each group's share of what the path adds.
     let mut split = (!aovs.groups.is_empty()).then(|| Split::new(&mut aovs.groups));
     // An emitter's share, seen along the path (where finite, as `add` takes it).
@@ -217,7 +225,11 @@ pub fn trace_split(
         }
         match hit {
             SceneHit::Miss => {
-                if !skip_emission {
+                if bounces == 0 && scene.film_transparent {
+                    // Film > Transparent: the background the camera sees straight through
+                    // transparent surfaces and media is not drawn.
+                    *transparent += average(beta);
+                } else if !skip_emission {
                     add(
                         &mut out,
                         Term::Emission,
@@ -258,6 +270,17 @@ pub fn trace_split(
                 }
                 if want_first_hit && bounces == 0 && first_hit.is_none() {
                     *first_hit = Some((si.instance, si.material));
+                }
+                if bounces == 0 {
+                    // A Holdout seen straight through transparent surfaces: that share of
+                    // the sample is transparent (black, as every Holdout renders).
+                    let h = scene.holdout(mat, &si);
+                    if h > 0.0 {
+                        *transparent += average(beta * h);
+                        if h >= 1.0 {
+                            break;
+                        }
+                    }
                 }
                 if !skip_emission {
                     let l = beta * emission::surface_emission(scene, &si);

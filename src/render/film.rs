@@ -133,6 +133,9 @@ pub struct Film {
     /// The `error` AOV: the estimated standard error of each pixel of the combined image,
     /// per channel (see `render::error_aov`); not a term, not part of the sum.
     pub error: Image,
+    /// Each pixel's alpha, the beauty's `A`: one minus the share of its samples that saw a
+    /// transparent background (Film > Transparent) or a Holdout; 1 where none did.
+    pub alpha: Vec<f32>,
     /// The compositing AOVs the render was asked for, in the order of
     /// `aov::AovRequest::aovs` (after `error`): denoising guides, noisy terms, light
     /// groups, Cryptomatte (`render::compositing`). Empty unless asked for.
@@ -151,6 +154,7 @@ impl Film {
                 .map(|_| Image::new(width, height))
                 .collect(),
             error: Image::new(width, height),
+            alpha: vec![1.0; width * height],
             aovs: Vec::new(),
             cryptomatte: BTreeMap::new(),
         }

@@ -5,7 +5,9 @@
 //! N·K passes. A pixel's image is exact while its sum over the passes stays below 2^39
 //! (5.5e11) in absolute value.
 
-use super::accumulate::{fixed_means, replicate_error, FixedSums, REPLICATE_VALUES, TERM_VALUES};
+use super::accumulate::{
+    fixed_alpha, fixed_means, replicate_error, FixedSums, REPLICATE_VALUES, TERM_VALUES,
+};
 use super::error_aov::REPLICATES;
 use super::film::Film;
 use super::photons::MapStats;
@@ -23,7 +25,7 @@ pub fn pass_radius2(r1: f32, alpha: f32, k: u32) -> f32 {
 /// The partial-sum file (`.ppart`): a container of this kind.
 pub const PARTIAL_FILE: Kind = Kind {
     magic: *b"PMPART\0\n",
-    version: 1,
+    version: 2,
     what: "partial-sum file",
 };
 
@@ -65,6 +67,8 @@ pub struct Partial {
     pub terms: Vec<i64>,
     /// Per pixel, per replicate, RGB: the sums of the combined image's fixed-point values.
     pub replicates: Vec<i64>,
+    /// Per pixel: the sum of the passes' fixed-point transparency (the alpha).
+    pub transparent: Vec<i64>,
     pub tally: Tally,
     /// The render options (JSON) of the render, for the stats of the merged image.
     pub options: String,
@@ -81,6 +85,7 @@ impl Partial {
             ranges: Vec::new(),
             terms: vec![0; n * TERM_VALUES],
             replicates: vec![0; n * REPLICATE_VALUES],
+            transparent: vec![0; n],
             tally: Tally::default(),
             options: String::new(),
             maps: Vec::new(),
@@ -100,6 +105,7 @@ impl Partial {
             p.terms[i * TERM_VALUES..(i + 1) * TERM_VALUES].copy_from_slice(&px.terms);
             p.replicates[i * REPLICATE_VALUES..(i + 1) * REPLICATE_VALUES]
                 .copy_from_slice(&px.replicates);
+            p.transparent[i] = px.transparent;
         }
         if passes > 0 {
             p.ranges.push((first, first + passes));
@@ -181,6 +187,9 @@ impl Partial {
             *x = x.wrapping_add(*y);
         }
         for (x, y) in self.replicates.iter_mut().zip(&other.replicates) {
+            *x = x.wrapping_add(*y);
+        }
+        for (x, y) in self.transparent.iter_mut().zip(&other.transparent) {
             *x = x.wrapping_add(*y);
         }
         // The photon maps' stats as one render of all the passes reports them: emitted paths
@@ -292,6 +301,7 @@ impl Partial {
             film.set_pixel(i % w, i / w, &fixed_means(sums, passes));
             let reps = &self.replicates[i * REPLICATE_VALUES..(i + 1) * REPLICATE_VALUES];
             film.error.data[i] = replicate_error(reps, &per_rep);
+            film.alpha[i] = fixed_alpha(self.transparent[i], passes);
         }
         film
     }
@@ -326,7 +336,7 @@ impl Partial {
         w.u32(t.partials);
         w.str(&self.options);
         w.str(maps_json);
-        for sums in [&self.terms, &self.replicates] {
+        for sums in [&self.terms, &self.replicates, &self.transparent] {
             w.u64(sums.len() as u64);
             w.buf.reserve(sums.len() * 8);
             for v in sums.iter() {
@@ -386,12 +396,14 @@ impl Partial {
         };
         let terms = read_sums("term sums", TERM_VALUES)?;
         let replicates = read_sums("replicate sums", REPLICATE_VALUES)?;
+        let transparent = read_sums("transparency sums", 1)?;
         r.finish()?;
         Ok(Partial {
             header,
             ranges,
             terms,
             replicates,
+            transparent,
             tally,
             options,
             maps,

@@ -57,8 +57,8 @@ pub enum TileOutput {
 }
 
 /// Bytes of one pixel's state: its random stream (16), term sums (Term::COUNT x 12) and
-/// replicates (REPLICATES x 16).
-const PIXEL_BYTES: usize = 16 + Term::COUNT * 12 + REPLICATES * 16;
+/// replicates (REPLICATES x 16), transparency (4).
+const PIXEL_BYTES: usize = 16 + Term::COUNT * 12 + REPLICATES * 16 + 4;
 
 /// The state of Jensen pixels after their first round, as bytes.
 pub fn encode_pixels(pixels: &[Pixel<()>]) -> Vec<u8> {
@@ -80,6 +80,7 @@ pub fn encode_pixels(pixels: &[Pixel<()>]) -> Vec<u8> {
             w.f32(s.z);
             w.u32(c);
         }
+        w.f32(px.sums.transparent);
     }
     w.buf
 }
@@ -115,6 +116,7 @@ pub fn decode_pixels(bytes: &[u8], n: usize) -> Result<Vec<Pixel<()>>> {
             sums: Sums {
                 acc,
                 batches: Replicates::from_parts(sums, counts),
+                transparent: r.f32("transparency")?,
             },
             aovs: Default::default(),
             extra: (),
@@ -184,15 +186,18 @@ pub fn place(film: &mut Film, rect: Rect, tile: &Film) -> Result<()> {
         }
         film.error.data[dst..dst + rect.width]
             .copy_from_slice(&tile.error.data[src..src + rect.width]);
+        film.alpha[dst..dst + rect.width].copy_from_slice(&tile.alpha[src..src + rect.width]);
     }
     Ok(())
 }
 
-/// Floats per pixel of [`film_to_bytes`]: RGB of every term, then of the `error` AOV.
-pub const FILM_FLOATS: usize = (Term::COUNT + 1) * 3;
+/// Floats per pixel of [`film_to_bytes`]: RGB of every term, then of the `error` AOV, then
+/// the alpha.
+pub const FILM_FLOATS: usize = (Term::COUNT + 1) * 3 + 1;
 
 /// A film as little-endian `f32`s, pixel by pixel (row-major): RGB of every term in
-/// `Term::ALL` order, then of the `error` AOV (to ship a tile between machines).
+/// `Term::ALL` order, then of the `error` AOV, then the alpha (to ship a tile between
+/// machines).
 pub fn film_to_bytes(film: &Film) -> Vec<u8> {
     let mut out = Vec::with_capacity(film.width * film.height * FILM_FLOATS * 4);
     for i in 0..film.width * film.height {
@@ -201,6 +206,7 @@ pub fn film_to_bytes(film: &Film) -> Vec<u8> {
                 out.extend_from_slice(&v.to_le_bytes());
             }
         }
+        out.extend_from_slice(&film.alpha[i].to_le_bytes());
     }
     out
 }
@@ -227,6 +233,7 @@ pub fn film_from_bytes(bytes: &[u8], width: usize, height: usize) -> Result<Film
                 img.data[i][c] = f.next().unwrap_or(0.0);
             }
         }
+        film.alpha[i] = f.next().unwrap_or(1.0);
     }
     Ok(film)
 }

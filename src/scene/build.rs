@@ -62,6 +62,9 @@ pub struct Scene {
     /// Whether a material lets light pass straight through somewhere (a graph's Transparent
     /// BSDF or Alpha): shadow rays then look through surfaces.
     pub transparent: bool,
+    /// Film > Transparent (`FilmDesc::transparent`): the background seen straight by the
+    /// camera adds no colour, and makes the image transparent.
+    pub film_transparent: bool,
     /// What the materials' shading graphs compiled to.
     pub graph_stats: crate::materials::graph::GraphStats,
     /// Per instance of the acceleration structure, the coordinate systems shading graphs
@@ -312,6 +315,7 @@ impl Scene {
             camera: Camera::new(&desc.camera, &desc.film),
             width: desc.film.width as usize,
             height: desc.film.height as usize,
+            film_transparent: desc.film.transparent,
             emissive,
             infinite_lights,
             hittable_lights,

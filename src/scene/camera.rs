@@ -134,6 +134,7 @@ mod tests {
             &FilmDesc {
                 width: 200,
                 height: 100,
+                transparent: false,
             },
         );
         let r = cam.generate_ray(Vec2::new(200.0, 50.0), Vec2::ZERO);
@@ -155,6 +156,7 @@ mod tests {
             &FilmDesc {
                 width: 100,
                 height: 100,
+                transparent: false,
             },
         );
         let r = cam.generate_ray(Vec2::new(100.0, 50.0), Vec2::ZERO);
@@ -173,6 +175,7 @@ mod tests {
             &FilmDesc {
                 width: 64,
                 height: 64,
+                transparent: false,
             },
         );
         let mut hits = vec![];

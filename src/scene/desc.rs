@@ -143,18 +143,27 @@ pub struct DensityGridDesc {
     pub transform: Matrix,
 }
 
-/// Output image size in pixels.
+/// Output image size in pixels, and whether the background seen by the camera is
+/// transparent.
+///
+/// | field | meaning |
+/// |---|---|
+/// | `width`, `height` | pixels |
+/// | `transparent` | Blender's Film > Transparent: where a camera ray reaches the background straight through transparent surfaces and media, it adds no colour and the image's alpha is transparent (the world still lights the scene, and is still seen in mirrors and through glass) |
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct FilmDesc {
     pub width: u32,
     pub height: u32,
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub transparent: bool,
 }
 impl Default for FilmDesc {
     fn default() -> Self {
         FilmDesc {
             width: 256,
             height: 256,
+            transparent: false,
         }
     }
 }

@@ -127,6 +127,18 @@ impl Scene {
         }
     }
 
+    /// The summed weight of the Holdout closures of `mat` at a hit (zero unless its graph
+    /// has one).
+    pub fn holdout(&self, mat: &Material, si: &SurfaceInteraction) -> f32 {
+        match mat {
+            Material::Graph(g) if g.holds_out() => {
+                g.shade(&self.shading_point(si), &self.textures, Want::Light)
+                    .holdout
+            }
+            _ => 0.0,
+        }
+    }
+
     /// Emitted radiance of the surface at a hit, towards the ray's origin.
     pub fn emission_at(&self, mat: &Material, si: &SurfaceInteraction) -> Spectrum {
         match mat {

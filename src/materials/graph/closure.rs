@@ -37,7 +37,8 @@ pub enum LeafKind {
     Emission,
     /// Translucent BSDF: color, normal (diffuse transmission).
     Translucent,
-    /// Holdout (renders black).
+    /// Holdout: renders black, and its weight makes the image transparent there (alpha)
+    /// where a camera ray reaches it straight through transparent surfaces.
     Holdout,
     /// Sheen BSDF: color, roughness, normal (renders black).
     Sheen,
@@ -122,7 +123,6 @@ impl LeafKind {
                     w.push("Sheen Weight is not supported; ignored".to_string());
                 }
             }
-            LeafKind::Holdout => w.push("Holdout renders black".to_string()),
             LeafKind::Sheen => w.push("the Sheen BSDF is not supported; renders black".to_string()),
             _ => {}
         }
@@ -185,6 +185,8 @@ pub struct Shaded {
     pub emission: Spectrum,
     /// The weight of light passing straight through (Transparent BSDF, Principled Alpha).
     pub transparency: Spectrum,
+    /// The summed weight of the Holdout closures.
+    pub holdout: f32,
 }
 
 fn unit(v: f32) -> f32 {
@@ -426,6 +428,7 @@ pub fn add_leaf(
                 out.emission += w * color(v(0)) * s;
             }
         }
-        LeafKind::Holdout | LeafKind::Sheen => {}
+        LeafKind::Holdout => out.holdout += w,
+        LeafKind::Sheen => {}
     }
 }

@@ -62,6 +62,7 @@ pub struct ShaderGraph {
     specular: bool,
     transparent: bool,
     scatters: bool,
+    holds_out: bool,
     /// Whether a node reads object space, the texture space or Object Info.
     pub needs_object: bool,
     /// Whether a tangent-space Normal Map reads the mesh's tangents.
@@ -116,6 +117,10 @@ impl ShaderGraph {
             specular: any(closure::leaf_has_specular),
             transparent: any(closure::leaf_transparent),
             scatters: any(closure::leaf_scatters),
+            holds_out: compiled
+                .leaves
+                .iter()
+                .any(|l| l.kind == closure::LeafKind::Holdout),
             needs_object,
             needs_tangents,
             tables,
@@ -150,6 +155,10 @@ impl ShaderGraph {
     /// Whether light can pass straight through somewhere (Transparent BSDF, Alpha).
     pub fn can_pass(&self) -> bool {
         self.transparent
+    }
+    /// Whether a closure is a Holdout.
+    pub fn holds_out(&self) -> bool {
+        self.holds_out
     }
 
     /// Runs the program at `sp` and sums the closures.
@@ -201,6 +210,7 @@ impl ShaderGraph {
                 bsdf: Bsdf::new(frame),
                 emission: Spectrum::ZERO,
                 transparency: Spectrum::ZERO,
+                holdout: 0.0,
             };
             for (leaf, tables) in self.compiled.leaves.iter().zip(&self.tables) {
                 let w = leaf.weight(&regs);
