@@ -51,6 +51,15 @@ def _rows_bottom_up(img: np.ndarray, channels: int) -> np.ndarray:
     return out.reshape(h * w, channels)
 
 
+def _with_alpha(out: dict) -> np.ndarray:
+    """The beauty as (H, W, 4): ``combined`` and its alpha (Film > Transparent, Holdout)."""
+    rgb = out["combined"]
+    alpha = out.get("alpha")
+    if alpha is None:
+        return rgb
+    return np.concatenate([rgb, alpha[..., None]], axis=2).astype(np.float32, copy=False)
+
+
 def write_result(engine, out: dict, window, layer_name: str = "") -> None:
     """Writes the render ``out`` (photonmap.render's dict) into Blender's render result. With a
     render border, Blender's result is the border region alone, so ``out`` (rendered for
@@ -65,7 +74,7 @@ def write_result(engine, out: dict, window, layer_name: str = "") -> None:
         layer = result.layers[0]
         for p in layer.passes:
             if p.name == "Combined":
-                p.rect = _rows_bottom_up(out["combined"], p.channels)
+                p.rect = _rows_bottom_up(_with_alpha(out), p.channels)
             elif p.name in key_of_pass and key_of_pass[p.name] in out:
                 p.rect = _rows_bottom_up(out[key_of_pass[p.name]], p.channels)
         if out.get("cryptomatte"):

@@ -88,10 +88,11 @@ def export_scene(depsgraph, camera: dict | None = None, window: Window | None = 
             seen.add(msg)
             warnings.append(msg)
 
-    if getattr(scene.render, "film_transparent", False):
-        warn(f"scene '{scene.name}': Film > Transparent is not supported: the world renders "
-             f"behind the objects and the image's alpha is 1 (Holdout shaders render black)")
     ir = {"materials": [], "textures": [], "meshes": [], "instances": [], "lights": []}
+    if getattr(scene.render, "film_transparent", False):
+        if getattr(scene.render, "film_transparent_glass", False):
+            warn(f"scene '{scene.name}': Film > Transparent Glass is not supported: glass "
+                 f"in front of the background stays opaque")
     groups = _LightGroups(depsgraph.view_layer, warn)
     images = ImageCache(ir["textures"], warn)
     mat_exporter = MaterialExporter(images, warn)
@@ -179,6 +180,8 @@ def export_scene(depsgraph, camera: dict | None = None, window: Window | None = 
         camera = export_camera(scene, cam, win, warn)
     ir["camera"] = camera
     ir["film"] = {"width": win.w, "height": win.h}
+    if getattr(scene.render, "film_transparent", False):
+        ir["film"]["transparent"] = True
     counts = {
         "meshes": len(ir["meshes"]), "instances": n_inst, "lights": len(ir["lights"]),
         "materials": len(ir["materials"]), "textures": len(ir["textures"]),

@@ -241,7 +241,9 @@ def render(
     """Renders ``scene`` (a Scene, an IR dict, JSON text, or a .json/.usd path).
 
     Returns ``{"combined": (H,W,3) float32, <term>: (H,W,3) float32 for each of TERMS,
-    "stats": dict}``; ``combined`` is the sum of the terms. Beside the terms, not part of
+    "alpha": (H,W) float32, "stats": dict}``; ``combined`` is the sum of the terms, and
+    ``alpha`` its alpha: 1, less where camera rays see a transparent background (the scene's
+    ``film.transparent``, Blender's Film > Transparent) or a Holdout. Beside the terms, not part of
     the sum, come the AOVs that ``out["aovs"]`` lists in order (``aov_specs``), each under
     its name as an (H,W,C) float32 array: ``out["error"]``, the estimated standard error of
     ``combined`` per pixel and channel, always; with ``denoising_data=True`` the guides
@@ -304,6 +306,8 @@ def _images(raw: dict) -> dict:
         return np.frombuffer(b, dtype="<f4").reshape(h, w, 3).astype(np.float32, copy=True)
 
     out: dict[str, Any] = {"combined": img(raw["combined"])}
+    out["alpha"] = np.frombuffer(raw["alpha"], dtype="<f4").reshape(h, w).astype(
+        np.float32, copy=True)
     for t in TERMS:
         out[t] = img(raw["terms"][t])
     specs = []

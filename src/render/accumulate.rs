@@ -255,9 +255,9 @@ mod tests {
         }
         assert!((ea - eb).abs().max_element() < 1e-5);
         assert!(ea.max_element() > 0.0);
-        // Transparency 0, 1/8, 1/4, 0, ... over 8 samples: 1 - 1.125/8.
-        assert_eq!(a.alpha(8), 1.0 - 1.125 / 8.0);
-        assert_eq!(b.alpha(8), 1.0 - 1.125 / 8.0);
+        // Transparency 0, 1/8, 1/4, 0, ... over 8 samples: 1 - 0.875/8.
+        assert_eq!(a.alpha(8), 1.0 - 0.875 / 8.0);
+        assert_eq!(b.alpha(8), 1.0 - 0.875 / 8.0);
         assert_eq!(Sums::default().alpha(0), 1.0);
     }
 }
