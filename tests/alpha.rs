@@ -154,11 +154,18 @@ fn partial_alpha_is_seen_through_twice() {
     ]));
     let out = render(&scene(m, true), RenderMode::Jensen);
     let n = inside.len() as f64;
-    let mean = inside.iter().map(|&i| out.film.alpha[i] as f64).sum::<f64>() / n;
+    let mean = inside
+        .iter()
+        .map(|&i| out.film.alpha[i] as f64)
+        .sum::<f64>()
+        / n;
     let p = expect(a);
     let tol = 4.0 * (p * (1.0 - p) / (n * SPP as f64)).sqrt();
     for off in [-0.02, 0.02] {
-        assert!((expect(a + off) - p).abs() > tol, "tolerance {tol} too loose");
+        assert!(
+            (expect(a + off) - p).abs() > tol,
+            "tolerance {tol} too loose"
+        );
     }
     assert!((mean - p).abs() < tol, "alpha {mean}, expected {p} ± {tol}");
 }
@@ -177,4 +184,46 @@ fn mirrors_show_the_background_on_a_transparent_film() {
         assert_eq!(out.film.alpha[i], 1.0);
         assert!(img.data[i][0] > 0.9, "{:?}", img.data[i]);
     }
+}
+
+/// A holdout object (Blender's Object > Visibility > Holdout): black and transparent where it
+/// is opaque; with Principled Alpha `a` on an opaque film, a camera ray is held out at the
+/// front by `a`, and behind it at the back by `a` again, so alpha is (1 - a)^2 in
+/// expectation (the background shows through the rest).
+#[test]
+fn holdout_objects_are_holes_where_they_are_opaque() {
+    let (inside, outside) = regions();
+    let mut desc = scene(diffuse(), false);
+    desc.meshes[0].holdout = true;
+    let out = render(&desc, RenderMode::Jensen);
+    let img = out.film.combined();
+    for &i in &inside {
+        assert_eq!(out.film.alpha[i], 0.0);
+        assert_eq!(img.data[i], [0.0; 3]);
+    }
+    for &i in &outside {
+        assert_eq!(out.film.alpha[i], 1.0);
+    }
+    let a = 0.4f64;
+    let mut desc = scene(
+        graph(serde_json::json!([{"type": "principled", "inputs": {"alpha": a}}])),
+        false,
+    );
+    desc.meshes[0].holdout = true;
+    let out = render(&desc, RenderMode::Jensen);
+    let n = inside.len() as f64;
+    let mean = inside
+        .iter()
+        .map(|&i| out.film.alpha[i] as f64)
+        .sum::<f64>()
+        / n;
+    let p = (1.0 - a).powi(2);
+    let tol = 4.0 * (p * (1.0 - p) / (n * SPP as f64)).sqrt();
+    for off in [-0.02, 0.02] {
+        assert!(
+            ((1.0 - a - off).powi(2) - p).abs() > tol,
+            "tolerance {tol} too loose"
+        );
+    }
+    assert!((mean - p).abs() < tol, "alpha {mean}, expected {p} ± {tol}");
 }

@@ -136,7 +136,8 @@ def export_scene(depsgraph, camera: dict | None = None, window: Window | None = 
                 _check_boundary(obj, shape, inst.matrix_world, warn)
             entry = meshes[key] = (m, [])
         if entry[0] is not None:
-            entry[1].append((inst.matrix_world.copy(), _object_name(inst), inst.object))
+            entry[1].append((inst.matrix_world.copy(), _object_name(inst), inst.object,
+                             _is_holdout(obj, depsgraph.view_layer)))
 
     n_inst = 0
     for m, placements in meshes.values():
@@ -145,15 +146,20 @@ def export_scene(depsgraph, camera: dict | None = None, window: Window | None = 
         idx = len(ir["meshes"])
         ir["meshes"].append(m)
         if len(placements) == 1:
-            mw, obj_name, obj = placements[0]
+            mw, obj_name, obj, holdout = placements[0]
             m["transform"] = matrix_rows(mw)
             m["object"] = obj_name
+            if holdout:
+                m["holdout"] = True
             groups.add(obj, "meshes", idx)
         else:
-            for k, (mw, obj_name, obj) in enumerate(placements):
+            for k, (mw, obj_name, obj, holdout) in enumerate(placements):
                 groups.add(obj, "instances", len(ir["instances"]))
-                ir["instances"].append({"name": f"{m['name']} #{k}", "mesh": idx,
-                                        "transform": matrix_rows(mw), "object": obj_name})
+                placed = {"name": f"{m['name']} #{k}", "mesh": idx,
+                          "transform": matrix_rows(mw), "object": obj_name}
+                if holdout:
+                    placed["holdout"] = True
+                ir["instances"].append(placed)
             n_inst += len(placements)
     if not ir["materials"]:
         materials.get(None)
@@ -218,6 +224,16 @@ class _LightGroups:
             self.ir[i]["environment"] = True
         else:
             self.ir[i].setdefault(kind, []).append(index)
+
+
+def _is_holdout(obj, view_layer) -> bool:
+    """Whether Cycles holds ``obj`` out: its Object > Visibility > Holdout, or a holdout
+    collection of the view layer (as Cycles reads them, ``Object.holdout_get``)."""
+    original = getattr(obj, "original", obj)
+    try:
+        return bool(original.holdout_get(view_layer=view_layer))
+    except (AttributeError, TypeError, RuntimeError):
+        return bool(getattr(original, "is_holdout", False))
 
 
 def _object_name(inst) -> str:

@@ -273,7 +273,14 @@ pub fn trace_split(
                 }
                 if bounces == 0 {
                     // A Holdout seen straight through transparent surfaces: that share of
-                    // the sample is transparent (black, as every Holdout renders).
+                    // the sample is transparent (black, as every Holdout renders). A holdout
+                    // object is wholly a Holdout where it is opaque (the ray stopped here:
+                    // with the stop's weight, 1 - transparency is that share).
+                    if scene.instance_holdout.get(si.instance as usize) == Some(&true) {
+                        *transparent +=
+                            average(beta) * (1.0 - average(scene.transparency(mat, &si)));
+                        break;
+                    }
                     let h = scene.holdout(mat, &si);
                     if h > 0.0 {
                         *transparent += average(beta * h);

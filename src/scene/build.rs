@@ -62,6 +62,9 @@ pub struct Scene {
     /// Whether a material lets light pass straight through somewhere (a graph's Transparent
     /// BSDF or Alpha): shadow rays then look through surfaces.
     pub transparent: bool,
+    /// Per instance of the acceleration structure, whether its object is a holdout
+    /// (`MeshDesc::holdout`); empty when none is.
+    pub instance_holdout: Vec<bool>,
     /// Film > Transparent (`FilmDesc::transparent`): the background seen straight by the
     /// camera adds no colour, and makes the image transparent.
     pub film_transparent: bool,
@@ -129,6 +132,7 @@ impl Scene {
         let mut instances = Vec::new();
         let mut instance_medium = Vec::new();
         let mut instance_names = Vec::new();
+        let mut instance_holdout = Vec::new();
         // The light group of each instance's emissive triangles.
         let mut instance_group: Vec<Option<u8>> = Vec::new();
         let group_of = |kind: &str, index: usize| -> Option<u8> {
@@ -169,11 +173,13 @@ impl Scene {
                 });
                 instance_medium.push(m.interior_medium);
                 instance_names.push(named(&m.object, &m.name, format!("mesh{i}")));
+                instance_holdout.push(m.holdout);
                 instance_group.push(group_of("meshes", i));
             }
         }
         for (j, inst) in desc.instances.iter().enumerate() {
             instance_names.push(named(&inst.object, &inst.name, format!("instance{j}")));
+            instance_holdout.push(inst.holdout);
             instance_group
                 .push(group_of("instances", j).or_else(|| group_of("meshes", inst.mesh as usize)));
             instance_medium.push(desc.meshes[inst.mesh as usize].interior_medium);
@@ -316,6 +322,11 @@ impl Scene {
             width: desc.film.width as usize,
             height: desc.film.height as usize,
             film_transparent: desc.film.transparent,
+            instance_holdout: if instance_holdout.contains(&true) {
+                instance_holdout
+            } else {
+                Vec::new()
+            },
             emissive,
             infinite_lights,
             hittable_lights,

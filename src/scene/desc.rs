@@ -264,6 +264,7 @@ pub enum SensorFit {
 /// | `material_indices` | optional per-triangle material, overrides `material` |
 /// | `transform` | object-to-world |
 /// | `object` | optional object name for Cryptomatte (default `name`) |
+/// | `holdout` | Blender's object Holdout: camera rays that reach it straight (through transparent surfaces only) see a hole in the image, transparent and black, where its surface is opaque; other rays see it as usual |
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct MeshDesc {
@@ -291,6 +292,9 @@ pub struct MeshDesc {
     /// `name`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub object: Option<String>,
+    /// Blender's object Holdout (see the table above).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub holdout: bool,
 }
 
 impl Default for MeshDesc {
@@ -307,6 +311,7 @@ impl Default for MeshDesc {
             transform: IDENTITY,
             interior_medium: None,
             object: None,
+            holdout: false,
         }
     }
 }
@@ -324,6 +329,10 @@ pub struct InstanceDesc {
     /// `name`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub object: Option<String>,
+    /// The placement's object is a holdout (as `MeshDesc::holdout`; the mesh's own flag is
+    /// for its own placement).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub holdout: bool,
 }
 
 impl Default for InstanceDesc {
@@ -333,6 +342,7 @@ impl Default for InstanceDesc {
             mesh: 0,
             transform: IDENTITY,
             object: None,
+            holdout: false,
         }
     }
 }

@@ -1,5 +1,6 @@
 """The beauty's alpha through the add-on against Cycles: Film > Transparent, a Holdout mixed
-into a material, a full Holdout and a leaf card cut out by a checker in Principled Alpha.
+into a material, a full Holdout, objects held out (Object > Visibility > Holdout, and a
+holdout collection) and a leaf card cut out by a checker in Principled Alpha.
 Both renderers write Combined as RGBA to an EXR, as a user saves a render; the alphas are
 compared per 8x8 block and per pixel.
 
@@ -86,6 +87,19 @@ def build(holdout_fac: float = 0.5):
     card = _mesh_object("Leaf", bpy.ops.mesh.primitive_plane_add, _material("Leaf", leaf),
                         size=1.2, location=(0.7, 0.4, 1.2), rotation=(math.radians(80), 0, 0))
     card.rotation_euler[2] = math.radians(-10)
+
+    # Held out by the object's Visibility > Holdout, and by a holdout collection.
+    cone = _mesh_object("Cone", bpy.ops.mesh.primitive_cone_add, floor, radius1=0.3,
+                        depth=0.7, location=(-1.9, -0.8, 0.35))
+    cone.is_holdout = True
+    masked = bpy.data.collections.new("Masked")
+    sc.collection.children.link(masked)
+    cyl = _mesh_object("Cylinder", bpy.ops.mesh.primitive_cylinder_add, floor, radius=0.25,
+                       depth=0.6, location=(0.1, -1.2, 0.3))
+    for c in list(cyl.users_collection):
+        c.objects.unlink(cyl)
+    masked.objects.link(cyl)
+    bpy.context.view_layer.layer_collection.children["Masked"].holdout = True
 
     cam = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
     sc.collection.objects.link(cam)
