@@ -90,7 +90,7 @@ def export_scene(depsgraph, camera: dict | None = None, window: Window | None = 
 
     ir = {"materials": [], "textures": [], "meshes": [], "instances": [], "lights": []}
     if getattr(scene.render, "film_transparent", False):
-        if getattr(scene.render, "film_transparent_glass", False):
+        if getattr(getattr(scene, "cycles", None), "film_transparent_glass", False):
             warn(f"scene '{scene.name}': Film > Transparent Glass is not supported: glass "
                  f"in front of the background stays opaque")
     groups = _LightGroups(depsgraph.view_layer, warn)

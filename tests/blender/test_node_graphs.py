@@ -139,10 +139,14 @@ def test_colour_attributes_reach_the_meshes_that_have_them(addon):
     photonmap.Scene.from_dict(ex.ir)
 
 
-def test_film_transparent_is_warned_naming_the_scene(addon):
+def test_film_transparent_is_exported_and_transparent_glass_warned(addon):
     sc = node_scenes.nodes_plastic()
-    assert not _export(addon).warnings
+    ex = _export(addon)
+    assert not ex.warnings and "transparent" not in ex.ir["film"]
     sc.render.film_transparent = True
     ex = _export(addon)
-    assert any(f"scene '{sc.name}'" in w and "Film > Transparent" in w for w in ex.warnings), \
+    assert ex.ir["film"]["transparent"] is True and not ex.warnings, ex.warnings
+    sc.cycles.film_transparent_glass = True
+    ex = _export(addon)
+    assert any(f"scene '{sc.name}'" in w and "Transparent Glass" in w for w in ex.warnings), \
         ex.warnings
