@@ -98,8 +98,17 @@ pub fn write_exr(path: &Path, film: &Film, stats: &Value) -> Result<()> {
 }
 
 /// Writes the sRGB PNG preview of `film`'s beauty, atomically.
+/// The sRGB preview of the beauty: RGBA where some pixel is not opaque (Film > Transparent,
+/// a Holdout), else RGB.
 pub fn write_png(path: &Path, film: &Film) -> Result<()> {
-    container::with_temp_path(path, |tmp| png::write_png(tmp, &film.combined(), 1.0))
+    let alpha = film
+        .alpha
+        .iter()
+        .any(|&a| a < 1.0)
+        .then_some(film.alpha.as_slice());
+    container::with_temp_path(path, |tmp| {
+        png::write_png(tmp, &film.combined(), 1.0, alpha)
+    })
 }
 
 /// Writes stats JSON, pretty-printed, atomically.

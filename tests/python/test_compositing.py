@@ -133,3 +133,48 @@ def test_bad_cryptomatte_settings_are_named():
         photonmap.render(card_scene(), spp=1, cryptomatte="objects")
     with pytest.raises(ValueError, match="cryptomatte_levels"):
         photonmap.render(card_scene(), spp=1, cryptomatte="object", cryptomatte_levels=0)
+
+
+@pytest.mark.parametrize("transparent", [False, True])
+def test_holdout_card_makes_alpha_one_minus_its_coverage(tmp_path, transparent):
+    """The card held out (the IR's ``holdout``, Blender's Object > Visibility > Holdout): the
+    EXR's ``A`` is 1 - the card's coverage of each pixel, and the card's pixels are black.
+    With ``film.transparent`` (the backdrop filling the frame) nothing changes. The PNG
+    preview carries the alpha."""
+    import OpenImageIO as oiio
+
+    scene = card_scene()
+    scene["meshes"][0]["holdout"] = True
+    scene["film"]["transparent"] = transparent
+    path = tmp_path / "card.json"
+    path.write_text(json.dumps(scene))
+    exr, png = tmp_path / "card.exr", tmp_path / "card.png"
+    code = cli.main(["render", str(path), "-o", str(exr), "--png", str(png), "--spp", "64",
+                     "--filter", "box", "--adaptive-sampling", "off", "--quiet"])
+    assert code == 0
+    chans, _ = read_exr(exr)
+    cov = coverage()
+    alpha = chans["A"]
+    edge = (cov > 0) & (cov < 1)
+    err = np.abs(alpha - (1 - cov))
+    # 64 stratified samples per pixel: the coverage of an edge pixel to 1/16 at worst.
+    assert err.max() <= 1 / 16 + 1e-6, err.max()
+    assert np.array_equal(alpha[~edge], (1 - cov[~edge]).astype(np.float32))
+    inside = cov == 1
+    assert (chans["R"][inside] == 0).all() and (chans["R"][cov == 0] > 0).all()
+    preview = oiio.ImageBuf(str(png))
+    assert preview.spec().nchannels == 4
+    a8 = preview.get_pixels(oiio.FLOAT)[..., 3]
+    assert np.abs(a8 - alpha).max() <= 0.5 / 255 + 1e-6
+
+
+def test_python_result_has_the_alpha():
+    scene = card_scene()
+    scene["meshes"][0]["holdout"] = True
+    out = photonmap.render(scene, spp=16, filter="box", adaptive_sampling=False)
+    cov = coverage()
+    assert out["alpha"].shape == (W, W) and out["alpha"].dtype == np.float32
+    assert np.array_equal(out["alpha"][cov == 1], np.zeros((cov == 1).sum(), np.float32))
+    assert (out["alpha"][cov == 0] == 1).all()
+    opaque = photonmap.render(card_scene(), spp=1)
+    assert (opaque["alpha"] == 1).all()
