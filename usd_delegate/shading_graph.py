@@ -28,7 +28,7 @@ one is warned and its consumer's input keeps its value.
 | ``ND_ifequal/ifgreater/ifgreatereq_*`` | `math` COMPARE / GREATER_THAN / LESS_THAN into `mix` |
 | ``ND_dotproduct_vector3``, ``ND_normalize_vector3`` | `vector_math` DOT_PRODUCT, NORMALIZE |
 | ``ND_position_vector3`` | `tex_coord` object (space `object`, `model`) or `geometry` position (`world`) |
-| ``ND_rotate3d_vector3`` | `mapping` (a constant angle about the x, y or z axis; other axes untranslatable) |
+| ``ND_rotate3d_vector3`` | `vector_rotate` (AXIS_ANGLE; ``amount`` in degrees, as RADIANS `math`) |
 | ``ND_separate2/3/4_*``, ``ND_combine2/3_*`` | `separate_xyz`, `combine_xyz` (an image's alpha for ``outa``) |
 | ``ND_normalmap*`` | `normal_map` (TANGENT or OBJECT; scale as strength, warned when not 1) |
 | ``ND_normal_vector3`` | the geometry's normal |
@@ -45,7 +45,7 @@ Warned with the node's prim path and ``info:id``, its consumer keeping its input
 ``ND_noise*``/``ND_fractal*``/``ND_cellnoise*``/``ND_worley*`` (MaterialX noises are not Cycles'
 noises), ``ND_heighttonormal_vector3`` (the height's gradient per unit of texture coordinate, where
 Cycles' Bump takes it per unit of surface length: a normalmap of it gives the surface's own
-normal), any other ``ND_layer_bsdf`` (no general layering), ``ND_rotate3d``, ``ND_tangent``,
+normal), any other ``ND_layer_bsdf`` (no general layering), ``ND_tangent``,
 ``ND_position``, and any other node.
 """
 
@@ -121,6 +121,7 @@ def _floored_mod(a, b):
 _MATH = {
     "ADD": lambda x, y, z: x + y, "SUBTRACT": lambda x, y, z: x - y,
     "MULTIPLY": lambda x, y, z: x * y,
+    "RADIANS": lambda x, y, z: math.radians(x),
     "DIVIDE": lambda x, y, z: x / y if y != 0 else 0.0,
     "GREATER_THAN": lambda x, y, z: 1.0 if x > y else 0.0,
     "LESS_THAN": lambda x, y, z: 1.0 if x < y else 0.0,
@@ -740,22 +741,16 @@ class Translator:
         return self.g.out("tex_coord", "object")
 
     def _nd_rotate3d(self, s, out, t):
-        """A rotation by a constant angle (degrees) about a constant principal axis."""
+        """A rotation by ``amount`` degrees, counterclockwise about ``axis`` (MaterialX's
+        convention): the Vector Rotate node about that axis, any of its inputs computed."""
         v = self.input(s, "in", [0.0, 0.0, 0.0])
         amount, axis = self.input(s, "amount", 0.0), self.input(s, "axis", [0.0, 1.0, 0.0])
-        if is_link(amount) or is_link(axis):
-            raise Untranslatable("a computed rotation")
-        a = math.radians(_scalar(amount))
-        if a == 0.0:
+        if not is_link(amount) and _scalar(amount) == 0.0:
             return v
-        ax = _vec(axis)
-        n = math.sqrt(sum(c * c for c in ax))
-        for i in range(3):
-            if n > 0 and abs(abs(ax[i]) / n - 1.0) < 1e-6:
-                rot = [0.0, 0.0, 0.0]
-                rot[i] = math.copysign(a, ax[i])
-                return self.g.mapping(v, [0.0] * 3, rot, [1.0] * 3)
-        raise Untranslatable("a rotation about an axis other than x, y or z")
+        angle = self.g.math("RADIANS", amount)
+        return self.g.out("vector_rotate", "vector",
+                          {"vector": v, "axis": axis, "angle": angle},
+                          {"rotation_type": "AXIS_ANGLE", "invert": False})
 
     def _nd_normalize(self, s, out, t):
         return self.g.vmath("NORMALIZE", self.input(s, "in", [0.0, 0.0, 1.0]))

@@ -57,6 +57,7 @@ TYPES = {
     "ShaderNodeInvert": "invert",
     "ShaderNodeMath": "math",
     "ShaderNodeVectorMath": "vector_math",
+    "ShaderNodeVectorRotate": "vector_rotate",
     "ShaderNodeMix": "mix",
     "ShaderNodeMapRange": "map_range",
     "ShaderNodeClamp": "clamp",
@@ -85,7 +86,7 @@ TYPES = {
 ENUMS = ("operation", "blend_type", "data_type", "interpolation_type", "distribution",
          "noise_type", "noise_dimensions", "voronoi_dimensions", "feature", "distance",
          "gradient_type", "wave_type", "bands_direction", "rings_direction", "wave_profile",
-         "vector_type", "space", "mode", "clamp_type", "factor_mode")
+         "vector_type", "space", "mode", "clamp_type", "factor_mode", "rotation_type")
 BOOLS = ("use_clamp", "clamp_factor", "clamp_result", "normalize", "invert", "clamp")
 
 

@@ -29,6 +29,10 @@ pub enum NodeOp {
         clamp: bool,
     },
     VectorMath(ops::VectorMathOp),
+    VectorRotate {
+        kind: ops::RotateType,
+        invert: bool,
+    },
     Mix {
         data: ops::MixDataType,
         blend: ops::BlendMode,
@@ -69,6 +73,7 @@ impl NodeOp {
         "magic_texture",
         "math",
         "vector_math",
+        "vector_rotate",
         "mix",
         "map_range",
         "clamp",
@@ -167,6 +172,9 @@ impl NodeOp {
                 out[2] = f(c.z);
             }
             NodeOp::CombineColor(m) => out[0] = ops::combine_color(*m, Vec3::new(x(0), x(1), x(2))),
+            NodeOp::VectorRotate { kind, invert } => {
+                out[0] = ops::vector_rotate(*kind, *invert, v(0), v(1), v(2), x(3), v(4));
+            }
             NodeOp::Blackbody => out[0] = ops::blackbody(x(0)),
             NodeOp::Wavelength => out[0] = ops::wavelength(x(0)),
 

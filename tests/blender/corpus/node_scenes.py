@@ -829,6 +829,35 @@ def nodes_texture_values():
     return _emission_plane("TextureValues", color)
 
 
+@node_scene("nodes_vector_rotate_values", "Vector Rotate value for value: a plane filling the "
+            "view with an Emission whose colour is the Generated coordinates rotated, by "
+            "quadrant, about the axis (1, 1, 0.3) by 0.8 about the centre (0.5, 0.5, 0.5), "
+            "about X by 1.1 inverted, by the XYZ Euler angles (0.4, -0.6, 1.3), and about Z "
+            "by -0.5, each through a Vector Math Fraction.")
+def nodes_vector_rotate_values():
+    def color(nt):
+        tc = nt.nodes.new("ShaderNodeTexCoord")
+        outs = []
+        for kind, invert, setup in (
+                ("AXIS_ANGLE", False, {"Axis": (1.0, 1.0, 0.3), "Angle": 0.8,
+                                       "Center": (0.5, 0.5, 0.5)}),
+                ("X_AXIS", True, {"Angle": 1.1}),
+                ("EULER_XYZ", False, {"Rotation": (0.4, -0.6, 1.3)}),
+                ("Z_AXIS", False, {"Angle": -0.5})):
+            rot = nt.nodes.new("ShaderNodeVectorRotate")
+            rot.rotation_type = kind
+            rot.invert = invert
+            for sock, value in setup.items():
+                rot.inputs[sock].default_value = value
+            nt.links.new(tc.outputs["Generated"], rot.inputs["Vector"])
+            frac = nt.nodes.new("ShaderNodeVectorMath")
+            frac.operation = "FRACTION"
+            nt.links.new(rot.outputs["Vector"], frac.inputs[0])
+            outs.append(frac.outputs["Vector"])
+        return _quadrants(nt, outs)
+    return _emission_plane("VectorRotateValues", color)
+
+
 @node_scene("nodes_color_converters", "Colour converters value for value: a plane filling the "
             "view with an Emission whose colour is textures/uv_ramp.png through, by quadrant, "
             "Hue/Saturation/Value (hue 0.3, saturation 1.4, value 0.9), RGB Curves (an S curve "

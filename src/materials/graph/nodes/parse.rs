@@ -362,6 +362,22 @@ impl NodeOp {
                 NodeOp::Blackbody,
                 spec(&[("temperature", Float, F(1500.0))], &[("color", Color)]),
             ),
+            "vector_rotate" => (
+                NodeOp::VectorRotate {
+                    kind: p.enum_or("rotation_type", "AXIS_ANGLE", ops::RotateType::from_blender)?,
+                    invert: p.bool_or("invert", false)?,
+                },
+                spec(
+                    &[
+                        ("vector", Vector, V([0.0; 3])),
+                        ("center", Vector, V([0.0; 3])),
+                        ("axis", Vector, V([0.0, 0.0, 1.0])),
+                        ("angle", Float, F(0.0)),
+                        ("rotation", Vector, V([0.0; 3])),
+                    ],
+                    &[("vector", Vector)],
+                ),
+            ),
             "wavelength" => (
                 NodeOp::Wavelength,
                 spec(&[("wavelength", Float, F(500.0))], &[("color", Color)]),

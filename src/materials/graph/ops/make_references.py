@@ -331,6 +331,46 @@ def make_vector_math():
 
 
 # ----------------------------------------------------------------------------
+# Vector Rotate
+
+
+def make_vector_rotate():
+    rng = random.Random(9)
+    v_edge = [[1, 0, 0], [0, 1, 0], [1, 2, 3], [-1.5, 0.5, 2.25], [0, 0, 0], [3, -4, 0.5]]
+    c_edge = [[0, 0, 0], [0, 0, 0], [0.5, -1, 2], [1, 1, 1], [0, 0, 0], [-2, 0, 1]]
+    a_edge = [[0, 0, 1], [1, 0, 0], [0, 0, 0], [1, 1, 1], [0.3, -2, 0.5], [0, 2, 0]]
+    f_edge = [1.5708, 0.5, 2, -1, 3.1416, 0]
+    r_edge = [[0, 0, 1.5708], [0.5, 0, 0], [0.1, 0.2, 0.3], [-1, 2, 0.5], [3.1416, 0, 0],
+              [0, -0.7, 1.2]]
+    vv = vector_samples(rng, v_edge, -4, 4)
+    vc = vector_samples(rng, c_edge, -2, 2)
+    va = vector_samples(rng, a_edge, -2, 2)
+    fa = scalar_samples(rng, f_edge, -7, 7)
+    vr = vector_samples(rng, r_edge, -4, 4)
+    cases = [{"rotation_type": t, "invert": inv}
+             for t in enum_ids("ShaderNodeVectorRotate", "rotation_type")
+             for inv in (False, True)]
+
+    def builder(case):
+        def build(nt, inp):
+            n = nt.nodes.new("ShaderNodeVectorRotate")
+            n.rotation_type = case["rotation_type"]
+            n.invert = case["invert"]
+            # By index: the sockets a rotation type does not use are not found by name.
+            for k, name in enumerate(("vv", "vc", "va", "fa", "vr")):
+                nt.links.new(inp[name], n.inputs[k])
+            return {"o0": n.outputs["Vector"]}
+        return build
+
+    res = render({"vv": vv, "vc": vc, "va": va, "fa": fa, "vr": vr},
+                 [builder(c) for c in cases])
+    for case, r in zip(cases, res):
+        case["vector"] = out_list(r["o0"])
+    write("vector_rotate", {"inputs": {"vector": vv, "center": vc, "axis": va, "angle": fa,
+                                       "rotation": vr}, "cases": cases})
+
+
+# ----------------------------------------------------------------------------
 # Mix
 
 
@@ -782,9 +822,10 @@ def make_curves():
 
 
 if __name__ == "__main__":
-    which = sys.argv[1:] or ["math", "vector_math", "mix", "color", "blackbody", "map_range",
-                             "ramp", "curves"]
+    which = sys.argv[1:] or ["math", "vector_math", "vector_rotate", "mix", "color",
+                             "blackbody", "map_range", "ramp", "curves"]
     for name in which:
-        {"math": make_math, "vector_math": make_vector_math, "mix": make_mix, "color": make_color,
+        {"math": make_math, "vector_math": make_vector_math, "vector_rotate": make_vector_rotate,
+         "mix": make_mix, "color": make_color,
          "blackbody": make_blackbody_wavelength, "map_range": make_map_range, "ramp": make_ramp,
          "curves": make_curves}[name]()

@@ -18,6 +18,7 @@
 //! | --- | --- |
 //! | [`math`] | Math |
 //! | [`vector_math`] | Vector Math |
+//! | [`vector_rotate`] | Vector Rotate |
 //! | [`mix`] | Mix (Float, Vector, Color with every blend mode) |
 //! | [`color`] | Hue/Saturation/Value, Brightness/Contrast, Gamma, Invert, RGB to BW, Separate/Combine Color |
 //! | [`blackbody`] | Blackbody |
@@ -36,6 +37,7 @@ pub mod math;
 pub mod mix;
 pub mod ramp;
 pub mod vector_math;
+pub mod vector_rotate;
 pub mod wavelength;
 
 pub use blackbody::blackbody;
@@ -53,6 +55,7 @@ pub use mix::{
 };
 pub use ramp::{ColorRamp, ColorStop, HueInterpolation, RampColorMode, RampInterpolation};
 pub use vector_math::{vector_math, VectorMathOp, VectorMathOutput};
+pub use vector_rotate::{vector_rotate, RotateType};
 pub use wavelength::wavelength;
 
 /// Helpers shared by the unit tests: reading the Blender references.
