@@ -28,7 +28,7 @@ one is warned and its consumer's input keeps its value.
 | ``ND_ifequal/ifgreater/ifgreatereq_*`` | `math` COMPARE / GREATER_THAN / LESS_THAN into `mix` |
 | ``ND_dotproduct_vector3``, ``ND_normalize_vector3`` | `vector_math` DOT_PRODUCT, NORMALIZE |
 | ``ND_position_vector3`` | `tex_coord` object (space `object`, `model`) or `geometry` position (`world`) |
-| ``ND_rotate3d_vector3`` | `vector_rotate` (AXIS_ANGLE; ``amount`` in degrees, as RADIANS `math`) |
+| ``ND_rotate3d_vector3`` | `vector_rotate` (AXIS_ANGLE inverted, as MaterialX's GLSL rotates; ``amount`` in degrees, as RADIANS `math`) |
 | ``ND_separate2/3/4_*``, ``ND_combine2/3_*`` | `separate_xyz`, `combine_xyz` (an image's alpha for ``outa``) |
 | ``ND_normalmap*`` | `normal_map` (TANGENT or OBJECT; scale as strength, warned when not 1) |
 | ``ND_normal_vector3`` | the geometry's normal |
@@ -741,8 +741,10 @@ class Translator:
         return self.g.out("tex_coord", "object")
 
     def _nd_rotate3d(self, s, out, t):
-        """A rotation by ``amount`` degrees, counterclockwise about ``axis`` (MaterialX's
-        convention): the Vector Rotate node about that axis, any of its inputs computed."""
+        """A rotation by ``amount`` degrees about ``axis``, as MaterialX's reference
+        implementation rotates (``mx_rotate_vector3.glsl``: clockwise, looking down the axis;
+        Blender's exporter writes Cycles' rotations for it with the axis negated): the Vector
+        Rotate node about that axis, inverted, any of its inputs computed."""
         v = self.input(s, "in", [0.0, 0.0, 0.0])
         amount, axis = self.input(s, "amount", 0.0), self.input(s, "axis", [0.0, 1.0, 0.0])
         if not is_link(amount) and _scalar(amount) == 0.0:
@@ -750,7 +752,7 @@ class Translator:
         angle = self.g.math("RADIANS", amount)
         return self.g.out("vector_rotate", "vector",
                           {"vector": v, "axis": axis, "angle": angle},
-                          {"rotation_type": "AXIS_ANGLE", "invert": False})
+                          {"rotation_type": "AXIS_ANGLE", "invert": True})
 
     def _nd_normalize(self, s, out, t):
         return self.g.vmath("NORMALIZE", self.input(s, "in", [0.0, 0.0, 1.0]))

@@ -830,10 +830,12 @@ def nodes_texture_values():
 
 
 @node_scene("nodes_vector_rotate_values", "Vector Rotate value for value: a plane filling the "
-            "view with an Emission whose colour is the Generated coordinates rotated, by "
+            "view with an Emission whose colour is the UV coordinates rotated, by "
             "quadrant, about the axis (1, 1, 0.3) by 0.8 about the centre (0.5, 0.5, 0.5), "
             "about X by 1.1 inverted, by the XYZ Euler angles (0.4, -0.6, 1.3), and about Z "
-            "by -0.5, each through a Vector Math Fraction.")
+            "by -0.5, each through a Vector Math Fraction; red and green are the rotated x and "
+            "y, blue 0.5 (rotated UVs feed 2D lookups; Blender's exporter writes the rotation "
+            "mirrored in z, 'float3 inputs:axis = (1, 1, -0.3)', so z is left out).")
 def nodes_vector_rotate_values():
     def color(nt):
         tc = nt.nodes.new("ShaderNodeTexCoord")
@@ -849,11 +851,17 @@ def nodes_vector_rotate_values():
             rot.invert = invert
             for sock, value in setup.items():
                 rot.inputs[sock].default_value = value
-            nt.links.new(tc.outputs["Generated"], rot.inputs["Vector"])
+            nt.links.new(tc.outputs["UV"], rot.inputs["Vector"])
             frac = nt.nodes.new("ShaderNodeVectorMath")
             frac.operation = "FRACTION"
             nt.links.new(rot.outputs["Vector"], frac.inputs[0])
-            outs.append(frac.outputs["Vector"])
+            sep = nt.nodes.new("ShaderNodeSeparateXYZ")
+            nt.links.new(frac.outputs["Vector"], sep.inputs["Vector"])
+            comb = nt.nodes.new("ShaderNodeCombineXYZ")
+            comb.inputs["Z"].default_value = 0.5
+            nt.links.new(sep.outputs["X"], comb.inputs["X"])
+            nt.links.new(sep.outputs["Y"], comb.inputs["Y"])
+            outs.append(comb.outputs["Vector"])
         return _quadrants(nt, outs)
     return _emission_plane("VectorRotateValues", color)
 

@@ -2,8 +2,8 @@
 which the comparison must see (no bpy here; tests/blender/test_node_sensitivity.py runs them).
 
 Each case changes one node input of a graph material in the IR: a ColorRamp stop moved by
-0.05, a Noise Texture's scale 5% off, a Bump's strength 10% off and a cut-out's alpha flipped;
-both signs where an error has a sign.
+0.05, a Noise Texture's scale 5% off, a Bump's strength 10% off, a cut-out's alpha flipped and
+the Vector Rotate angles 2% off; both signs where an error has a sign.
 
 The Bump's strength is checked on nodes_bump_values, where the pixels show the bumped normal.
 In a lit room it is not seen: on nodes_bump (distance 0.2) the comparison at "ci" passes it
@@ -66,4 +66,8 @@ CASES = {
     "bump_strength_10pct_smaller": ("nodes_bump_values", _input_scaled(
         "BumpValues", "bump", "strength", 0.9, 1.0)),
     "alpha_flipped": ("nodes_leaf_alpha", _alpha_flipped("Leaf")),
+    "rotate_angle_2pct_larger": ("nodes_vector_rotate_values", _input_scaled(
+        "VectorRotateValues", "vector_rotate", "angle", 1.02, 0.0)),
+    "rotate_angle_2pct_smaller": ("nodes_vector_rotate_values", _input_scaled(
+        "VectorRotateValues", "vector_rotate", "angle", 0.98, 0.0)),
 }

@@ -364,7 +364,11 @@ impl NodeOp {
             ),
             "vector_rotate" => (
                 NodeOp::VectorRotate {
-                    kind: p.enum_or("rotation_type", "AXIS_ANGLE", ops::RotateType::from_blender)?,
+                    kind: p.enum_or(
+                        "rotation_type",
+                        "AXIS_ANGLE",
+                        ops::RotateType::from_blender,
+                    )?,
                     invert: p.bool_or("invert", false)?,
                 },
                 spec(

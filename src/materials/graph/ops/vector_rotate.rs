@@ -42,9 +42,15 @@ fn rotate_around_axis(p: Vec3, axis: Vec3, angle: f32) -> Vec3 {
     let t = 1.0 - c;
     let a = axis;
     Vec3::new(
-        (c + t * a.x * a.x) * p.x + (t * a.x * a.y - a.z * s) * p.y + (t * a.x * a.z + a.y * s) * p.z,
-        (t * a.x * a.y + a.z * s) * p.x + (c + t * a.y * a.y) * p.y + (t * a.y * a.z - a.x * s) * p.z,
-        (t * a.x * a.z - a.y * s) * p.x + (t * a.y * a.z + a.x * s) * p.y + (c + t * a.z * a.z) * p.z,
+        (c + t * a.x * a.x) * p.x
+            + (t * a.x * a.y - a.z * s) * p.y
+            + (t * a.x * a.z + a.y * s) * p.z,
+        (t * a.x * a.y + a.z * s) * p.x
+            + (c + t * a.y * a.y) * p.y
+            + (t * a.y * a.z - a.x * s) * p.z,
+        (t * a.x * a.z - a.y * s) * p.x
+            + (t * a.y * a.z + a.x * s) * p.y
+            + (c + t * a.z * a.z) * p.z,
     )
 }
 
@@ -124,7 +130,12 @@ mod tests {
             }
         }
         assert!(RotateType::ALL.iter().all(|k| kinds.contains(k)));
-        assert!(bad.is_empty(), "{} mismatches:\n{}", bad.len(), bad.join("\n"));
+        assert!(
+            bad.is_empty(),
+            "{} mismatches:\n{}",
+            bad.len(),
+            bad.join("\n")
+        );
     }
 
     #[test]
