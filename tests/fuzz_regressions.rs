@@ -55,6 +55,9 @@ fn tiny_render(label: &str, desc: &SceneDesc) -> Option<RenderOutput> {
             );
         }
     }
+    for (i, a) in out.film.alpha.iter().enumerate() {
+        assert!((0.0..=1.0).contains(a), "{label}: alpha of pixel {i} = {a}");
+    }
     Some(out)
 }
 

@@ -37,7 +37,10 @@ pub fn tiny_render(desc: &SceneDesc) -> Option<RenderOutput> {
         transparent: false,
     };
     let scene = Scene::build(&desc).ok()?;
-    let out = Renderer::new(&scene).settings(tiny_settings()).render().ok()?;
+    let out = Renderer::new(&scene)
+        .settings(tiny_settings())
+        .render()
+        .ok()?;
     check_finite(&out);
     Some(out)
 }
@@ -51,6 +54,9 @@ pub fn check_finite(out: &RenderOutput) {
                 t.name()
             );
         }
+    }
+    for (i, a) in out.film.alpha.iter().enumerate() {
+        assert!((0.0..=1.0).contains(a), "alpha of pixel {i} = {a}");
     }
 }
 
@@ -258,6 +264,8 @@ impl Mesh {
             indices,
             transform: self.transform.matrix(),
             interior_medium: self.interior_medium.map(|m| m as u32 % 4),
+            holdout: self.material & 16 != 0,
+            ..Default::default()
         }
     }
 }
@@ -358,6 +366,7 @@ impl Material {
                 ior: ior(*i),
                 roughness: unit(*r),
                 color: rgb(*c),
+                multiscatter: r.0.to_bits() & 1 == 0,
             },
             Material::Glossy(c, r) => MaterialDesc::Glossy {
                 name,
@@ -391,10 +400,15 @@ impl Material {
                 emission_color: emission.desc(),
                 emission_strength: emission_strength.0,
                 multiscatter: specular.0.to_bits() & 1 == 0,
-                coat_weight: if specular.0.to_bits() & 2 == 0 { 0.0 } else { unit(*transmission) },
+                coat_weight: if specular.0.to_bits() & 2 == 0 {
+                    0.0
+                } else {
+                    unit(*transmission)
+                },
                 coat_roughness: unit(*transmission) * 0.5,
                 coat_ior: ior(*i),
                 coat_tint: [1.0, 0.9, 0.8],
+                subsurface: None,
             })),
         }
     }
@@ -448,7 +462,11 @@ impl Light {
                 power: p.0 * 100.0,
                 color: white,
                 two_sided: *two,
-                spread: if p.0.to_bits() & 1 == 1 { 1.0 } else { std::f32::consts::PI },
+                spread: if p.0.to_bits() & 1 == 1 {
+                    1.0
+                } else {
+                    std::f32::consts::PI
+                },
                 camera_visible: true,
             },
             Light::Disk(t, r, p, two) => LightDesc::Disk {
@@ -459,7 +477,11 @@ impl Light {
                 power: p.0 * 100.0,
                 color: white,
                 two_sided: *two,
-                spread: if p.0.to_bits() & 1 == 1 { 0.7 } else { std::f32::consts::PI },
+                spread: if p.0.to_bits() & 1 == 1 {
+                    0.7
+                } else {
+                    std::f32::consts::PI
+                },
                 camera_visible: true,
             },
             Light::Sphere(p, r, w) => LightDesc::Sphere {
@@ -632,7 +654,7 @@ impl FuzzScene {
             film: FilmDesc {
                 width: 8,
                 height: 8,
-                transparent: false,
+                transparent: self.meshes.len() % 2 == 1,
             },
             meshes: self
                 .meshes
@@ -692,6 +714,7 @@ impl FuzzScene {
                 })
                 .collect(),
             world_medium: self.world_medium.map(|w| w as u32 % 5),
+            lightgroups: Vec::new(),
         }
     }
 }
