@@ -164,6 +164,16 @@ def _verdict(ours: np.ndarray, ref: np.ndarray) -> tuple[float, float]:
     return float((d / tol).max()), float(z2.mean())
 
 
+@pytest.fixture(scope="module", autouse=True)
+def fresh_blender_after(addon):
+    """Leaves Blender as the other test files expect it: factory settings, the add-on on."""
+    yield
+    from conftest import enable
+
+    bpy.ops.wm.read_factory_settings()
+    enable()
+
+
 @pytest.fixture(scope="module")
 def cycles_alpha(addon, tmp_path_factory):
     sc = build()
